@@ -1,0 +1,51 @@
+# rollfric: one entry point for people and CI.
+#   make reports   build every report of experiments/manifest.yaml (installs what is missing)
+#   make test      the whole test suite (what CI runs)
+#   make check     fmt + clippy + tests
+#   make bench     timing figures
+SHELL := /bin/bash
+CARGO ?= cargo
+# Debian packages the build needs: the system OpenCV and libclang for its bindings.
+APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates
+BIN := target/release/rollfric
+
+.PHONY: all deps build reports test check fmt clippy bench clean
+
+all: build
+
+# Install the missing system packages (non-interactive; only when something is missing).
+deps:
+	@missing=""; \
+	for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'ok installed' || missing="$$missing $$p"; \
+	done; \
+	command -v python3 >/dev/null || missing="$$missing python3"; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing system packages:$$missing"; \
+	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo=sudo; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq $$missing >/dev/null || exit 1; \
+	fi
+
+build: deps
+	$(CARGO) build --release --locked
+
+reports: build
+	$(BIN) build
+
+test: deps
+	$(CARGO) test --release --locked
+
+fmt:
+	$(CARGO) fmt --all -- --check
+
+clippy: deps
+	$(CARGO) clippy --release --locked --all-targets -- -D warnings
+
+check: fmt clippy test
+
+bench: build
+	$(CARGO) bench --locked --bench pipeline
+
+clean:
+	$(CARGO) clean

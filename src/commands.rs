@@ -1,0 +1,431 @@
+//! The command-line verbs, as library functions (so that tests call them directly and
+//! `main.rs` only parses arguments). Each returns its text output.
+
+use crate::config::{self, Experiment, Manifest};
+use crate::fit::{self, BetaChoice, FitOptions, FitResult};
+use crate::fsutil;
+use crate::physics::torsion::{torsion_check, TorsionCheck};
+use crate::physics::FrictionLaw;
+use crate::series::AngleSeries;
+use crate::simulate;
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Options of `rollfric simulate`.
+#[derive(Clone, Debug, Default)]
+pub struct SimulateArgs {
+    pub fps: Option<f64>,
+    pub noise_deg: Option<f64>,
+    pub seed: Option<u64>,
+    pub duration_s: Option<f64>,
+}
+
+/// `rollfric simulate`: write the camera's angle series of the experiment's twin.
+pub fn simulate(exp_path: &Path, out: &Path, args: &SimulateArgs) -> Result<String> {
+    let exp = Experiment::load(exp_path)?;
+    let mut cam = simulate::camera_of(&exp)?;
+    if let Some(f) = args.fps {
+        if !(f.is_finite() && f > 0.0) {
+            bail!("--fps {f}: expected a positive frame rate");
+        }
+        cam.fps = f;
+    }
+    if let Some(n) = args.noise_deg {
+        if !(n.is_finite() && n >= 0.0) {
+            bail!("--noise-deg {n}: expected zero or a positive angle");
+        }
+        cam.noise_rad = n.to_radians();
+    }
+    if let Some(d) = args.duration_s {
+        if !(d.is_finite() && d > 0.0) {
+            bail!("--duration {d}: expected a positive number of seconds");
+        }
+        cam.duration_s = Some(d);
+    }
+    cam.seed = args.seed.unwrap_or(cam.seed);
+    let rec = simulate::record(&exp, &cam)?;
+    fsutil::write_atomic(out, rec.series.to_csv().as_bytes())?;
+    Ok(format!(
+        "{}: {} frames at {} fps, {} turning points, {}; s_r = {:e} m, noise {:.3} deg -> {}\n",
+        exp.name,
+        rec.series.len(),
+        cam.fps,
+        rec.trajectory.turns.len(),
+        match rec.trajectory.stopped_at {
+            Some(t) => format!("ball stops at {t:.2} s"),
+            None => "still moving at the end".into(),
+        },
+        rec.law.s_r,
+        cam.noise_rad.to_degrees(),
+        out.display()
+    ))
+}
+
+/// Where the angles of a fit came from.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnglesSource {
+    /// `csv` or `synthetic`.
+    pub kind: String,
+    pub description: String,
+}
+
+/// Everything `rollfric fit --json` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct FitReport {
+    pub experiment: String,
+    pub material: String,
+    pub angles: AnglesSource,
+    /// The synthetic truth, when the angles are the twin's.
+    pub truth_s_r_m: Option<f64>,
+    /// Sliding coefficient of Eq. 34 and whether pure rolling held.
+    pub sliding_mu: Option<f64>,
+    pub pure_rolling: Option<bool>,
+    #[serde(flatten)]
+    pub fit: FitResult,
+}
+
+/// Options of `rollfric fit`.
+#[derive(Clone, Debug, Default)]
+pub struct FitArgs {
+    pub angles: Option<std::path::PathBuf>,
+    pub beta: Option<String>,
+    pub compare_betas: bool,
+}
+
+/// Load the angles an experiment is fitted from: an explicit CSV, the file's `angles:`,
+/// or else the digital twin's simulated camera series.
+pub fn angles_for(
+    exp: &Experiment,
+    explicit: Option<&Path>,
+) -> Result<(AngleSeries, AnglesSource)> {
+    let csv = explicit
+        .map(Path::to_path_buf)
+        .or_else(|| exp.file.angles.as_deref().map(|a| exp.resolve(a)));
+    if let Some(path) = csv {
+        let s = AngleSeries::read_csv(&path)?;
+        return Ok((
+            s,
+            AnglesSource {
+                kind: "csv".into(),
+                description: format!("measured angles from {}", path.display()),
+            },
+        ));
+    }
+    if exp.file.synthetic.is_none() {
+        bail!(
+            "{}: no angles to fit: pass --angles CSV, or set `angles:` or `synthetic:` in the file",
+            exp.path.display()
+        );
+    }
+    let cam = simulate::camera_of(exp)?;
+    let rec = simulate::record(exp, &cam)?;
+    Ok((
+        rec.series,
+        AnglesSource {
+            kind: "synthetic".into(),
+            description: format!(
+                "SYNTHETIC: the digital twin's camera angles (s_r = {:e} m, {} fps, noise {:.3} deg, seed {})",
+                rec.law.s_r,
+                cam.fps,
+                cam.noise_rad.to_degrees(),
+                cam.seed
+            ),
+        },
+    ))
+}
+
+/// Fit one experiment.
+pub fn fit_experiment(exp: &Experiment, args: &FitArgs) -> Result<FitReport> {
+    let (series, source) = angles_for(exp, args.angles.as_deref())?;
+    let beta = match &args.beta {
+        Some(b) => config::parse_beta(&config::BetaSpec::Text(b.clone()), "--beta")?,
+        None => exp.beta,
+    };
+    let opts = FitOptions {
+        beta,
+        compare_betas: args.compare_betas || exp.file.model.compare_betas,
+        ..FitOptions::default()
+    };
+    let what = || match &args.angles {
+        Some(p) => format!("{}", p.display()),
+        None => format!("{}", exp.path.display()),
+    };
+    let m = fit::measure(&series).with_context(what)?;
+    let result = fit::fit(&exp.pendulum, &m, &opts)
+        .with_context(|| format!("{}: fitting s_r", exp.path.display()))?;
+    let mu = exp.file.sliding.as_ref().map(|s| s.mu);
+    Ok(FitReport {
+        experiment: exp.name.clone(),
+        material: exp.material.clone(),
+        truth_s_r_m: if source.kind == "synthetic" {
+            exp.synthetic_law().map(|l| l.s_r)
+        } else {
+            None
+        },
+        pure_rolling: mu.map(|mu| result.max_t_over_n < mu),
+        sliding_mu: mu,
+        angles: source,
+        fit: result,
+    })
+}
+
+/// `rollfric fit`: human-readable or JSON.
+pub fn fit_cmd(exp_path: &Path, args: &FitArgs, json: bool) -> Result<String> {
+    let exp = Experiment::load(exp_path)?;
+    let r = fit_experiment(&exp, args)?;
+    if json {
+        return Ok(serde_json::to_string_pretty(&r)? + "\n");
+    }
+    let f = &r.fit;
+    let p = &exp.pendulum;
+    let mut o = String::new();
+    let _ = writeln!(o, "experiment       {} ({})", exp.name, exp.path.display());
+    let _ = writeln!(o, "angles           {}", r.angles.description);
+    let _ = writeln!(o, "turning points   {}", f.n_extremes);
+    let _ = writeln!(
+        o,
+        "equilibrium      {:.4} deg (envelope fit); {:.4} deg (Eq. 38-39, mean of extremes)",
+        f.psi_eq_rad.to_degrees(),
+        f.psi_eq_paper_rad.to_degrees()
+    );
+    let _ = writeln!(o, "envelope slope a {:.4e} rad/s", f.a_rad_s);
+    let _ = writeln!(
+        o,
+        "s_r              {:.4e} m  (95 % CI {:.4e} .. {:.4e}; beta = {:.4})",
+        f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1], f.beta
+    );
+    if let Some(t) = r.truth_s_r_m {
+        let _ = writeln!(
+            o,
+            "synthetic truth  {:.4e} m  ({:+.3} %)",
+            t,
+            100.0 * (f.s_r_m - t) / t
+        );
+    }
+    let _ = writeln!(o, "mu_r             {:.4e}", f.mu_r);
+    let _ = writeln!(
+        o,
+        "period           {:.4} s -> d = {:.4} m (geometry says {:.4} m)",
+        f.period_s, f.d_from_period_m, p.d
+    );
+    let _ = writeln!(
+        o,
+        "normal force     {:.4} N mean, varies {:.4} %",
+        f.reactions.n_mean_n, f.reactions.n_variation_pct
+    );
+    let _ = write!(o, "max |T|/N        {:.3e}", f.max_t_over_n);
+    match (r.sliding_mu, r.pure_rolling) {
+        (Some(mu), Some(ok)) => {
+            let _ = writeln!(
+                o,
+                "  (mu = {mu}: pure rolling {})",
+                if ok { "holds" } else { "FAILS" }
+            );
+        }
+        _ => {
+            let _ = writeln!(o, "  (no `sliding.mu` given for Eq. 34)");
+        }
+    }
+    let _ = writeln!(
+        o,
+        "fit              {} iterations, residual RMS {:.3e} deg",
+        f.iterations,
+        f.residual_rms_rad.to_degrees()
+    );
+    for c in &f.beta_comparison {
+        let _ = writeln!(
+            o,
+            "  beta {:.4}: s_r {:.4e}, RSS {:.3e} rad^2, AICc {:.2}",
+            c.beta, c.s_r, c.rss, c.aicc
+        );
+    }
+    Ok(o)
+}
+
+/// `rollfric torsion`: the Appendix A table, with `s_r` from `--s-r`, else the synthetic
+/// truth, else the reference value (said which).
+pub fn torsion_cmd(exp_path: &Path, s_r: Option<f64>, json: bool) -> Result<String> {
+    let exp = Experiment::load(exp_path)?;
+    let t = exp
+        .file
+        .torsion
+        .as_ref()
+        .with_context(|| format!("{}: no `torsion:` block", exp.path.display()))?;
+    let (s_r, from) = match (
+        s_r,
+        exp.synthetic_law(),
+        exp.file.reference.as_ref().and_then(|r| r.s_r_m),
+    ) {
+        (Some(v), _, _) => (v, "--s-r"),
+        (None, Some(l), _) => (l.s_r, "synthetic truth"),
+        (None, None, Some(v)) => (v, "reference value"),
+        _ => bail!("{}: no s_r to compare with: pass --s-r", exp.path.display()),
+    };
+    let beta = match exp.beta {
+        BetaChoice::Fixed(b) => b,
+        BetaChoice::Free => 1.0,
+    };
+    let c = torsion_check(
+        &exp.pendulum,
+        &FrictionLaw::new(s_r, beta),
+        t.period_s,
+        t.wire_length_m,
+        t.psi0_max_deg.to_radians(),
+    );
+    if json {
+        return Ok(serde_json::to_string_pretty(&c)? + "\n");
+    }
+    Ok(torsion_table(&exp.name, &c, from))
+}
+
+/// The Appendix A table as text.
+pub fn torsion_table(name: &str, c: &TorsionCheck, s_r_from: &str) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "wire torsion, {name} (Appendix A)");
+    let rows = [
+        ("torsion period T", format!("{:.1} s", c.period_s)),
+        ("wire length", format!("{:.3} m", c.wire_length_m)),
+        (
+            "k_t = 4 pi^2 J_z / T^2 (A5)",
+            format!("{:.3e} N m/rad", c.k_t_n_m_per_rad),
+        ),
+        (
+            "psi_0 -> phi_0 = psi_0 / sin(delta)",
+            format!(
+                "{:.1} deg -> {:.3} rad ({:.1} deg)",
+                c.psi0_rad.to_degrees(),
+                c.phi0_rad,
+                c.phi0_rad.to_degrees()
+            ),
+        ),
+        ("M_t,max = k_t phi_0", format!("{:.3e} N m", c.m_t_max_n_m)),
+        (
+            "M_r = s_r m g",
+            format!("{:.3e} N m (s_r from {s_r_from})", c.m_r_n_m),
+        ),
+        (
+            "M_r = s_r N_0^beta (model)",
+            format!("{:.3e} N m", c.m_r_model_n_m),
+        ),
+        ("100 M_t,max / M_r", format!("{:.2} %", c.ratio_pct)),
+    ];
+    for (k, v) in rows {
+        let _ = writeln!(o, "  {k:<38} {v}");
+    }
+    o
+}
+
+/// One row of the interim build table.
+#[derive(Clone, Debug, Serialize)]
+pub struct BuildRow {
+    pub experiment: String,
+    pub result: Option<FitReport>,
+    pub error: Option<String>,
+    pub reference: Option<config::Reference>,
+    pub tolerances: Option<config::Tolerances>,
+}
+
+/// `rollfric build` (interim): fit every experiment of the manifest and print Table 1
+/// reproduced. Returns the text and whether every experiment succeeded and passed.
+pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
+    let (_m, files) = Manifest::load(manifest)?;
+    let mut rows = Vec::new();
+    for f in &files {
+        let run = || -> Result<(Experiment, FitReport)> {
+            let exp = Experiment::load(f)?;
+            let r = fit_experiment(&exp, &FitArgs::default())?;
+            Ok((exp, r))
+        };
+        match run() {
+            Ok((exp, r)) => rows.push(BuildRow {
+                experiment: r.experiment.clone(),
+                result: Some(r),
+                error: None,
+                reference: exp.file.reference.clone(),
+                tolerances: Some(exp.file.tolerances.clone()),
+            }),
+            Err(e) => rows.push(BuildRow {
+                experiment: f.display().to_string(),
+                result: None,
+                error: Some(format!("{e:#}")),
+                reference: None,
+                tolerances: None,
+            }),
+        }
+    }
+    let mut ok = true;
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "{:<24} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  check",
+        "material",
+        "s_r e-6",
+        "paper",
+        "dev %",
+        "mu_r e-3",
+        "paper",
+        "dev %",
+        "a e-3",
+        "paper",
+        "dev %",
+        "truth %",
+    );
+    for row in &rows {
+        let Some(r) = &row.result else {
+            ok = false;
+            let _ = writeln!(
+                o,
+                "{:<24} FAILED: {}",
+                row.experiment,
+                row.error.as_deref().unwrap_or("")
+            );
+            continue;
+        };
+        let reference = row.reference.clone().unwrap_or_default();
+        let tol = row.tolerances.clone().unwrap_or_default();
+        let dev = |x: f64, r: Option<f64>| r.map(|r| (x - r) / r);
+        let f = &r.fit;
+        let devs = [
+            dev(f.s_r_m, reference.s_r_m),
+            dev(f.mu_r, reference.mu_r),
+            dev(f.a_rad_s, reference.a_rad_s),
+        ];
+        let truth = dev(f.s_r_m, r.truth_s_r_m);
+        let pass = devs.iter().flatten().all(|d| d.abs() <= tol.reference_rel)
+            && truth.is_none_or(|d| d.abs() <= tol.truth_rel);
+        ok &= pass;
+        let num =
+            |v: Option<f64>, scale: f64| v.map_or("-".to_string(), |v| format!("{:.3}", v * scale));
+        let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:+.2}", 100.0 * v));
+        let _ = writeln!(
+            o,
+            "{:<24} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  {}",
+            r.material,
+            num(Some(f.s_r_m), 1e6),
+            num(reference.s_r_m, 1e6),
+            pct(devs[0]),
+            num(Some(f.mu_r), 1e3),
+            num(reference.mu_r, 1e3),
+            pct(devs[1]),
+            num(Some(f.a_rad_s), 1e3),
+            num(reference.a_rad_s, 1e3),
+            pct(devs[2]),
+            pct(truth),
+            if pass { "pass" } else { "FAIL" }
+        );
+    }
+    if json {
+        return Ok((serde_json::to_string_pretty(&rows)? + "\n", ok));
+    }
+    let _ = writeln!(
+        o,
+        "\nAngles are SYNTHETIC (the digital twin's camera series) unless an experiment names a CSV;"
+    );
+    let _ = writeln!(
+        o,
+        "paper columns are Table 1's published values, for reference only."
+    );
+    Ok((o, ok))
+}

@@ -1,0 +1,575 @@
+//! Experiment files and the manifest that lists them.
+//!
+//! YAML is read with `serde-saphyr`: maintained (`serde_yaml` is archived upstream), pure
+//! Rust with no `unsafe`-heavy C binding, and it reports the line and column of a bad
+//! value. Every struct rejects unknown keys, so a typo is an error that names the key
+//! and lists the valid ones instead of a silently ignored field.
+//!
+//! Units are in the key names (`_m`, `_kg`, `_deg`, `_s`); inside the program
+//! everything is SI with angles in radians.
+
+use crate::fsutil;
+use crate::physics::{self, FrictionLaw, Pendulum};
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// `experiments/manifest.yaml`: which experiments make up the reports.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// Title of the report set. Default: "Rolling friction".
+    #[serde(default = "default_title")]
+    pub title: String,
+    /// Experiment files, relative to the manifest's folder, in report order.
+    pub experiments: Vec<String>,
+}
+
+fn default_title() -> String {
+    "Rolling friction".into()
+}
+
+impl Manifest {
+    /// Load a manifest and check that each listed file exists.
+    pub fn load(path: &Path) -> Result<(Self, Vec<PathBuf>)> {
+        let text = fsutil::read_to_string(path)?;
+        let m: Manifest = serde_saphyr::from_str(&text)
+            .map_err(|e| yaml_error(&e, &text).context(path.display().to_string()))?;
+        if m.experiments.is_empty() {
+            bail!("{}: `experiments` lists no experiment", path.display());
+        }
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let files = m.experiments.iter().map(|e| dir.join(e)).collect();
+        Ok((m, files))
+    }
+}
+
+/// One experiment: a material pair on one pendulum.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentFile {
+    /// Short identifier used for output names. Default: the file name without `.yaml`.
+    pub name: Option<String>,
+    /// Plate material, as the report's tables name it. Default: the name.
+    pub material: Option<String>,
+    /// Free text shown on the report (where the numbers came from, caveats).
+    #[serde(default)]
+    pub notes: String,
+    pub geometry: Geometry,
+    #[serde(default)]
+    pub model: Model,
+    /// Wire-torsion test (Appendix A). Optional.
+    pub torsion: Option<Torsion>,
+    /// Sliding friction between ball and plate, for the pure-rolling check (Eq. 34).
+    pub sliding: Option<Sliding>,
+    /// The paper's published values: used only as a reference to compare against.
+    pub reference: Option<Reference>,
+    #[serde(default)]
+    pub tolerances: Tolerances,
+    /// The digital twin: what to simulate when the experiment has no lab recording.
+    pub synthetic: Option<Synthetic>,
+    /// A measured angle CSV (`t_s,angle_rad`), relative to this file. Optional.
+    pub angles: Option<String>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    pub incline: Incline,
+    pub pendulum: PendulumLength,
+    pub ball: Ball,
+    /// Local gravitational acceleration, m/s^2. Default 9.81.
+    #[serde(default = "default_g")]
+    pub g_m_s2: f64,
+}
+
+fn default_g() -> f64 {
+    9.81
+}
+
+/// Plate inclination: either the support geometry (Eq. 36) or the angle itself.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Incline {
+    /// Height difference between the plate's ends `h`, m (Eq. 36, with `l_m`).
+    pub h_m: Option<f64>,
+    /// Length of the supporting plate `l`, m (Eq. 36, with `h_m`).
+    pub l_m: Option<f64>,
+    /// Inclination `alpha`, degrees (instead of `h_m` and `l_m`).
+    pub angle_deg: Option<f64>,
+}
+
+/// Pendulum length: either `d` or the measurable fulcrum-to-contact length `L` (Eq. 37).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PendulumLength {
+    /// Fulcrum-to-ball-centre distance `d`, m.
+    pub d_m: Option<f64>,
+    /// Fulcrum-to-contact-point distance `L`, m; `d = sqrt(L^2 + r^2)` (Eq. 37).
+    pub contact_length_m: Option<f64>,
+}
+
+/// The ball: radius and mass (or density); solid, so `J_z = 2/5 m r^2` (Eq. 9).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ball {
+    /// Radius `r`, m.
+    pub radius_m: f64,
+    /// Mass `m`, kg (or give `density_kg_m3`).
+    pub mass_kg: Option<f64>,
+    /// Density, kg/m^3: `m = 4/3 pi r^3 rho` (instead of `mass_kg`).
+    pub density_kg_m3: Option<f64>,
+}
+
+/// The rolling-resistance law `M_r = s_r N^beta` (Eq. 28).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    /// Exponent `beta`: a number (`1`, `1.3333`, `1.5`, ...), a fraction as text
+    /// (`"4/3"`, `"3/2"`), or `free` to fit it. Default 1 (the paper's choice).
+    #[serde(default = "default_beta")]
+    pub beta: BetaSpec,
+    /// Also fit beta = 1, 4/3 and 3/2 and report their figures of merit. Default false.
+    #[serde(default)]
+    pub compare_betas: bool,
+}
+
+impl Default for Model {
+    fn default() -> Self {
+        Self {
+            beta: default_beta(),
+            compare_betas: false,
+        }
+    }
+}
+
+fn default_beta() -> BetaSpec {
+    BetaSpec::Number(1.0)
+}
+
+/// `beta` as written in YAML.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum BetaSpec {
+    Number(f64),
+    Text(String),
+}
+
+/// Appendix A's torsion test.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Torsion {
+    /// Torsion-pendulum period `T`, s (A4).
+    pub period_s: f64,
+    /// Length of the wire in the torsion test, m.
+    pub wire_length_m: f64,
+    /// Largest precession amplitude of the conical pendulum `psi_0`, degrees.
+    pub psi0_max_deg: f64,
+}
+
+/// Sliding friction for the pure-rolling condition `|T|/N < mu` (Eq. 34).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sliding {
+    /// Coefficient of sliding friction `mu` between ball and plate (dimensionless).
+    pub mu: f64,
+}
+
+/// Published values, for comparison only (never used as inputs to a computation).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Reference {
+    /// Where the values come from, e.g. "Table 1".
+    #[serde(default)]
+    pub source: String,
+    /// `s_r`, m.
+    pub s_r_m: Option<f64>,
+    /// `mu_r = s_r / r` (dimensionless).
+    pub mu_r: Option<f64>,
+    /// Envelope slope `a`, rad/s.
+    pub a_rad_s: Option<f64>,
+}
+
+/// How close reproduced values must come (relative deviations).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tolerances {
+    /// Against `reference` values. Default 0.02.
+    #[serde(default = "default_ref_tol")]
+    pub reference_rel: f64,
+    /// Against the synthetic truth `s_r`. Default 0.01.
+    #[serde(default = "default_truth_tol")]
+    pub truth_rel: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Self {
+            reference_rel: default_ref_tol(),
+            truth_rel: default_truth_tol(),
+        }
+    }
+}
+
+fn default_ref_tol() -> f64 {
+    0.02
+}
+fn default_truth_tol() -> f64 {
+    0.01
+}
+
+/// The digital twin's parameters: the truth the pipeline must measure back.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Synthetic {
+    /// True rolling-friction coefficient `s_r`, m·N^(1-beta).
+    pub s_r_m: f64,
+    /// True exponent. Default 1.
+    #[serde(default = "default_beta")]
+    pub beta: BetaSpec,
+    /// Release amplitude `psi_0`, degrees. Default 10.
+    #[serde(default = "default_psi0")]
+    pub psi0_deg: f64,
+    /// Recording length, s. Default: until the ball stops plus 2 s, at most 120 s.
+    pub duration_s: Option<f64>,
+    /// Camera frame rate, frames/s. Default 60.
+    #[serde(default = "default_fps")]
+    pub fps: f64,
+    /// Angle of the wire at rest, from the image x axis, degrees. Default 91.7
+    /// (a camera turned 1.7 degrees).
+    #[serde(default = "default_rest_angle")]
+    pub rest_angle_deg: f64,
+    /// Random seed for noise. Default 1.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Per-frame noise of the simulated angle series when the twin stands in for a
+    /// detector, degrees. Default 0.05.
+    #[serde(default = "default_angle_noise")]
+    pub angle_noise_deg: f64,
+}
+
+fn default_angle_noise() -> f64 {
+    0.05
+}
+
+fn default_psi0() -> f64 {
+    10.0
+}
+fn default_fps() -> f64 {
+    60.0
+}
+fn default_rest_angle() -> f64 {
+    91.7
+}
+fn default_seed() -> u64 {
+    1
+}
+
+/// A loaded, validated experiment with its derived quantities.
+#[derive(Debug, Clone)]
+pub struct Experiment {
+    pub path: PathBuf,
+    pub name: String,
+    pub material: String,
+    pub file: ExperimentFile,
+    pub pendulum: Pendulum,
+    pub beta: crate::fit::BetaChoice,
+}
+
+/// The parser's message on one line: its first line, plus the offending source line.
+fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
+    let msg = e.to_string();
+    let first = msg.lines().next().unwrap_or("").trim();
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    let src = first
+        .strip_prefix("line ")
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|n| n.parse::<usize>().ok())
+        .and_then(|n| text.lines().nth(n.saturating_sub(1)))
+        .map(|l| format!(" (in `{}`)", l.trim()))
+        .unwrap_or_default();
+    anyhow::anyhow!("{first}{src}")
+}
+
+/// Parse a `beta` value; `key` names it in errors.
+pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<crate::fit::BetaChoice> {
+    use crate::fit::BetaChoice;
+    let v = match b {
+        BetaSpec::Number(v) => *v,
+        BetaSpec::Text(t) if t.trim() == "free" => return Ok(BetaChoice::Free),
+        BetaSpec::Text(t) => {
+            let parsed = match t.split_once('/') {
+                Some((a, b)) => a
+                    .trim()
+                    .parse::<f64>()
+                    .ok()
+                    .zip(b.trim().parse::<f64>().ok())
+                    .map(|(a, b)| a / b),
+                None => t.trim().parse::<f64>().ok(),
+            };
+            parsed.with_context(|| {
+                format!("`{key}` = `{t}`: expected a number, a fraction such as 4/3, or `free`")
+            })?
+        }
+    };
+    if !(v.is_finite() && v > 0.0 && v <= 3.0) {
+        bail!("`{key}` = {v}: expected an exponent between 0 and 3");
+    }
+    Ok(BetaChoice::Fixed(v))
+}
+
+impl Experiment {
+    /// Read, parse and validate an experiment file. Every error names the file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = fsutil::read_to_string(path)?;
+        Self::parse(path, &text).with_context(|| format!("{}", path.display()))
+    }
+
+    /// Parse and validate experiment YAML; errors name the key, its value and what was
+    /// expected (the caller adds the file name).
+    pub fn parse(path: &Path, text: &str) -> Result<Self> {
+        let file: ExperimentFile =
+            serde_saphyr::from_str(text).map_err(|e| yaml_error(&e, text))?;
+        let name = file.name.clone().unwrap_or_else(|| {
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "experiment".into())
+        });
+        if name.is_empty()
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            bail!("`name` = `{name}`: expected letters, digits, `-` or `_` only (it names output files)");
+        }
+        let material = file.material.clone().unwrap_or_else(|| name.clone());
+        let pendulum = pendulum_of(&file.geometry)?;
+        let beta = parse_beta(&file.model.beta, "model.beta")?;
+        if let Some(t) = &file.torsion {
+            positive("torsion.period_s", t.period_s, "s")?;
+            positive("torsion.wire_length_m", t.wire_length_m, "m")?;
+            in_range("torsion.psi0_max_deg", t.psi0_max_deg, 0.0, 90.0, "deg")?;
+        }
+        if let Some(s) = &file.sliding {
+            positive("sliding.mu", s.mu, "")?;
+        }
+        if let Some(r) = &file.reference {
+            for (k, v) in [
+                ("reference.s_r_m", r.s_r_m),
+                ("reference.mu_r", r.mu_r),
+                ("reference.a_rad_s", r.a_rad_s),
+            ] {
+                if let Some(v) = v {
+                    positive(k, v, "")?;
+                }
+            }
+        }
+        positive(
+            "tolerances.reference_rel",
+            file.tolerances.reference_rel,
+            "",
+        )?;
+        positive("tolerances.truth_rel", file.tolerances.truth_rel, "")?;
+        if let Some(s) = &file.synthetic {
+            non_negative("synthetic.s_r_m", s.s_r_m, "m")?;
+            if parse_beta(&s.beta, "synthetic.beta")? == crate::fit::BetaChoice::Free {
+                bail!("`synthetic.beta` = free: the simulated truth needs a number");
+            }
+            in_range("synthetic.psi0_deg", s.psi0_deg, 0.0, 60.0, "deg")?;
+            positive("synthetic.fps", s.fps, "frames/s")?;
+            non_negative("synthetic.angle_noise_deg", s.angle_noise_deg, "deg")?;
+            if let Some(d) = s.duration_s {
+                positive("synthetic.duration_s", d, "s")?;
+            }
+            if !s.rest_angle_deg.is_finite() {
+                bail!(
+                    "`synthetic.rest_angle_deg` = {}: expected a finite angle",
+                    s.rest_angle_deg
+                );
+            }
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            name,
+            material,
+            file,
+            pendulum,
+            beta,
+        })
+    }
+
+    /// The synthetic truth's friction law, if the experiment has one.
+    pub fn synthetic_law(&self) -> Option<FrictionLaw> {
+        let s = self.file.synthetic.as_ref()?;
+        match parse_beta(&s.beta, "synthetic.beta") {
+            Ok(crate::fit::BetaChoice::Fixed(b)) => Some(FrictionLaw::new(s.s_r_m, b)),
+            _ => None,
+        }
+    }
+
+    /// A path given in the file, resolved against the file's folder.
+    pub fn resolve(&self, rel: &str) -> PathBuf {
+        self.path.parent().unwrap_or(Path::new(".")).join(rel)
+    }
+}
+
+fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
+    if !(v.is_finite() && v > 0.0) {
+        bail!("`{key}` = {v} {unit}: expected a positive number");
+    }
+    Ok(())
+}
+
+fn non_negative(key: &str, v: f64, unit: &str) -> Result<()> {
+    if !(v.is_finite() && v >= 0.0) {
+        bail!("`{key}` = {v} {unit}: expected zero or a positive number");
+    }
+    Ok(())
+}
+
+fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
+    if !(v.is_finite() && v > lo && v < hi) {
+        bail!("`{key}` = {v} {unit}: expected a value between {lo} and {hi} {unit}");
+    }
+    Ok(())
+}
+
+/// Geometry block -> pendulum parameters (Eq. 36, 37, 9).
+fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
+    positive("geometry.g_m_s2", g.g_m_s2, "m/s^2")?;
+    let alpha = match (&g.incline.h_m, &g.incline.l_m, &g.incline.angle_deg) {
+        (Some(h), Some(l), None) => {
+            positive("geometry.incline.h_m", *h, "m")?;
+            positive("geometry.incline.l_m", *l, "m")?;
+            if h >= l {
+                bail!("`geometry.incline.h_m` = {h} m: expected less than `l_m` = {l} m (sin(alpha) = h/l, Eq. 36)");
+            }
+            physics::incline_from_h_l(*h, *l)
+        }
+        (None, None, Some(a)) => {
+            in_range("geometry.incline.angle_deg", *a, 0.0, 90.0, "deg")?;
+            a.to_radians()
+        }
+        _ => bail!("`geometry.incline`: expected either `h_m` and `l_m` (Eq. 36) or `angle_deg`, not both or neither"),
+    };
+    let r = g.ball.radius_m;
+    positive("geometry.ball.radius_m", r, "m")?;
+    let m = match (g.ball.mass_kg, g.ball.density_kg_m3) {
+        (Some(m), None) => {
+            positive("geometry.ball.mass_kg", m, "kg")?;
+            m
+        }
+        (None, Some(rho)) => {
+            positive("geometry.ball.density_kg_m3", rho, "kg/m^3")?;
+            4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * rho
+        }
+        _ => bail!(
+            "`geometry.ball`: expected either `mass_kg` or `density_kg_m3`, not both or neither"
+        ),
+    };
+    let d = match (g.pendulum.d_m, g.pendulum.contact_length_m) {
+        (Some(d), None) => {
+            positive("geometry.pendulum.d_m", d, "m")?;
+            if d <= r {
+                bail!("`geometry.pendulum.d_m` = {d} m must exceed the ball radius {r} m");
+            }
+            d
+        }
+        (None, Some(l)) => {
+            positive("geometry.pendulum.contact_length_m", l, "m")?;
+            physics::d_from_contact_length(l, r)
+        }
+        _ => bail!("`geometry.pendulum`: expected either `d_m` or `contact_length_m` (Eq. 37), not both or neither"),
+    };
+    Pendulum::solid_ball(r, m, d, alpha, g.g_m_s2)
+}
+
+/// Find an experiment by path, or by name in `experiments/`.
+pub fn locate(arg: &str) -> PathBuf {
+    let p = PathBuf::from(arg);
+    if p.exists() || arg.ends_with(".yaml") || arg.ends_with(".yml") || arg.contains('/') {
+        return p;
+    }
+    PathBuf::from("experiments").join(format!("{arg}.yaml"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = "
+geometry:
+  incline: { h_m: 0.142, l_m: 1.5 }
+  pendulum: { d_m: 0.14 }
+  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
+synthetic: { s_r_m: 3.2e-6 }
+";
+
+    fn err(text: &str) -> String {
+        format!(
+            "{:#}",
+            Experiment::parse(Path::new("x/glass.yaml"), text).unwrap_err()
+        )
+    }
+
+    #[test]
+    fn parses_a_minimal_experiment_with_defaults() {
+        let e = Experiment::parse(Path::new("x/glass.yaml"), GOOD).unwrap();
+        assert_eq!(e.name, "glass");
+        assert!((e.pendulum.alpha.to_degrees() - 5.432).abs() < 1e-3);
+        assert_eq!(e.beta, crate::fit::BetaChoice::Fixed(1.0));
+        let s = e.file.synthetic.as_ref().unwrap();
+        assert_eq!((s.fps, s.psi0_deg, s.seed), (60.0, 10.0, 1));
+        assert_eq!(e.file.geometry.g_m_s2, 9.81);
+    }
+
+    #[test]
+    fn contact_length_and_density_are_alternatives() {
+        let text = GOOD
+            .replace("d_m: 0.14", "contact_length_m: 0.13632")
+            .replace("mass_kg: 1.0458", "density_kg_m3: 7800");
+        let e = Experiment::parse(Path::new("g.yaml"), &text).unwrap();
+        assert!((e.pendulum.d - 0.14).abs() < 1e-4);
+        assert!((e.pendulum.m - 1.0458).abs() < 0.01);
+    }
+
+    #[test]
+    fn unknown_key_is_named() {
+        let e = err(&GOOD.replace("d_m: 0.14", "d_m: 0.14, dd: 1"));
+        assert!(
+            e.contains("unknown field `dd`, expected one of d_m, contact_length_m"),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "{e}");
+    }
+
+    #[test]
+    fn bad_values_name_key_value_and_expectation() {
+        let e = err(&GOOD.replace("d_m: 0.14", "d_m: 0.02"));
+        assert!(
+            e.contains("`geometry.pendulum.d_m` = 0.02 m must exceed the ball radius 0.03175 m"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("mass_kg: 1.0458", "mass_kg: -1"));
+        assert!(
+            e.contains("`geometry.ball.mass_kg` = -1 kg: expected a positive number"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("radius_m: 0.03175", "radius_m: 0"));
+        assert!(e.contains("`geometry.ball.radius_m` = 0"), "{e}");
+        let e = err(&GOOD.replace("{ h_m: 0.142, l_m: 1.5 }", "{ h_m: 0.142, angle_deg: 5 }"));
+        assert!(e.contains("`geometry.incline`"), "{e}");
+        let e = err(&format!("{GOOD}model: {{ beta: fast }}\n"));
+        assert!(e.contains("`model.beta` = `fast`"), "{e}");
+    }
+
+    #[test]
+    fn beta_accepts_numbers_fractions_and_free() {
+        use crate::fit::BetaChoice;
+        let b = |s: &str| parse_beta(&BetaSpec::Text(s.into()), "b").unwrap();
+        assert_eq!(b("4/3"), BetaChoice::Fixed(4.0 / 3.0));
+        assert_eq!(b("1.5"), BetaChoice::Fixed(1.5));
+        assert_eq!(b("free"), BetaChoice::Free);
+        assert!(parse_beta(&BetaSpec::Number(-1.0), "b").is_err());
+    }
+}

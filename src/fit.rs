@@ -1,0 +1,484 @@
+//! The rolling-friction coefficient from measured turning points (the paper's
+//! section 2.4: "the value of s_r is found imposing the condition that the theoretical
+//! curve passes as closely as possible to the experimental points").
+//!
+//! The model's turning amplitudes come from integrating Eq. 33 ([`crate::physics::ode`])
+//! from a turning point of amplitude `A` (the first measured one). Both `s_r` and `A`
+//! are fitted by Gauss–Newton (Levenberg-damped) least squares on the amplitudes
+//! `|psi_k - psi_eq|`, so noise on the first extreme does not pin the whole model
+//! (the starting amplitude is profiled out). The 95 % interval on `s_r` is Student's t
+//! on the linearised covariance `sigma^2 (J^T J)^-1`.
+//!
+//! Derived results: `mu_r = s_r N_0^(beta-1) / r` (Eq. 40; `s_r / r` for `beta = 1`),
+//! the pendulum length implied by the measured period (a geometry cross-check), and the
+//! reactions along the fitted motion: `N(t)` (Eq. 30, Fig. 17) and `|T| / N` (Eq. 31,
+//! 34, Fig. 18).
+
+use crate::physics::ode::{integrate, OdeOptions, Trajectory};
+use crate::physics::{FrictionLaw, Pendulum};
+use crate::series::AngleSeries;
+use crate::signal::{self, envelope_line, Equilibrium, Extreme, LineFit};
+use crate::stats::student_t_quantile;
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+
+/// Which exponent `beta` of `M_r = s_r N^beta` (Eq. 28) to use.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum BetaChoice {
+    Fixed(f64),
+    /// Fit `beta` as well (by profiling it over `[0.5, 2.0]`).
+    Free,
+}
+
+/// The measured side: turning points, equilibrium and envelope of one angle series.
+#[derive(Clone, Debug, Serialize)]
+pub struct Measurement {
+    pub extremes: Vec<Extreme>,
+    pub equilibrium: Equilibrium,
+    /// `|psi_k - psi_eq|` about the envelope-fit equilibrium, rad.
+    pub amplitudes: Vec<f64>,
+    /// Regression of the amplitudes on time (its slope is `-a`).
+    pub envelope: LineFit,
+    /// Half-swing index of each extreme, counted from the first (gaps allowed).
+    pub index: Vec<usize>,
+    /// Measured period (twice the half-swing time, by regression of `t_k` on index), s.
+    pub period_s: f64,
+}
+
+/// Minimum number of turning points for a fit with two parameters and a residual.
+pub const MIN_EXTREMES: usize = 4;
+
+/// Extremes, equilibrium and envelope of an angle series.
+pub fn measure(series: &AngleSeries) -> Result<Measurement> {
+    let extremes = signal::find_extremes(series)?;
+    if extremes.len() < MIN_EXTREMES {
+        bail!(
+            "only {} turning point(s) in the angle series; the fit needs at least {MIN_EXTREMES}",
+            extremes.len()
+        );
+    }
+    let equilibrium = signal::equilibrium(&extremes)?;
+    let (amplitudes, envelope) = envelope_line(&extremes, equilibrium.envelope);
+    let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
+    gaps.sort_by(f64::total_cmp);
+    let half = gaps[gaps.len() / 2];
+    let t0 = extremes[0].t;
+    let index: Vec<usize> = extremes
+        .iter()
+        .map(|e| ((e.t - t0) / half).round() as usize)
+        .collect();
+    if index.windows(2).any(|w| w[1] <= w[0]) {
+        bail!("turning points are not one half swing apart; the series is too irregular to fit");
+    }
+    let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();
+    let ts: Vec<f64> = extremes.iter().map(|e| e.t).collect();
+    let period_s = 2.0 * signal::linear_fit(&idx, &ts).slope;
+    Ok(Measurement {
+        extremes,
+        equilibrium,
+        amplitudes,
+        envelope,
+        index,
+        period_s,
+    })
+}
+
+/// Model turning amplitudes `|psi_j|`, `j = 0..=j_max`, starting from a turning point of
+/// amplitude `a0` (`j = 0`). After the model stops, its amplitude stays at the last one.
+pub fn model_amplitudes(
+    p: &Pendulum,
+    law: &FrictionLaw,
+    a0: f64,
+    j_max: usize,
+    rtol: f64,
+) -> Vec<f64> {
+    let opts = OdeOptions {
+        rtol,
+        atol: rtol * 1e-3,
+        max_turns: j_max,
+        ..OdeOptions::default()
+    };
+    let tr = integrate(p, law, 0.0, [a0, 0.0], &opts);
+    let mut amps = Vec::with_capacity(j_max + 1);
+    amps.push(a0);
+    amps.extend(tr.turns.iter().map(|tp| tp.psi.abs()));
+    while amps.len() <= j_max {
+        amps.push(*amps.last().expect("non-empty"));
+    }
+    amps
+}
+
+/// One candidate exponent in the model comparison.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct BetaCandidate {
+    pub beta: f64,
+    pub s_r: f64,
+    /// Residual sum of squares of the amplitudes, rad^2.
+    pub rss: f64,
+    /// Small-sample Akaike criterion (lower is better; differences below ~2 mean the
+    /// data cannot tell the exponents apart).
+    pub aicc: f64,
+}
+
+/// The reactions along the fitted motion (Eq. 30, 31, 34).
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct Reactions {
+    pub n_min_n: f64,
+    pub n_max_n: f64,
+    pub n_mean_n: f64,
+    /// `100 (N_max - N_min) / N_mean`, %.
+    pub n_variation_pct: f64,
+    /// Largest `|T| / N` (must stay below the sliding coefficient, Eq. 34).
+    pub max_t_over_n: f64,
+}
+
+/// The complete result of one fit.
+#[derive(Clone, Debug, Serialize)]
+pub struct FitResult {
+    pub s_r_m: f64,
+    pub s_r_se_m: f64,
+    pub s_r_ci95_m: [f64; 2],
+    pub beta: f64,
+    /// Fitted amplitude at the first measured turning point, rad.
+    pub a_start_rad: f64,
+    pub mu_r: f64,
+    /// Envelope slope `a` from the measured amplitudes, rad/s.
+    pub a_rad_s: f64,
+    /// Envelope slope of the fitted model's turning points, rad/s.
+    pub a_model_rad_s: f64,
+    /// Equilibrium by the symmetric-envelope fit (used for the amplitudes), rad.
+    pub psi_eq_rad: f64,
+    /// Equilibrium by Eq. 38–39 as printed (mean of the extremes), rad.
+    pub psi_eq_paper_rad: f64,
+    pub n_extremes: usize,
+    pub period_s: f64,
+    pub d_from_period_m: f64,
+    pub max_t_over_n: f64,
+    pub reactions: Reactions,
+    /// Amplitude residuals `measured - model`, rad.
+    pub residuals_rad: Vec<f64>,
+    pub residual_rms_rad: f64,
+    pub iterations: usize,
+    pub beta_comparison: Vec<BetaCandidate>,
+}
+
+/// Options of a fit.
+#[derive(Clone, Copy, Debug)]
+pub struct FitOptions {
+    pub beta: BetaChoice,
+    /// Also fit `beta` = 1, 4/3 and 3/2 and report their figures of merit.
+    pub compare_betas: bool,
+    /// Relative tolerance of the model integration.
+    pub rtol: f64,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            beta: BetaChoice::Fixed(1.0),
+            compare_betas: false,
+            rtol: 1e-10,
+        }
+    }
+}
+
+struct Core {
+    s_r: f64,
+    a0: f64,
+    se: f64,
+    rss: f64,
+    residuals: Vec<f64>,
+    iterations: usize,
+    dof: usize,
+}
+
+/// Gauss–Newton with Levenberg damping on `(s_r, A)` for a fixed `beta`.
+fn fit_core(p: &Pendulum, m: &Measurement, beta: f64, rtol: f64) -> Result<Core> {
+    let n = m.amplitudes.len();
+    let j_max = *m.index.last().expect("non-empty");
+    let resid = |s_r: f64, a0: f64| -> Vec<f64> {
+        let model = model_amplitudes(p, &FrictionLaw::new(s_r, beta), a0, j_max, rtol);
+        m.index
+            .iter()
+            .zip(&m.amplitudes)
+            .map(|(&j, &y)| y - model[j])
+            .collect()
+    };
+    let ss = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    // Start from the closed-form small-angle relation between a and s_r (ERRATA §2).
+    let unit = FrictionLaw::new(1.0, beta);
+    let per_unit = p.envelope_slope(&unit);
+    let mut s_r = (m.envelope.slope.abs() / per_unit).max(1e-12);
+    let mut a0 = m.amplitudes[0];
+    let mut r = resid(s_r, a0);
+    let mut rss = ss(&r);
+    let mut lambda = 1e-6;
+    let mut iterations = 0;
+    let mut jac = [vec![0.0; n], vec![0.0; n]];
+    for it in 1..=60 {
+        iterations = it;
+        // Forward-difference Jacobian in scaled parameters.
+        let hs = 1e-4 * s_r.abs().max(1e-9);
+        let ha = 1e-6 * a0.abs().max(1e-3);
+        let rs = resid(s_r + hs, a0);
+        let ra = resid(s_r, a0 + ha);
+        for i in 0..n {
+            jac[0][i] = (rs[i] - r[i]) / hs;
+            jac[1][i] = (ra[i] - r[i]) / ha;
+        }
+        let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        let (j00, j01, j11) = (
+            dot(&jac[0], &jac[0]),
+            dot(&jac[0], &jac[1]),
+            dot(&jac[1], &jac[1]),
+        );
+        let (g0, g1) = (dot(&jac[0], &r), dot(&jac[1], &r));
+        let mut accepted = false;
+        let mut small = false;
+        for _ in 0..30 {
+            let (a, c) = (j00 * (1.0 + lambda), j11 * (1.0 + lambda));
+            let det = a * c - j01 * j01;
+            if det <= 0.0 || !det.is_finite() {
+                lambda *= 10.0;
+                continue;
+            }
+            let ds = -(c * g0 - j01 * g1) / det;
+            let da = -(a * g1 - j01 * g0) / det;
+            let s_new = (s_r + ds).max(0.0);
+            let a_new = a0 + da;
+            small = (s_new - s_r).abs() <= 1e-9 * s_r.abs().max(1e-12)
+                && da.abs() <= 1e-12 * a0.abs().max(1e-3);
+            let r_new = resid(s_new, a_new);
+            let rss_new = ss(&r_new);
+            if rss_new <= rss || small {
+                s_r = s_new;
+                a0 = a_new;
+                r = r_new;
+                rss = rss_new;
+                lambda = (lambda / 10.0).max(1e-12);
+                accepted = true;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !accepted || small {
+            break;
+        }
+    }
+    let dof = n.saturating_sub(2).max(1);
+    let sigma2 = rss / dof as f64;
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+    let (j00, j01, j11) = (
+        dot(&jac[0], &jac[0]),
+        dot(&jac[0], &jac[1]),
+        dot(&jac[1], &jac[1]),
+    );
+    let det = j00 * j11 - j01 * j01;
+    let var = if det > 0.0 {
+        sigma2 * j11 / det
+    } else {
+        f64::INFINITY
+    };
+    Ok(Core {
+        s_r,
+        a0,
+        se: var.sqrt(),
+        rss,
+        residuals: r,
+        iterations,
+        dof,
+    })
+}
+
+fn aicc(rss: f64, n: usize, k: usize) -> f64 {
+    let nf = n as f64;
+    let kf = k as f64;
+    let corr = if n > k + 1 {
+        2.0 * kf * (kf + 1.0) / (nf - kf - 1.0)
+    } else {
+        f64::INFINITY
+    };
+    nf * (rss.max(1e-300) / nf).ln() + 2.0 * kf + corr
+}
+
+/// Fit `s_r` (and optionally `beta`) to a measurement.
+pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult> {
+    let n = m.amplitudes.len();
+    if n < MIN_EXTREMES {
+        bail!("only {n} turning point(s); the fit needs at least {MIN_EXTREMES}");
+    }
+    let beta = match opts.beta {
+        BetaChoice::Fixed(b) => b,
+        BetaChoice::Free => {
+            // Golden-section search of the profiled residual over beta.
+            let f = |b: f64| fit_core(p, m, b, opts.rtol).map(|c| c.rss);
+            let gr = 0.5 * (5f64.sqrt() - 1.0);
+            let (mut lo, mut hi) = (0.5, 2.0);
+            let (mut x1, mut x2) = (hi - gr * (hi - lo), lo + gr * (hi - lo));
+            let (mut f1, mut f2) = (f(x1)?, f(x2)?);
+            while hi - lo > 1e-3 {
+                if f1 < f2 {
+                    hi = x2;
+                    x2 = x1;
+                    f2 = f1;
+                    x1 = hi - gr * (hi - lo);
+                    f1 = f(x1)?;
+                } else {
+                    lo = x1;
+                    x1 = x2;
+                    f1 = f2;
+                    x2 = lo + gr * (hi - lo);
+                    f2 = f(x2)?;
+                }
+            }
+            0.5 * (lo + hi)
+        }
+    };
+    let core = fit_core(p, m, beta, opts.rtol).context("fitting s_r")?;
+    let k_params = if opts.beta == BetaChoice::Free { 3 } else { 2 };
+    let mut beta_comparison = Vec::new();
+    if opts.compare_betas || opts.beta == BetaChoice::Free {
+        for b in [1.0, 4.0 / 3.0, 1.5] {
+            let c = fit_core(p, m, b, opts.rtol)?;
+            beta_comparison.push(BetaCandidate {
+                beta: b,
+                s_r: c.s_r,
+                rss: c.rss,
+                aicc: aicc(c.rss, n, 2),
+            });
+        }
+        if opts.beta == BetaChoice::Free {
+            beta_comparison.push(BetaCandidate {
+                beta,
+                s_r: core.s_r,
+                rss: core.rss,
+                aicc: aicc(core.rss, n, k_params),
+            });
+        }
+    }
+    let tq = student_t_quantile(0.975, core.dof as f64);
+    let law = FrictionLaw::new(core.s_r, beta);
+    let n0 = p.rest_normal_force();
+    let t_first = m.extremes[0].t;
+    let t_last = m.extremes.last().expect("non-empty").t;
+    let model = integrate(
+        p,
+        &law,
+        t_first,
+        [core.a0, 0.0],
+        &OdeOptions {
+            t_end: t_last,
+            ..OdeOptions::default()
+        },
+    );
+    let reactions = reactions(&model, t_first, t_last);
+    let (mt, ma): (Vec<f64>, Vec<f64>) = std::iter::once((t_first, core.a0))
+        .chain(model.turns.iter().map(|tp| (tp.t, tp.psi.abs())))
+        .unzip();
+    let a_model = if mt.len() >= 2 {
+        -signal::linear_fit(&mt, &ma).slope
+    } else {
+        f64::NAN
+    };
+    let mean_amp = m.amplitudes.iter().sum::<f64>() / n as f64;
+    // Finite-amplitude correction of the period (T = T_0 (1 + A^2/16 + ...)).
+    let t0 = m.period_s / (1.0 + mean_amp * mean_amp / 16.0);
+    Ok(FitResult {
+        s_r_m: core.s_r,
+        s_r_se_m: core.se,
+        s_r_ci95_m: [core.s_r - tq * core.se, core.s_r + tq * core.se],
+        beta,
+        a_start_rad: core.a0,
+        mu_r: core.s_r * n0.powf(beta - 1.0) / p.r,
+        a_rad_s: -m.envelope.slope,
+        a_model_rad_s: a_model,
+        psi_eq_rad: m.equilibrium.envelope,
+        psi_eq_paper_rad: m.equilibrium.paper,
+        n_extremes: n,
+        period_s: m.period_s,
+        d_from_period_m: p.d_from_period(t0),
+        max_t_over_n: reactions.max_t_over_n,
+        reactions,
+        residual_rms_rad: (core.rss / n as f64).sqrt(),
+        residuals_rad: core.residuals,
+        iterations: core.iterations,
+        beta_comparison,
+    })
+}
+
+/// `N(t)` and `|T|/N` sampled densely along a trajectory between `t0` and `t1`.
+pub fn reactions(tr: &Trajectory, t0: f64, t1: f64) -> Reactions {
+    let p = &tr.pendulum;
+    let samples = 4000;
+    let (mut lo, mut hi, mut sum, mut ratio) = (f64::INFINITY, 0.0f64, 0.0, 0.0f64);
+    for i in 0..=samples {
+        let t = t0 + (t1 - t0) * i as f64 / samples as f64;
+        let [psi, w] = tr.state(t);
+        let n = p.normal_force(psi, w);
+        let tf = p.friction_force(&tr.law, psi, if w == 0.0 { tr.direction(t) } else { w });
+        lo = lo.min(n);
+        hi = hi.max(n);
+        sum += n;
+        ratio = ratio.max(tf.abs() / n);
+    }
+    let mean = sum / (samples + 1) as f64;
+    Reactions {
+        n_min_n: lo,
+        n_max_n: hi,
+        n_mean_n: mean,
+        n_variation_pct: 100.0 * (hi - lo) / mean,
+        max_t_over_n: ratio,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::incline_from_h_l;
+
+    fn pendulum(d: f64) -> Pendulum {
+        Pendulum::solid_ball(0.03175, 1.0458, d, incline_from_h_l(0.142, 1.5), 9.81).unwrap()
+    }
+
+    fn sampled(p: &Pendulum, law: &FrictionLaw, fps: f64, dur: f64) -> AngleSeries {
+        let opts = OdeOptions {
+            t_end: dur,
+            ..OdeOptions::default()
+        };
+        let tr = integrate(p, law, 0.0, [10f64.to_radians(), 0.0], &opts);
+        let t: Vec<f64> = (0..(dur * fps) as usize).map(|i| i as f64 / fps).collect();
+        let a = t.iter().map(|&x| 1.3 - tr.state(x)[0]).collect();
+        AngleSeries::new(t, a)
+    }
+
+    #[test]
+    fn recovers_s_r_from_its_own_model() {
+        let p = pendulum(0.1774);
+        let law = FrictionLaw::new(3.714e-6, 1.0);
+        let m = measure(&sampled(&p, &law, 60.0, 60.0)).unwrap();
+        let r = fit(&p, &m, &FitOptions::default()).unwrap();
+        assert!(
+            ((r.s_r_m - law.s_r) / law.s_r).abs() < 1e-3,
+            "{} vs {}",
+            r.s_r_m,
+            law.s_r
+        );
+        assert!(r.s_r_ci95_m[0] <= r.s_r_m && r.s_r_m <= r.s_r_ci95_m[1]);
+        assert!(
+            (r.d_from_period_m - p.d).abs() < 1e-3 * p.d,
+            "{}",
+            r.d_from_period_m
+        );
+        assert!((r.psi_eq_rad - 1.3).abs() < 1e-5);
+        assert!(r.max_t_over_n > 0.0 && r.max_t_over_n < 0.01);
+        assert!(r.reactions.n_variation_pct < 0.2);
+    }
+
+    #[test]
+    fn rejects_too_few_turning_points() {
+        let p = pendulum(0.1774);
+        let law = FrictionLaw::new(60e-6, 1.0);
+        let err = measure(&sampled(&p, &law, 30.0, 20.0)).unwrap_err();
+        assert!(format!("{err:#}").contains("turning point"), "{err:#}");
+    }
+}

@@ -1,0 +1,17 @@
+//! rollfric: rolling-friction coefficients from videos of a conical pendulum.
+//!
+//! The stages, one module each: [`config`] (experiment files) → [`physics`] (the
+//! paper's model) → [`signal`] (turning points, equilibrium) → [`fit`] (`s_r` and its
+//! uncertainty). [`simulate`] produces what a camera would record from the model.
+
+pub mod commands;
+pub mod config;
+pub mod fit;
+pub mod fsutil;
+pub mod physics;
+pub mod rng;
+pub mod series;
+pub mod signal;
+pub mod simulate;
+pub mod stats;
+pub mod video;

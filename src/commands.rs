@@ -152,7 +152,7 @@ pub fn fit_experiment(exp: &Experiment, args: &FitArgs) -> Result<FitReport> {
         Some(p) => format!("{}", p.display()),
         None => format!("{}", exp.path.display()),
     };
-    let m = fit::measure(&series).with_context(what)?;
+    let m = fit::analyze(&exp.pendulum, &series, beta).with_context(what)?;
     let result = fit::fit(&exp.pendulum, &m, &opts)
         .with_context(|| format!("{}: fitting s_r", exp.path.display()))?;
     let mu = exp.file.sliding.as_ref().map(|s| s.mu);

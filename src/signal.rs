@@ -17,7 +17,7 @@
 
 use crate::series::AngleSeries;
 use anyhow::{bail, Result};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use serde::Serialize;
 
 /// One extreme elongation of the measured signal.
@@ -158,7 +158,7 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
         let lo = t.partition_point(|&v| v < lo_t);
         let hi = t.partition_point(|&v| v <= hi_t);
         let fall = |i: usize| side * (y[k] - y[i]);
-        if fall(lo) < 2.0 * h || fall(hi - 1) < 2.0 * h || hi - lo < 9 {
+        if fall(lo) < 1.5 * h || fall(hi - 1) < 1.5 * h || hi - lo < 9 {
             continue;
         }
         if let Some(e) = refine(&t[lo..hi], &y[lo..hi], t[k], side, &s.t) {
@@ -176,24 +176,30 @@ fn refine(t: &[f64], y: &[f64], t_c: f64, side: f64, all_t: &[f64]) -> Option<Ex
     } else {
         all_t[i] - all_t[i - 1]
     };
+    let basis = |tau: f64| -> [f64; 6] {
+        let t2 = tau * tau;
+        let t4 = t2 * t2;
+        let (l, r) = if tau < 0.0 { (1.0, 0.0) } else { (0.0, 1.0) };
+        [1.0, l * t2, r * t2, l * t4, r * t4, t4 * t2]
+    };
     let rss = |tk: f64| -> Option<(f64, f64)> {
-        let m = t.len();
-        let mut a = DMatrix::<f64>::zeros(m, 6);
-        let b = DVector::<f64>::from_column_slice(y);
-        for (r, &ti) in t.iter().enumerate() {
-            let tau = ti - tk;
-            a[(r, 0)] = 1.0;
-            a[(r, 1)] = if tau < 0.0 { tau * tau } else { 0.0 };
-            a[(r, 2)] = if tau >= 0.0 { tau * tau } else { 0.0 };
-            a[(r, 3)] = if tau < 0.0 { tau.powi(4) } else { 0.0 };
-            a[(r, 4)] = if tau >= 0.0 { tau.powi(4) } else { 0.0 };
-            a[(r, 5)] = tau.powi(6);
+        let mut ata = SMatrix::<f64, 6, 6>::zeros();
+        let mut atb = SVector::<f64, 6>::zeros();
+        for (&ti, &yi) in t.iter().zip(y) {
+            let row = SVector::<f64, 6>::from(basis(ti - tk));
+            ata += row * row.transpose();
+            atb += row * yi;
         }
-        let ata = a.transpose() * &a;
-        let atb = a.transpose() * &b;
         let x = ata.cholesky()?.solve(&atb);
-        let res = &b - &a * &x;
-        Some((res.norm_squared(), x[0]))
+        let r: f64 = t
+            .iter()
+            .zip(y)
+            .map(|(&ti, &yi)| {
+                let b = basis(ti - tk);
+                (yi - (0..6).map(|j| b[j] * x[j]).sum::<f64>()).powi(2)
+            })
+            .sum();
+        Some((r, x[0]))
     };
     // Coarse grid over +-2 samples, then golden-section search around the best node.
     let grid = 16;
@@ -216,7 +222,7 @@ fn refine(t: &[f64], y: &[f64], t_c: f64, side: f64, all_t: &[f64]) -> Option<Ex
     let mut x2 = a + gr * (b - a);
     let mut f1 = rss(x1)?.0;
     let mut f2 = rss(x2)?.0;
-    while b - a > 1e-9 * dt.max(1e-12) {
+    while b - a > 1e-6 * dt.max(1e-12) {
         if f1 < f2 {
             b = x2;
             x2 = x1;

@@ -39,9 +39,12 @@ impl FrictionLaw {
     }
 
     /// Rolling-friction torque for a normal force `n` (N), in N·m (Eq. 28).
+    #[inline]
     pub fn torque(&self, n: f64) -> f64 {
         if self.s_r == 0.0 {
             0.0
+        } else if self.beta == 1.0 {
+            self.s_r * n.max(0.0)
         } else {
             self.s_r * n.max(0.0).powf(self.beta)
         }
@@ -69,6 +72,20 @@ pub struct Pendulum {
     pub l: f64,
     /// Moment of inertia about the contact axis `J_C = J_z + m r^2`, kg·m^2.
     pub j_c: f64,
+    /// Constants of the hot path, computed once.
+    c: Cached,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Cached {
+    /// `m g cos(alpha)` and `m g sin(alpha) tan(delta)` of Eq. 30, N.
+    n_flat: f64,
+    n_psi: f64,
+    /// `J_C / r` of Eq. 30, kg·m.
+    n_spin: f64,
+    /// `m g r^2 sin(alpha) / (J_C L)` and `r / (J_C L)` of Eq. 33.
+    k_grav: f64,
+    k_fric: f64,
 }
 
 impl Pendulum {
@@ -93,6 +110,8 @@ impl Pendulum {
             "plate inclination alpha = {alpha} rad must lie strictly between 0 and pi/2"
         );
         let delta = (r / d).asin();
+        let l = (d * d - r * r).sqrt();
+        let j_c = j_z + m * r * r;
         Ok(Self {
             r,
             m,
@@ -101,15 +120,22 @@ impl Pendulum {
             alpha,
             g,
             delta,
-            l: (d * d - r * r).sqrt(),
-            j_c: j_z + m * r * r,
+            l,
+            j_c,
+            c: Cached {
+                n_flat: m * g * alpha.cos(),
+                n_psi: m * g * alpha.sin() * delta.tan(),
+                n_spin: j_c / r,
+                k_grav: m * g * r * r * alpha.sin() / (j_c * l),
+                k_fric: r / (j_c * l),
+            },
         })
     }
 
     /// Small-angle angular frequency `omega_0 = sqrt(m g r^2 sin(alpha) / (J_C L))`, rad/s.
     /// For a solid ball this is `sqrt(5 g sin(alpha) / (7 L))` (ERRATA §2).
     pub fn omega0(&self) -> f64 {
-        (self.m * self.g * self.r * self.r * self.alpha.sin() / (self.j_c * self.l)).sqrt()
+        self.c.k_grav.sqrt()
     }
 
     /// Small-angle period `2 pi / omega_0`, s.
@@ -138,11 +164,10 @@ impl Pendulum {
     /// Angular acceleration `psi''` (Eq. 33, ERRATA §2) while the wire moves in the
     /// direction `dir` (+1 or -1): `dir` stands for `sgn(psi')`, held fixed over a half
     /// swing so that the right-hand side stays smooth.
+    #[inline]
     pub fn psi_ddot(&self, law: &FrictionLaw, psi: f64, psi_dot: f64, dir: f64) -> f64 {
-        let k = 1.0 / (self.j_c * self.l);
-        let gravity = self.m * self.g * self.r * self.r * self.alpha.sin() * psi.sin();
-        let friction = self.r * law.torque(self.normal_force(psi, psi_dot));
-        -k * (gravity + friction * dir)
+        let friction = self.c.k_fric * law.torque(self.normal_force(psi, psi_dot));
+        -(self.c.k_grav * psi.sin() + friction * dir)
     }
 
     /// Whether gravity can start the ball from rest at `psi` against the rolling

@@ -241,6 +241,16 @@ pub fn fit_cmd(exp_path: &Path, args: &FitArgs, json: bool) -> Result<String> {
             c.beta, c.s_r, c.rss, c.aicc
         );
     }
+    let aicc = f.beta_comparison.iter().map(|c| c.aicc);
+    let spread = aicc.clone().fold(f64::MIN, f64::max) - aicc.fold(f64::MAX, f64::min);
+    if !f.beta_comparison.is_empty() && spread < 2.0 {
+        let _ = writeln!(
+            o,
+            "  the exponents fit equally well (AICc within {spread:.2}): N varies only {:.3} %, \
+             so this recording cannot determine beta; s_r N_0^beta is what it measures",
+            f.reactions.n_variation_pct
+        );
+    }
     Ok(o)
 }
 
@@ -359,7 +369,7 @@ pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "{:<24} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  check",
+        "{:<36} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  check",
         "material",
         "s_r e-6",
         "paper",
@@ -377,7 +387,7 @@ pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
             ok = false;
             let _ = writeln!(
                 o,
-                "{:<24} FAILED: {}",
+                "{:<36} FAILED: {}",
                 row.experiment,
                 row.error.as_deref().unwrap_or("")
             );
@@ -401,7 +411,7 @@ pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
         let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:+.2}", 100.0 * v));
         let _ = writeln!(
             o,
-            "{:<24} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  {}",
+            "{:<36} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  {}",
             r.material,
             num(Some(f.s_r_m), 1e6),
             num(reference.s_r_m, 1e6),

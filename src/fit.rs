@@ -614,6 +614,35 @@ mod tests {
     }
 
     #[test]
+    fn any_beta_recovers_its_own_s_r_and_compares_exponents() {
+        let p = pendulum(0.195);
+        // Same torque at rest as s_r = 5e-6 m with beta = 1.
+        let n0 = p.rest_normal_force();
+        let law = FrictionLaw::new(5e-6 / n0.sqrt(), 1.5);
+        let series = sampled(&p, &law, 60.0, 60.0);
+        let m = analyze(&p, &series, BetaChoice::Fixed(1.5)).unwrap();
+        let opts = FitOptions {
+            beta: BetaChoice::Fixed(1.5),
+            compare_betas: true,
+            ..FitOptions::default()
+        };
+        let r = fit(&p, &m, &opts).unwrap();
+        assert!(
+            ((r.s_r_m - law.s_r) / law.s_r).abs() < 1e-3,
+            "{:e}",
+            r.s_r_m
+        );
+        // N hardly varies, so every exponent fits with the same torque s_r N_0^beta:
+        // the comparison reports them, and mu_r (the torque's lever arm) agrees.
+        assert_eq!(r.beta_comparison.len(), 3);
+        for c in &r.beta_comparison {
+            let torque = c.s_r * n0.powf(c.beta);
+            assert!((torque / (5e-6 * n0) - 1.0).abs() < 2e-3, "{c:?}");
+        }
+        assert!((r.mu_r - 5e-6 / p.r).abs() < 2e-3 * r.mu_r);
+    }
+
+    #[test]
     fn rejects_too_few_turning_points() {
         let p = pendulum(0.1774);
         let law = FrictionLaw::new(60e-6, 1.0);

@@ -70,6 +70,8 @@ pub struct ExperimentFile {
     pub synthetic: Option<Synthetic>,
     /// A measured angle CSV (`t_s,angle_rad`), relative to this file. Optional.
     pub angles: Option<String>,
+    /// The video and the detector's settings. Optional.
+    pub video: Option<Video>,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -246,6 +248,87 @@ pub struct Synthetic {
     /// detector, degrees. Default 0.05.
     #[serde(default = "default_angle_noise")]
     pub angle_noise_deg: f64,
+    /// Rendered video width, px. Default 1280.
+    #[serde(default = "default_width")]
+    pub width: u32,
+    /// Rendered video height, px. Default 720.
+    #[serde(default = "default_height")]
+    pub height: u32,
+    /// Look of the rendered scene. Default `dark-wire`.
+    #[serde(default)]
+    pub style: Style,
+    /// Number of spoiled frames (a hand passing, a flash, a duplicated frame, in turn).
+    /// Default 3.
+    #[serde(default = "default_spoiled")]
+    pub spoiled_frames: u32,
+    /// Render without camera defects (noise, blur, drift, flicker, spoiled frames): for
+    /// debugging the detector. Default false.
+    #[serde(default)]
+    pub clean: bool,
+}
+
+/// Look of the digital twin's video.
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Style {
+    /// A dark wire over a light protractor on a light plate.
+    #[default]
+    DarkWire,
+    /// A light wire over a dark plate.
+    LightWire,
+    /// A camera turned far from the plate's axes, dim and low in contrast.
+    Oblique,
+}
+
+fn default_width() -> u32 {
+    1280
+}
+fn default_height() -> u32 {
+    720
+}
+fn default_spoiled() -> u32 {
+    3
+}
+
+/// Wire polarity for the detector.
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Polarity {
+    /// Decide from the video.
+    #[default]
+    Auto,
+    /// The wire is darker than what is behind it.
+    Dark,
+    /// The wire is lighter than what is behind it.
+    Light,
+}
+
+/// Where the video is and how to read it. Every key is optional: with none, the
+/// detector finds the moving wire, its pivot and a region of interest by itself.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Video {
+    /// The recording, relative to this file. Default for a synthetic experiment: the
+    /// rendered twin under `build/<name>/`.
+    pub path: Option<String>,
+    /// Region of interest `[x, y, width, height]`, px.
+    pub roi: Option<[u32; 4]>,
+    /// Pivot of the wire `[x, y]`, px (may lie outside the frame).
+    pub pivot: Option<[f64; 2]>,
+    /// Frames to use, `[first, last]` (0-based, inclusive).
+    pub frames: Option<[u64; 2]>,
+    /// Wire polarity: `auto`, `dark` or `light`. Default `auto`.
+    #[serde(default)]
+    pub polarity: Polarity,
+    /// Detection threshold, in units of the image noise. Default 4.
+    pub threshold_sigma: Option<f64>,
+    /// Gate: a measured angle farther than this from the value predicted from the
+    /// previous frames is flagged, degrees. Default 1.5.
+    pub gate_deg: Option<f64>,
+    /// Operator marks: frame number -> two points `[[x1, y1], [x2, y2]]` on the wire,
+    /// px. They replace the detection for that frame (status `manual`).
+    #[serde(default)]
+    pub marks: std::collections::BTreeMap<u64, [[f64; 2]; 2]>,
 }
 
 fn default_angle_noise() -> f64 {
@@ -380,6 +463,13 @@ impl Experiment {
             non_negative("synthetic.angle_noise_deg", s.angle_noise_deg, "deg")?;
             if let Some(d) = s.duration_s {
                 positive("synthetic.duration_s", d, "s")?;
+            }
+            if s.width < 64 || s.height < 64 || s.width > 7680 || s.height > 4320 {
+                bail!(
+                    "`synthetic.width` x `synthetic.height` = {} x {} px: expected 64..7680 x 64..4320",
+                    s.width,
+                    s.height
+                );
             }
             if !s.rest_angle_deg.is_finite() {
                 bail!(

@@ -95,7 +95,7 @@ pub struct FitArgs {
 }
 
 /// Load the angles an experiment is fitted from: an explicit CSV, the file's `angles:`,
-/// or else the digital twin's simulated camera series.
+/// or else its video (`video.path`, or the digital twin's rendered video), detected now.
 pub fn angles_for(
     exp: &Experiment,
     explicit: Option<&Path>,
@@ -113,24 +113,41 @@ pub fn angles_for(
             },
         ));
     }
-    if exp.file.synthetic.is_none() {
-        bail!(
-            "{}: no angles to fit: pass --angles CSV, or set `angles:` or `synthetic:` in the file",
-            exp.path.display()
-        );
-    }
-    let cam = simulate::camera_of(exp)?;
-    let rec = simulate::record(exp, &cam)?;
+    let video = video_for(exp)?;
+    let opts = exp
+        .file
+        .video
+        .as_ref()
+        .map(crate::detect::DetectOptions::from_video)
+        .unwrap_or_default();
+    let d = crate::detect::detect(&video, &opts)?;
+    let synthetic = exp.file.synthetic.is_some()
+        && exp
+            .file
+            .video
+            .as_ref()
+            .and_then(|v| v.path.as_ref())
+            .is_none();
     Ok((
-        rec.series,
+        d.series(),
         AnglesSource {
-            kind: "synthetic".into(),
+            kind: if synthetic {
+                "synthetic-video"
+            } else {
+                "video"
+            }
+            .into(),
             description: format!(
-                "SYNTHETIC: the digital twin's camera angles (s_r = {:e} m, {} fps, noise {:.3} deg, seed {})",
-                rec.law.s_r,
-                cam.fps,
-                cam.noise_rad.to_degrees(),
-                cam.seed
+                "{}angles detected in {} ({} frames: {} corrected, {} missing)",
+                if synthetic {
+                    "SYNTHETIC: the digital twin's video; "
+                } else {
+                    ""
+                },
+                video.display(),
+                d.rows.len(),
+                d.count(crate::detect::Status::Corrected),
+                d.count(crate::detect::Status::Missing)
             ),
         },
     ))
@@ -159,7 +176,7 @@ pub fn fit_experiment(exp: &Experiment, args: &FitArgs) -> Result<FitReport> {
     Ok(FitReport {
         experiment: exp.name.clone(),
         material: exp.material.clone(),
-        truth_s_r_m: if source.kind == "synthetic" {
+        truth_s_r_m: if source.kind.starts_with("synthetic") {
             exp.synthetic_law().map(|l| l.s_r)
         } else {
             None
@@ -438,4 +455,145 @@ pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
         "paper columns are Table 1's published values, for reference only."
     );
     Ok((o, ok))
+}
+
+/// Options of `rollfric detect`.
+#[derive(Clone, Debug, Default)]
+pub struct DetectArgs {
+    pub experiment: Option<std::path::PathBuf>,
+    /// Write diagnostic images of flagged frames next to the CSV.
+    pub diagnostics: bool,
+    /// Decode with OpenCV even when ffmpeg is installed.
+    pub opencv: bool,
+    /// Override the experiment's region of interest, frame range and pivot.
+    pub roi: Option<[u32; 4]>,
+    pub frames: Option<[u64; 2]>,
+    pub pivot: Option<[f64; 2]>,
+}
+
+/// `rollfric detect`: per-frame wire angles of a video, written as CSV.
+pub fn detect_cmd(video: &Path, out: &Path, args: &DetectArgs) -> Result<String> {
+    use crate::detect::{self, DetectOptions, Status};
+    let mut opts = match &args.experiment {
+        Some(e) => {
+            let exp = Experiment::load(e)?;
+            exp.file
+                .video
+                .as_ref()
+                .map(DetectOptions::from_video)
+                .unwrap_or_default()
+        }
+        None => DetectOptions::default(),
+    };
+    opts.force_opencv = args.opencv;
+    if let Some([x, y, w, h]) = args.roi {
+        opts.roi = Some(crate::video::Roi { x, y, w, h });
+    }
+    opts.frames = args.frames.or(opts.frames);
+    opts.pivot = args.pivot.or(opts.pivot);
+    if args.diagnostics {
+        opts.diag_dir = Some(out.with_extension("diag"));
+    }
+    let started = std::time::Instant::now();
+    let d = detect::detect(video, &opts)?;
+    let secs = started.elapsed().as_secs_f64();
+    fsutil::write_atomic(out, d.to_csv().as_bytes())?;
+    let n = d.rows.len();
+    Ok(format!(
+        "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}): {} ok, {} corrected, {} manual, {} missing; \
+         pivot ({:.1}, {:.1}) px, {} wire, ROI {:?} -> {}\n",
+        video.display(),
+        n as f64 / secs,
+        d.decoder,
+        d.count(Status::Ok),
+        d.count(Status::Corrected),
+        d.count(Status::Manual),
+        d.count(Status::Missing),
+        d.pivot_px[0],
+        d.pivot_px[1],
+        if d.dark_wire { "dark" } else { "light" },
+        d.roi,
+        out.display()
+    ))
+}
+
+/// `rollfric synth`: render the experiment's digital-twin video (and its truth CSV).
+pub fn synth_cmd(
+    exp_path: &Path,
+    out: &Path,
+    truth: Option<&Path>,
+    duration_s: Option<f64>,
+) -> Result<String> {
+    let exp = Experiment::load(exp_path)?;
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let started = std::time::Instant::now();
+    let mut progress = |done: usize, total: usize| {
+        if tty {
+            eprint!("\rsynth: frame {done}/{total}");
+        }
+    };
+    let r = crate::synth::render(&exp, out, duration_s, &mut progress)?;
+    if tty {
+        eprintln!();
+    }
+    if let Some(t) = truth {
+        fsutil::write_atomic(t, crate::synth::truth_csv(&r.truth).as_bytes())?;
+    }
+    let spoiled = r.truth.iter().filter(|t| t.spoiled != "none").count();
+    Ok(format!(
+        "{}: SYNTHETIC {} frames {}x{} at {} fps, {} ({:?} style, {spoiled} spoiled frames) in {:.1} s -> {}\n",
+        exp.name,
+        r.frames,
+        r.width,
+        r.height,
+        r.fps,
+        r.codec,
+        r.style,
+        started.elapsed().as_secs_f64(),
+        r.path.display()
+    ))
+}
+
+/// The video of an experiment: its `video.path`, or for a digital twin the rendered
+/// file under `build/<name>/` (rendered now when missing or older than the YAML).
+pub fn video_for(exp: &Experiment) -> Result<std::path::PathBuf> {
+    if let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) {
+        let path = exp.resolve(p);
+        if !path.exists() {
+            bail!(
+                "{}: `video.path` = {}: the video does not exist",
+                exp.path.display(),
+                path.display()
+            );
+        }
+        return Ok(path);
+    }
+    if exp.file.synthetic.is_none() {
+        bail!(
+            "{}: no video: set `video.path`, or `angles:` for a measured angle CSV",
+            exp.path.display()
+        );
+    }
+    let dir = std::path::Path::new("build").join(&exp.name);
+    for ext in ["mp4", "avi"] {
+        let p = dir.join(format!("twin.{ext}"));
+        let fresh = match (std::fs::metadata(&p), std::fs::metadata(&exp.path)) {
+            (Ok(v), Ok(y)) => v.modified().ok() >= y.modified().ok(),
+            _ => false,
+        };
+        if fresh {
+            return Ok(p);
+        }
+    }
+    eprint!(
+        "{}",
+        synth_cmd(&exp.path, &dir.join("twin.mp4"), None, None)?
+    );
+    for ext in ["mp4", "avi"] {
+        let p = dir.join(format!("twin.{ext}"));
+        if p.exists() {
+            return Ok(p);
+        }
+    }
+    bail!("{}: the rendered video is missing", dir.display())
 }

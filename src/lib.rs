@@ -6,6 +6,7 @@
 
 pub mod commands;
 pub mod config;
+pub mod detect;
 pub mod fit;
 pub mod fsutil;
 pub mod physics;
@@ -14,4 +15,5 @@ pub mod series;
 pub mod signal;
 pub mod simulate;
 pub mod stats;
+pub mod synth;
 pub mod video;

@@ -49,6 +49,20 @@ enum Cmd {
         #[arg(long)]
         duration: Option<f64>,
     },
+    /// Render the digital twin's video of an experiment (H.264 .mp4, or MJPG .avi).
+    Synth {
+        /// Experiment file, or its name in experiments/.
+        experiment: String,
+        /// Output video.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also write the true angle of every frame (t_s,angle_rad,spoiled).
+        #[arg(long)]
+        truth: Option<PathBuf>,
+        /// Recording length, s (default: the experiment's).
+        #[arg(long)]
+        duration: Option<f64>,
+    },
     /// Measure turning points and fit s_r for one experiment.
     Fit {
         /// Experiment file, or its name in experiments/.
@@ -76,6 +90,32 @@ enum Cmd {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+    },
+    /// Measure the wire angle in every frame of a video (CSV: t_s,angle_rad,status,quality).
+    Detect {
+        /// The video file.
+        video: PathBuf,
+        /// Output CSV.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Experiment whose `video:` block narrows the search (ROI, pivot, frames, marks).
+        #[arg(long)]
+        experiment: Option<String>,
+        /// Write an image of each flagged frame (detected line red, predicted green).
+        #[arg(long)]
+        diagnostics: bool,
+        /// Decode with OpenCV even when the ffmpeg program is installed.
+        #[arg(long)]
+        opencv: bool,
+        /// Region of interest `x,y,width,height` (px).
+        #[arg(long, value_delimiter = ',')]
+        roi: Option<Vec<u32>>,
+        /// Frames to use, `first,last` (0-based, inclusive).
+        #[arg(long, value_delimiter = ',')]
+        frames: Option<Vec<u64>>,
+        /// Pivot `x,y` (px; may lie outside the frame).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        pivot: Option<Vec<f64>>,
     },
     /// Versions and the video back-ends of the system OpenCV.
     Info,
@@ -125,6 +165,54 @@ fn run(cli: Cli) -> anyhow::Result<bool> {
             s_r,
             json,
         } => commands::torsion_cmd(&locate(&experiment), s_r, json)?,
+        Cmd::Synth {
+            experiment,
+            output,
+            truth,
+            duration,
+        } => {
+            let msg =
+                commands::synth_cmd(&locate(&experiment), &output, truth.as_deref(), duration)?;
+            eprint!("{msg}");
+            String::new()
+        }
+        Cmd::Detect {
+            video,
+            output,
+            experiment,
+            diagnostics,
+            opencv,
+            roi,
+            frames,
+            pivot,
+        } => {
+            let want = |name: &str, got: usize, n: usize| {
+                if got != n {
+                    anyhow::bail!("--{name}: expected {n} comma-separated numbers, got {got}");
+                }
+                Ok(())
+            };
+            if let Some(v) = &roi {
+                want("roi", v.len(), 4)?;
+            }
+            if let Some(v) = &frames {
+                want("frames", v.len(), 2)?;
+            }
+            if let Some(v) = &pivot {
+                want("pivot", v.len(), 2)?;
+            }
+            let args = commands::DetectArgs {
+                experiment: experiment.map(|e| locate(&e)),
+                diagnostics,
+                opencv,
+                roi: roi.map(|v| [v[0], v[1], v[2], v[3]]),
+                frames: frames.map(|v| [v[0], v[1]]),
+                pivot: pivot.map(|v| [v[0], v[1]]),
+            };
+            let msg = commands::detect_cmd(&video, &output, &args)?;
+            eprint!("{msg}");
+            String::new()
+        }
         Cmd::Info => rollfric::video::info()?,
     };
     print!("{out}");

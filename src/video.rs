@@ -1,7 +1,347 @@
-//! The system OpenCV, seen from the tool: its version and video back-ends.
+//! Reading video frames: the slow, machine-dependent stage, behind the [`FrameSource`]
+//! trait so that everything after it can be tested with frames made in memory.
+//!
+//! [`FfmpegSource`] is the fast path. It has the `ffmpeg` program decode, crop to the
+//! region of interest and hand over only the luma plane (`extractplanes=y`): no colour
+//! conversion at all, and only the pixels the detector looks at cross the pipe. Frame
+//! times come from each decoded frame's own timestamp (`showinfo`), not from the
+//! container's nominal rate. [`OpenCvSource`] (OpenCV's `VideoCapture`, BGR then grey)
+//! is the fallback when `ffmpeg` is not installed, and the benchmark's reference.
 
-use anyhow::Result;
-use opencv::videoio;
+use anyhow::{bail, Context, Result};
+use opencv::core::{Mat, Rect};
+use opencv::prelude::*;
+use opencv::{imgproc, videoio};
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+
+/// A rectangle of the frame, px.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Roi {
+    pub x: u32,
+    pub y: u32,
+    pub w: u32,
+    pub h: u32,
+}
+
+/// What a video is, as the container tells it.
+#[derive(Clone, Debug)]
+pub struct VideoInfo {
+    pub width: u32,
+    pub height: u32,
+    /// Frame count from the header (may be wrong; frames are counted as decoded).
+    pub frames_header: Option<u64>,
+    pub duration_s: Option<f64>,
+    pub codec: String,
+}
+
+/// One decoded grey frame (row-major, `width` bytes per row).
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// 0-based index among decoded frames.
+    pub index: u64,
+    /// Timestamp of the frame, s.
+    pub t_s: f64,
+    pub width: usize,
+    pub height: usize,
+    pub data: Vec<u8>,
+}
+
+/// A stream of grey frames.
+pub trait FrameSource {
+    /// Fill `frame` with the next frame; `Ok(false)` at the end of the video.
+    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool>;
+}
+
+/// Whether the `ffmpeg` program can be run.
+pub fn have_ffmpeg() -> bool {
+    Command::new("ffmpeg")
+        .arg("-version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Probe a video's size and header facts (OpenCV; no decoding).
+pub fn probe(path: &Path) -> Result<VideoInfo> {
+    let meta =
+        std::fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    if meta.len() == 0 {
+        bail!(
+            "{}: the file is empty (0 bytes); no frame to read",
+            path.display()
+        );
+    }
+    let cap =
+        videoio::VideoCapture::from_file(path.to_string_lossy().into_owned(), videoio::CAP_ANY)
+            .with_context(|| format!("{}: cannot open as a video", path.display()))?;
+    if !cap.is_opened()? {
+        bail!(
+            "{}: cannot open as a video (not a video file, or damaged)",
+            path.display()
+        );
+    }
+    let width = cap.get(videoio::CAP_PROP_FRAME_WIDTH)? as u32;
+    let height = cap.get(videoio::CAP_PROP_FRAME_HEIGHT)? as u32;
+    if width == 0 || height == 0 {
+        bail!("{}: the video reports no frame size", path.display());
+    }
+    let n = cap.get(videoio::CAP_PROP_FRAME_COUNT)?;
+    let fps = cap.get(videoio::CAP_PROP_FPS)?;
+    let fourcc = cap.get(videoio::CAP_PROP_FOURCC)? as u32;
+    let codec: String = fourcc
+        .to_le_bytes()
+        .iter()
+        .map(|&b| if b.is_ascii_graphic() { b as char } else { '?' })
+        .collect();
+    Ok(VideoInfo {
+        width,
+        height,
+        frames_header: (n > 0.0).then_some(n as u64),
+        duration_s: (n > 0.0 && fps > 0.0).then_some(n / fps),
+        codec,
+    })
+}
+
+/// Decoding by the `ffmpeg` program: luma only, cropped, with per-frame timestamps.
+pub struct FfmpegSource {
+    path: PathBuf,
+    child: Child,
+    stdout: std::process::ChildStdout,
+    times: mpsc::Receiver<f64>,
+    errors: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    width: usize,
+    height: usize,
+    next_index: u64,
+    finished: bool,
+}
+
+impl FfmpegSource {
+    /// Start decoding `path`, cropped to `roi` (whole frame if `None`) and optionally
+    /// scaled down by an integer `shrink` (for quick looks at large frames).
+    pub fn open(path: &Path, info: &VideoInfo, roi: Option<Roi>, shrink: u32) -> Result<Self> {
+        let roi = roi.unwrap_or(Roi {
+            x: 0,
+            y: 0,
+            w: info.width,
+            h: info.height,
+        });
+        let mut filters = format!("crop={}:{}:{}:{}", roi.w, roi.h, roi.x, roi.y);
+        let (mut width, mut height) = (roi.w as usize, roi.h as usize);
+        if shrink > 1 {
+            width /= shrink as usize;
+            height /= shrink as usize;
+            filters.push_str(&format!(",scale={width}:{height}:flags=area,format=gray"));
+        } else {
+            filters.push_str(",extractplanes=y");
+        }
+        filters.push_str(",showinfo=checksum=0");
+        let mut child = Command::new("ffmpeg")
+            .args(["-nostdin", "-hide_banner", "-nostats", "-v", "info", "-i"])
+            .arg(path)
+            .args([
+                "-map",
+                "0:v:0",
+                "-an",
+                "-sn",
+                "-fps_mode",
+                "passthrough",
+                "-vf",
+            ])
+            .arg(&filters)
+            .args(["-f", "rawvideo", "-"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .with_context(|| format!("{}: cannot start ffmpeg", path.display()))?;
+        let stdout = child.stdout.take().expect("piped");
+        let stderr = child.stderr.take().expect("piped");
+        let (tx, times) = mpsc::channel();
+        let errors = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let errs = errors.clone();
+        std::thread::spawn(move || {
+            let mut tb = 0.0f64;
+            for line in BufReader::new(stderr).lines() {
+                let Ok(line) = line else { break };
+                if let Some(rest) = line.split("config in time_base: ").nth(1) {
+                    let frac = rest.split(',').next().unwrap_or("");
+                    if let Some((a, b)) = frac.split_once('/') {
+                        if let (Ok(a), Ok(b)) = (a.trim().parse::<f64>(), b.trim().parse::<f64>()) {
+                            if b != 0.0 {
+                                tb = a / b;
+                            }
+                        }
+                    }
+                } else if line.contains("showinfo") && line.contains(" pts:") {
+                    let pts = line
+                        .split(" pts:")
+                        .nth(1)
+                        .and_then(|s| s.split_whitespace().next())
+                        .and_then(|s| s.parse::<f64>().ok());
+                    let pts_time = line
+                        .split("pts_time:")
+                        .nth(1)
+                        .and_then(|s| s.split_whitespace().next())
+                        .and_then(|s| s.parse::<f64>().ok());
+                    let t = match (pts, pts_time) {
+                        (Some(p), _) if tb > 0.0 => p * tb,
+                        (_, Some(t)) => t,
+                        _ => f64::NAN,
+                    };
+                    if tx.send(t).is_err() {
+                        break;
+                    }
+                } else if !line.contains("showinfo")
+                    && (line.contains("rror") || line.contains("nvalid") || line.contains("runcat"))
+                {
+                    if let Ok(mut e) = errs.lock() {
+                        if e.len() < 8 {
+                            e.push(line.trim().to_string());
+                        }
+                    }
+                }
+            }
+        });
+        Ok(Self {
+            path: path.to_path_buf(),
+            child,
+            stdout,
+            times,
+            errors,
+            width,
+            height,
+            next_index: 0,
+            finished: false,
+        })
+    }
+
+    fn fail_message(&self) -> String {
+        let errs = self.errors.lock().map(|e| e.join("; ")).unwrap_or_default();
+        let last = if self.next_index == 0 {
+            "no frame decoded".to_string()
+        } else {
+            format!("last good frame {}", self.next_index - 1)
+        };
+        if errs.is_empty() {
+            format!("{}: decoding failed ({last})", self.path.display())
+        } else {
+            format!("{}: decoding failed ({last}): {errs}", self.path.display())
+        }
+    }
+}
+
+impl FrameSource for FfmpegSource {
+    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
+        if self.finished {
+            return Ok(false);
+        }
+        let n = self.width * self.height;
+        frame.data.resize(n, 0);
+        let mut got = 0;
+        while got < n {
+            match self.stdout.read(&mut frame.data[got..]) {
+                Ok(0) => break,
+                Ok(k) => got += k,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => bail!("{}: reading frames from ffmpeg: {e}", self.path.display()),
+            }
+        }
+        if got < n {
+            self.finished = true;
+            let status = self.child.wait()?;
+            if got > 0 || !status.success() {
+                bail!("{}", self.fail_message());
+            }
+            // A clean end; a decoder that met damage but carried on still says so.
+            let errs = self.errors.lock().map(|e| e.clone()).unwrap_or_default();
+            if !errs.is_empty() {
+                bail!("{}", self.fail_message());
+            }
+            return Ok(false);
+        }
+        let t = self.times.recv().unwrap_or(f64::NAN);
+        frame.index = self.next_index;
+        frame.t_s = t;
+        frame.width = self.width;
+        frame.height = self.height;
+        self.next_index += 1;
+        Ok(true)
+    }
+}
+
+impl Drop for FfmpegSource {
+    fn drop(&mut self) {
+        if !self.finished {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+/// Decoding by OpenCV's `VideoCapture` (BGR frames converted to grey, then cropped).
+pub struct OpenCvSource {
+    path: PathBuf,
+    cap: videoio::VideoCapture,
+    roi: Option<Roi>,
+    bgr: Mat,
+    gray: Mat,
+    next_index: u64,
+}
+
+impl OpenCvSource {
+    pub fn open(path: &Path, roi: Option<Roi>) -> Result<Self> {
+        let cap =
+            videoio::VideoCapture::from_file(path.to_string_lossy().into_owned(), videoio::CAP_ANY)
+                .with_context(|| format!("{}: cannot open as a video", path.display()))?;
+        if !cap.is_opened()? {
+            bail!("{}: cannot open as a video", path.display());
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            cap,
+            roi,
+            bgr: Mat::default(),
+            gray: Mat::default(),
+            next_index: 0,
+        })
+    }
+
+    /// Decode one frame without converting it (the benchmark's "read only").
+    pub fn read_only(&mut self) -> Result<bool> {
+        Ok(self.cap.read(&mut self.bgr)?)
+    }
+}
+
+impl FrameSource for OpenCvSource {
+    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
+        if !self.cap.read(&mut self.bgr)? {
+            return Ok(false);
+        }
+        let t_ms = self.cap.get(videoio::CAP_PROP_POS_MSEC)?;
+        imgproc::cvt_color_def(&self.bgr, &mut self.gray, imgproc::COLOR_BGR2GRAY)
+            .with_context(|| format!("{}: frame {}", self.path.display(), self.next_index))?;
+        let g = match self.roi {
+            Some(r) => Mat::roi(
+                &self.gray,
+                Rect::new(r.x as i32, r.y as i32, r.w as i32, r.h as i32),
+            )?
+            .try_clone()?,
+            None => self.gray.try_clone()?,
+        };
+        frame.width = g.cols() as usize;
+        frame.height = g.rows() as usize;
+        frame.data.clear();
+        frame.data.extend_from_slice(g.data_bytes()?);
+        frame.index = self.next_index;
+        frame.t_s = t_ms / 1000.0;
+        self.next_index += 1;
+        Ok(true)
+    }
+}
 
 /// Tool version, OpenCV version and the video back-ends this OpenCV build offers.
 pub fn info() -> Result<String> {
@@ -16,8 +356,9 @@ pub fn info() -> Result<String> {
         .collect::<Vec<_>>()
         .join(", ");
     Ok(format!(
-        "rollfric {}\nOpenCV {}\nvideo readers: {backends}\nvideo writers: {writers}\n",
+        "rollfric {}\nOpenCV {}\nvideo readers: {backends}\nvideo writers: {writers}\nffmpeg program: {}\n",
         env!("CARGO_PKG_VERSION"),
         opencv::core::CV_VERSION,
+        if have_ffmpeg() { "found (fast decoding)" } else { "not found (OpenCV decoding)" }
     ))
 }

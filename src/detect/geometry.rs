@@ -1,0 +1,523 @@
+//! Finding the wire's geometry in a plain video: which polarity it has, where its pivot
+//! is, the band of distances from the pivot where it is visible, and a region of
+//! interest, from the first seconds of the recording.
+//!
+//! Over those frames (shrunk so the larger side is at most 640 px) the per-pixel maximum
+//! and minimum are the background for a dark and for a light wire: the wire moves on,
+//! so each pixel sees the background at some point. In each frame, the evidence of a
+//! thin moving structure is `max - I` (dark) or `I - min` (light) after a morphological
+//! top-hat, which removes anything wider than a few pixels (the bob, a hand). The
+//! longest straight segment of each frame (probabilistic Hough, then an orthogonal
+//! least-squares fit, ERRATA §6) is the wire. All those lines pass through the pivot:
+//! it is their robust least-squares intersection, which may lie outside the frame.
+
+use super::{fit_line_weighted, Line, Pt};
+use crate::config::Polarity;
+use crate::video::Roi;
+use anyhow::{bail, Result};
+use opencv::core::{self, Mat, Point, Size, Vector};
+use opencv::imgproc;
+use opencv::prelude::*;
+
+/// The geometry found (or given), in full-frame pixel coordinates.
+#[derive(Clone, Debug)]
+pub struct WireGeometry {
+    pub pivot: Pt,
+    pub dark: bool,
+    /// Distances from the pivot where the wire is visible, px.
+    pub r_lo: f64,
+    pub r_hi: f64,
+    /// Angles (image, from the x axis) the wire was seen at during the first seconds.
+    pub theta_min: f64,
+    pub theta_max: f64,
+    pub roi: Roi,
+    /// Per initial frame: the wire's angle, if a line was found.
+    pub initial_angles: Vec<Option<f64>>,
+    /// Lines used for the pivot.
+    pub lines_used: usize,
+}
+
+/// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
+pub struct InitFrames {
+    pub w: usize,
+    pub h: usize,
+    /// Shrink factor from the source crop to these frames.
+    pub shrink: f64,
+    /// Offset of the crop in the full frame.
+    pub x0: f64,
+    pub y0: f64,
+    pub data: Vec<Vec<u8>>,
+}
+
+fn mat_of(w: usize, h: usize, data: &[u8]) -> Result<Mat> {
+    let m = Mat::new_rows_cols_with_data(h as i32, w as i32, data)?;
+    Ok(m.try_clone()?)
+}
+
+struct FrameLine {
+    line: Line,
+    /// Inlier pixels (shrunk coordinates) with weights.
+    pts: Vec<(Pt, f64)>,
+}
+
+/// The longest straight segments of one evidence image (up to three, in different
+/// directions), each refined by an orthogonal fit of the pixels along it.
+fn frame_lines(evidence: &Mat, thresh: f64, min_len: f64) -> Result<Vec<FrameLine>> {
+    let mut bin = Mat::default();
+    imgproc::threshold(evidence, &mut bin, thresh, 255.0, imgproc::THRESH_BINARY)?;
+    let mut segs = Vector::<core::Vec4i>::new();
+    imgproc::hough_lines_p(
+        &bin,
+        &mut segs,
+        1.0,
+        std::f64::consts::PI / 360.0,
+        (min_len * 0.5).max(10.0) as i32,
+        min_len,
+        4.0,
+    )?;
+    let mut segs: Vec<(Pt, Pt)> = segs
+        .iter()
+        .map(|v| {
+            (
+                Pt::new(v[0] as f64, v[1] as f64),
+                Pt::new(v[2] as f64, v[3] as f64),
+            )
+        })
+        .collect();
+    segs.sort_by(|a, b| (b.1 - b.0).norm().total_cmp(&(a.1 - a.0).norm()));
+    let mut chosen: Vec<(Pt, Pt)> = Vec::new();
+    for sg in segs {
+        let d = (sg.1 - sg.0).normalize();
+        if chosen
+            .iter()
+            .all(|c| (c.1 - c.0).normalize().dot(&d).abs() < 8f64.to_radians().cos())
+        {
+            chosen.push(sg);
+            if chosen.len() == 3 {
+                break;
+            }
+        }
+    }
+    if chosen.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut nz = Vector::<Point>::new();
+    core::find_non_zero(&bin, &mut nz)?;
+    let mut out = Vec::new();
+    for (p0, p1) in chosen {
+        let seg = Line::through(p0, p1);
+        let len = (p1 - p0).norm();
+        // The thresholded pixels within 1.5 px of the segment's line, over its extent.
+        let mut pts = Vec::new();
+        for p in nz.iter() {
+            let q = Pt::new(p.x as f64, p.y as f64);
+            let along = (q - p0).dot(&seg.dir);
+            if seg.distance(q) <= 1.5 && along >= -0.1 * len && along <= 1.1 * len {
+                let w = *evidence.at_2d::<u8>(p.y, p.x)? as f64;
+                pts.push((q, w));
+            }
+        }
+        if let Some(line) = fit_line_weighted(&pts) {
+            out.push(FrameLine { line, pts });
+        }
+    }
+    Ok(out)
+}
+
+/// Distance within which a line counts as passing through a pivot at `p`: a few
+/// pixels, growing with the distance from the frame's centre `c` (angles err too).
+fn through_tol(p: Pt, c: Pt, base: f64) -> f64 {
+    base + 0.01 * (p - c).norm()
+}
+
+/// A frame's line with the extent of its pixels along it.
+#[derive(Clone, Copy, Debug)]
+struct Seen {
+    line: Line,
+    lo: f64,
+    hi: f64,
+}
+
+impl Seen {
+    fn of(f: &FrameLine) -> Self {
+        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+        for (q, _) in &f.pts {
+            let s = (q - f.line.point).dot(&f.line.dir);
+            lo = lo.min(s);
+            hi = hi.max(s);
+        }
+        Self {
+            line: f.line,
+            lo,
+            hi,
+        }
+    }
+
+    /// Whether the line passes within `tol` of `p` with `p` near or beyond one of its
+    /// pixels' ends, not in their middle (a wire does not run past its own pivot).
+    fn points_at(&self, p: Pt, tol: f64) -> bool {
+        let s = (p - self.line.point).dot(&self.line.dir);
+        let margin = 0.1 * (self.hi - self.lo);
+        self.line.distance(p) <= tol && (s < self.lo + margin || s > self.hi - margin)
+    }
+}
+
+/// The pivot by RANSAC over pairs of lines, scored by how many different directions
+/// (half-degree bins) point at it: the swinging wire's lines fan out from the pivot,
+/// while the edges of a moving bob or hand are many but nearly parallel. Then least
+/// squares on the lines that point at it.
+fn ransac_pivot(lines: &[Seen], center: Pt, base_tol: f64) -> Option<Pt> {
+    let mut rng = crate::rng::Rng::new(0x5eed);
+    let n = lines.len();
+    if n < 2 {
+        return None;
+    }
+    let dir_bin = |l: &Line| {
+        (l.dir
+            .y
+            .atan2(l.dir.x)
+            .rem_euclid(std::f64::consts::PI)
+            .to_degrees()
+            * 2.0) as i64
+    };
+    let score = |p: Pt| -> usize {
+        let tol = through_tol(p, center, base_tol);
+        let bins: std::collections::BTreeSet<i64> = lines
+            .iter()
+            .filter(|l| l.points_at(p, tol))
+            .map(|l| dir_bin(&l.line))
+            .collect();
+        bins.len()
+    };
+    let mut best: Option<(usize, Pt)> = None;
+    for _ in 0..600 {
+        let i = (rng.uniform() * n as f64) as usize % n;
+        let j = (rng.uniform() * n as f64) as usize % n;
+        let (li, lj) = (lines[i].line, lines[j].line);
+        if li.dir.dot(&lj.dir).abs() > 1f64.to_radians().cos() {
+            continue;
+        }
+        let Ok(p) = intersect(&[li, lj]) else {
+            continue;
+        };
+        if (p - center).norm() > 20.0 * center.norm() {
+            continue;
+        }
+        let sc = score(p);
+        if best.is_none_or(|b| sc > b.0) {
+            best = Some((sc, p));
+        }
+    }
+    let (sc, p) = best?;
+    if sc < 3 {
+        return None;
+    }
+    let tol = through_tol(p, center, base_tol);
+    let inl: Vec<Line> = lines
+        .iter()
+        .filter(|l| l.points_at(p, tol))
+        .map(|l| l.line)
+        .collect();
+    intersect(&inl).ok()
+}
+
+/// Per-pixel detection threshold from the first seconds: each pixel's noise is the
+/// median of its frame-to-frame changes (a passing wire is rare at any one pixel, so it
+/// does not move the median), found by the streaming ±1 median. Flickering edges and
+/// compression noise get a higher threshold than a flat wall.
+pub fn threshold_map(init: &InitFrames, sigmas: f64) -> Result<Mat> {
+    let n = init.w * init.h;
+    let mut med = vec![0u8; n];
+    for pair in init.data.windows(2) {
+        for ((m, a), b) in med.iter_mut().zip(&pair[0]).zip(&pair[1]) {
+            let d = a.abs_diff(*b);
+            if d > *m {
+                *m += 1;
+            } else if d < *m {
+                *m -= 1;
+            }
+        }
+    }
+    // median |I_t - I_t-1| = 0.95 sigma for Gaussian noise; the running-extreme
+    // background adds about two sigma of its own.
+    let t: Vec<u8> = med
+        .iter()
+        .map(|&m| {
+            let sigma = (m as f64 / 0.95).max(1.0);
+            ((sigmas + 2.0) * sigma).clamp(6.0, 250.0) as u8
+        })
+        .collect();
+    Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
+}
+
+/// Find polarity, pivot, band and ROI from the first seconds' frames.
+pub fn find(
+    init: &InitFrames,
+    full_w: u32,
+    full_h: u32,
+    polarity: Polarity,
+    pivot_given: Option<Pt>,
+    roi_given: Option<Roi>,
+) -> Result<WireGeometry> {
+    if init.data.len() < 5 {
+        bail!("too few frames ({}) to find the wire", init.data.len());
+    }
+    let (w, h) = (init.w, init.h);
+    let mut vmax = mat_of(w, h, &init.data[0])?;
+    let mut vmin = vmax.clone();
+    for d in &init.data[1..] {
+        let f = mat_of(w, h, d)?;
+        let (a, b) = (vmax.clone(), vmin.clone());
+        core::max(&a, &f, &mut vmax)?;
+        core::min(&b, &f, &mut vmin)?;
+    }
+    let tmap = threshold_map(init, 4.0)?;
+    let kernel = imgproc::get_structuring_element_def(imgproc::MORPH_ELLIPSE, Size::new(7, 7))?;
+    // The wire is long; the bob's edges and a hand's fingers are short.
+    let min_len = 0.2 * (w.min(h) as f64);
+    let candidates: Vec<bool> = match polarity {
+        Polarity::Dark => vec![true],
+        Polarity::Light => vec![false],
+        Polarity::Auto => vec![true, false],
+    };
+    let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
+    for &dark in &candidates {
+        let mut lines = Vec::with_capacity(init.data.len());
+        let mut thresh = None;
+        for d in &init.data {
+            let f = mat_of(w, h, d)?;
+            let mut ev = Mat::default();
+            if dark {
+                core::subtract_def(&vmax, &f, &mut ev)?;
+            } else {
+                core::subtract_def(&f, &vmin, &mut ev)?;
+            }
+            let mut th = Mat::default();
+            imgproc::morphology_ex_def(&ev, &mut th, imgproc::MORPH_TOPHAT, &kernel)?;
+            // Keep what exceeds each pixel's own noise threshold.
+            let mut keep = Mat::default();
+            core::compare(&th, &tmap, &mut keep, core::CMP_GT)?;
+            let mut masked = Mat::default();
+            th.copy_to_masked(&mut masked, &keep)?;
+            thresh = Some(1.0);
+            lines.push(frame_lines(&masked, 0.5, min_len)?);
+        }
+        // The wire moves: its lines take many directions. A ghost (the background's
+        // memory of something of the other polarity lingering at a turning point) keeps
+        // one. Score = directions seen (half-degree bins), then the evidence's weight.
+        let mut bins = std::collections::BTreeSet::new();
+        let mut weight = 0.0;
+        for l in lines.iter().filter_map(|v| v.first()) {
+            bins.insert(
+                (l.line
+                    .dir
+                    .y
+                    .atan2(l.line.dir.x)
+                    .rem_euclid(std::f64::consts::PI)
+                    .to_degrees()
+                    * 2.0) as i64,
+            );
+            weight += l.pts.iter().map(|p| p.1).sum::<f64>();
+        }
+        let total = bins.len() as f64 * 1e9 + weight;
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "geometry: dark={dark} lines={} directions={} weight={weight:.0} thresh={:?}",
+                lines.iter().filter(|v| !v.is_empty()).count(),
+                bins.len(),
+                thresh
+            );
+        }
+        if best.as_ref().is_none_or(|b| total > b.1) {
+            best = Some((dark, total, lines));
+        }
+    }
+    let (dark, _, lines) = best.expect("one polarity tried");
+    let found: Vec<Seen> = lines.iter().flatten().map(Seen::of).collect();
+    let with_lines = lines.iter().filter(|v| !v.is_empty()).count();
+    if with_lines < 3 {
+        bail!(
+            "no moving wire found in the first {} frames (lines seen in {with_lines} of them)",
+            init.data.len()
+        );
+    }
+    let to_full = |p: Pt| Pt::new(init.x0 + p.x * init.shrink, init.y0 + p.y * init.shrink);
+    // Pivot: the robust intersection of the lines (shrunk coordinates).
+    let center = Pt::new(w as f64 / 2.0, h as f64 / 2.0);
+    let base_tol = 2.0f64.max(0.005 * (w.max(h) as f64));
+    let pivot_s = match pivot_given {
+        Some(p) => Pt::new((p.x - init.x0) / init.shrink, (p.y - init.y0) / init.shrink),
+        None => match ransac_pivot(&found, center, base_tol) {
+            Some(p) => p,
+            None => bail!("the moving lines do not meet in a pivot; give `video.pivot`"),
+        },
+    };
+    // Per frame, the line through the pivot (if any).
+    let tol = 2.0 * through_tol(pivot_s, center, base_tol);
+    let per_frame: Vec<Option<&FrameLine>> = lines
+        .iter()
+        .map(|v| {
+            v.iter()
+                .filter(|f| Seen::of(f).points_at(pivot_s, tol))
+                .min_by(|a, b| {
+                    a.line
+                        .distance(pivot_s)
+                        .total_cmp(&b.line.distance(pivot_s))
+                })
+        })
+        .collect();
+    let good: Vec<&FrameLine> = per_frame.iter().flatten().copied().collect();
+    if good.len() < 3 {
+        bail!("the moving lines do not share a pivot; give `video.pivot` (and `video.roi`)");
+    }
+    let mut radii: Vec<f64> = good
+        .iter()
+        .flat_map(|f| f.pts.iter().map(|(q, _)| (*q - pivot_s).norm()))
+        .collect();
+    radii.sort_by(f64::total_cmp);
+    let pct = |p: f64| radii[((radii.len() - 1) as f64 * p) as usize];
+    let (r_lo, r_hi) = (pct(0.08) * 0.97, pct(0.98) * 1.02);
+    let angle_of = |f: &FrameLine| {
+        let c = f.line.point - pivot_s;
+        let d = if c.dot(&f.line.dir) >= 0.0 {
+            f.line.dir
+        } else {
+            -f.line.dir
+        };
+        d.y.atan2(d.x)
+    };
+    let initial_angles: Vec<Option<f64>> = per_frame.iter().map(|l| l.map(angle_of)).collect();
+    let mut thetas: Vec<f64> = good.iter().map(|f| angle_of(f)).collect();
+    thetas.sort_by(f64::total_cmp);
+    let (theta_min, theta_max) = (thetas[0], thetas[thetas.len() - 1]);
+    if theta_max - theta_min < 1f64.to_radians() && pivot_given.is_none() {
+        bail!(
+            "the wire moved by only {:.2} deg in the first frames: too little to locate its pivot; give `video.pivot`",
+            (theta_max - theta_min).to_degrees()
+        );
+    }
+    // ROI: the sector the wire can sweep (its angles so far plus a margin), in the band.
+    let pivot = to_full(pivot_s);
+    let (r_lo_f, r_hi_f) = (r_lo * init.shrink, r_hi * init.shrink);
+    let margin = 10f64.to_radians();
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for i in 0..=40 {
+        let th = theta_min - margin + (theta_max - theta_min + 2.0 * margin) * i as f64 / 40.0;
+        for r in [r_lo_f, r_hi_f] {
+            let p = pivot + Pt::new(th.cos(), th.sin()) * r;
+            x0 = x0.min(p.x);
+            y0 = y0.min(p.y);
+            x1 = x1.max(p.x);
+            y1 = y1.max(p.y);
+        }
+    }
+    let pad = 8.0;
+    let bound = roi_given.unwrap_or(Roi {
+        x: 0,
+        y: 0,
+        w: full_w,
+        h: full_h,
+    });
+    let cx0 = (x0 - pad).floor().max(bound.x as f64) as u32;
+    let cy0 = (y0 - pad).floor().max(bound.y as f64) as u32;
+    let cx1 = ((x1 + pad).ceil() as u32).min(bound.x + bound.w);
+    let cy1 = ((y1 + pad).ceil() as u32).min(bound.y + bound.h);
+    if cx1 <= cx0 + 8 || cy1 <= cy0 + 8 {
+        bail!("the wire's region lies outside the frame");
+    }
+    // Even sizes keep every decoder's crop exact.
+    let roi = Roi {
+        x: cx0,
+        y: cy0,
+        w: (cx1 - cx0) & !1,
+        h: (cy1 - cy0) & !1,
+    };
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        eprintln!(
+            "geometry: pivot {pivot:?} band {r_lo_f:.1}..{r_hi_f:.1} theta {:.1}..{:.1} deg roi {roi:?} good lines {}",
+            theta_min.to_degrees(),
+            theta_max.to_degrees(),
+            good.len()
+        );
+    }
+    Ok(WireGeometry {
+        pivot,
+        dark,
+        r_lo: r_lo_f,
+        r_hi: r_hi_f,
+        theta_min,
+        theta_max,
+        roi,
+        initial_angles,
+        lines_used: good.len(),
+    })
+}
+
+/// Robust least-squares intersection of lines (Tukey-weighted, iterated).
+pub fn intersect(lines: &[Line]) -> Result<Pt> {
+    let solve = |wts: &[f64]| -> Option<Pt> {
+        let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (l, &w) in lines.iter().zip(wts) {
+            let n = l.normal();
+            let c = n.dot(&l.point);
+            a11 += w * n.x * n.x;
+            a12 += w * n.x * n.y;
+            a22 += w * n.y * n.y;
+            b1 += w * n.x * c;
+            b2 += w * n.y * c;
+        }
+        let det = a11 * a22 - a12 * a12;
+        // Nearly parallel lines: no intersection to speak of.
+        if det.abs() < 1e-6 * (a11 + a22).powi(2) {
+            return None;
+        }
+        Some(Pt::new(
+            (a22 * b1 - a12 * b2) / det,
+            (a11 * b2 - a12 * b1) / det,
+        ))
+    };
+    let mut w = vec![1.0; lines.len()];
+    let Some(mut p) = solve(&w) else {
+        bail!("the wire's lines are all parallel: cannot locate the pivot; give `video.pivot`");
+    };
+    for _ in 0..20 {
+        let mut d: Vec<f64> = lines.iter().map(|l| l.distance(p)).collect();
+        let mut s = d.clone();
+        s.sort_by(f64::total_cmp);
+        let c = (4.685 * 1.4826 * s[s.len() / 2]).max(1.0);
+        for (wi, di) in w.iter_mut().zip(d.iter_mut()) {
+            let u = *di / c;
+            *wi = if u < 1.0 { (1.0 - u * u).powi(2) } else { 0.0 };
+        }
+        match solve(&w) {
+            Some(q) if (q - p).norm() < 1e-3 => {
+                p = q;
+                break;
+            }
+            Some(q) => p = q,
+            None => break,
+        }
+    }
+    Ok(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn intersects_lines_through_an_offscreen_pivot_despite_outliers() {
+        let pivot = Pt::new(300.0, -600.0);
+        let mut lines: Vec<Line> = (0..30)
+            .map(|i| {
+                let th = (80.0 + i as f64).to_radians();
+                let d = Pt::new(th.cos(), th.sin());
+                Line::through(pivot + d * 700.0, pivot + d * 900.0)
+            })
+            .collect();
+        lines.push(Line::through(Pt::new(0.0, 0.0), Pt::new(100.0, 5.0)));
+        lines.push(Line::through(Pt::new(50.0, 300.0), Pt::new(60.0, 0.0)));
+        let p = intersect(&lines).unwrap();
+        assert!((p - pivot).norm() < 0.5, "{p:?}");
+    }
+}

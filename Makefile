@@ -5,8 +5,9 @@
 #   make bench     timing figures
 SHELL := /bin/bash
 CARGO ?= cargo
-# Debian packages the build needs: the system OpenCV and libclang for its bindings.
-APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates
+# Debian packages the build needs: the system OpenCV and libclang for its bindings;
+# ffmpeg decodes video for the detector (and is the benchmark's decode-only reference).
+APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg
 BIN := target/release/rollfric
 
 .PHONY: all deps build reports test check fmt clippy bench clean

@@ -13,6 +13,13 @@
 //! * Camera defects (none when `synthetic.clean`): defocus, motion blur, sensor noise
 //!   (one precomputed noise field read at a random offset per frame), slow lighting
 //!   drift and flicker, lossy compression (the codec), and spoiled frames.
+//! * Spoiled frames: `synthetic.spoiled_frames` counts spoiling *events*, in turn a
+//!   hand passing (1 to 3 consecutive frames, each tagged `hand`), a flash (one frame,
+//!   near white) and a duplicated frame (the recorder repeats the previous frame), one
+//!   per equal slot of the video, at least 2 s (a fifth of a short video) from its ends.
+//! * Writing: H.264 through OpenCV's FFmpeg back-end (x264 at its default preset, about
+//!   100 frames/s at 640x360 on two cores) or MJPG in `.avi` (about 300 frames/s), on a
+//!   second thread while the next frame renders.
 //!
 //! Every random choice comes from [`Rng`] streams derived from `synthetic.seed`, and
 //! each frame's own randomness is seeded from its index, so a frame renders the same
@@ -273,7 +280,7 @@ fn plan_spoils(n: usize, frames: usize, fps: f64, rng: &mut Rng) -> Vec<Spoil> {
     let usable = frames.saturating_sub(2 * margin);
     let fit = n.min(usable / 5);
     if fit < n {
-        eprintln!("synth: only {fit} of {n} spoiled frames fit in a video of {frames} frames");
+        eprintln!("synth: only {fit} of {n} spoiling events fit in a video of {frames} frames");
     }
     if fit == 0 {
         return out;
@@ -1914,266 +1921,6 @@ synthetic: {{ s_r_m: 4.445e-6, fps: 30, seed: 3{size}{extra} }}
                 "{style}: wire found at {} rad, truth {want}",
                 best.1
             );
-        }
-    }
-}
-
-#[cfg(test)]
-mod scratch {
-    use super::*;
-
-    fn exp(extra: &str) -> Experiment {
-        let text = format!(
-            "
-geometry:
-  incline: {{ h_m: 0.142, l_m: 1.5 }}
-  pendulum: {{ d_m: 0.187 }}
-  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
-synthetic: {{ s_r_m: 4.445e-6, seed: 4{extra} }}
-"
-        );
-        Experiment::parse(Path::new("t/aluminum.yaml"), &text).unwrap()
-    }
-
-    #[test]
-    #[ignore]
-    fn preview() {
-        let dir = Path::new("/tmp/synth_preview");
-        for style in ["dark-wire", "light-wire", "oblique"] {
-            let e = exp(&format!(", style: {style}"));
-            let tr = truth(&e, Some(30.0)).unwrap();
-            let mut want = vec![40usize];
-            for kind in ["hand", "flash"] {
-                if let Some(i) = tr.iter().position(|r| r.spoiled == kind) {
-                    want.push(i);
-                }
-            }
-            let p = stills(&e, Some(30.0), &want, dir).unwrap();
-            println!("{style}: {p:?}");
-            let e = exp(&format!(
-                ", style: {style}, width: 640, height: 360, fps: 30"
-            ));
-            let p = stills(&e, Some(30.0), &[20], &dir.join("small")).unwrap();
-            println!("{style} small: {p:?}");
-            let e = exp(&format!(", style: {style}, clean: true"));
-            let p = stills(&e, Some(30.0), &[40], &dir.join("clean")).unwrap();
-            println!("{style} clean: {p:?}");
-        }
-    }
-
-    #[test]
-    #[ignore]
-    fn render_only() {
-        for (w, h) in [(640, 360), (1280, 720)] {
-            for style in ["dark-wire", "oblique"] {
-                let e = exp(&format!(
-                    ", style: {style}, width: {w}, height: {h}, fps: 60"
-                ));
-                let plan = Plan::new(&e, Some(10.0)).unwrap();
-                let t0 = std::time::Instant::now();
-                let mut twin = Twin::new(plan).unwrap();
-                let setup = t0.elapsed().as_secs_f64();
-                let n = twin.plan.truth.len();
-                let t0 = std::time::Instant::now();
-                for i in 0..n {
-                    twin.render_frame(i).unwrap();
-                }
-                let s = t0.elapsed().as_secs_f64();
-                println!(
-                    "{w}x{h} {style}: setup {setup:.3} s, {n} frames {:.0} frames/s",
-                    n as f64 / s
-                );
-            }
-        }
-    }
-
-    #[test]
-    #[ignore]
-    fn parts() {
-        let e = exp(", width: 1280, height: 720, fps: 60");
-        let plan = Plan::new(&e, Some(10.0)).unwrap();
-        let mut twin = Twin::new(plan).unwrap();
-        let n = twin.plan.truth.len();
-        let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
-        let mut thetas = [0.0; SUBSAMPLES];
-        for i in 0..n {
-            let t = twin.plan.truth[i].t_s;
-            for (k, th) in thetas.iter_mut().enumerate() {
-                *th = twin.plan.theta(t + (k as f64 / 6.0 - 0.5) * 0.5 / 60.0);
-            }
-            let t0 = std::time::Instant::now();
-            let buf = twin.frame.data_bytes_mut().unwrap();
-            buf.copy_from_slice(&twin.bg);
-            let t1 = std::time::Instant::now();
-            twin.mover.draw(
-                buf,
-                &twin.bg,
-                &twin.illum,
-                &thetas,
-                twin.plan.truth[i].angle_rad,
-            );
-            let t2 = std::time::Instant::now();
-            let sensor = twin.sensor.as_ref().unwrap();
-            let (gain, off) = sensor.frame(i, t);
-            let nn = buf.len();
-            expose(buf, &sensor.noise[off..off + nn], gain, 0.0);
-            let t3 = std::time::Instant::now();
-            a += (t1 - t0).as_secs_f64();
-            b += (t2 - t1).as_secs_f64();
-            c += (t3 - t2).as_secs_f64();
-        }
-        let k = 1e3 / n as f64;
-        println!(
-            "copy {:.3} ms, draw {:.3} ms, expose {:.3} ms",
-            a * k,
-            b * k,
-            c * k
-        );
-    }
-
-    #[test]
-    #[ignore]
-    fn encoders() {
-        let e = exp(", width: 640, height: 360, fps: 60");
-        let plan = Plan::new(&e, Some(5.0)).unwrap();
-        let mut twin = Twin::new(plan).unwrap();
-        let frames: Vec<Mat> = (0..300)
-            .map(|i| {
-                twin.render_frame(i).unwrap();
-                twin.frame.clone()
-            })
-            .collect();
-        let size = Size::new(640, 360);
-        for (name, api, cc, ext, q) in [
-            (
-                "mjpg-builtin q75",
-                videoio::CAP_OPENCV_MJPEG,
-                ['M', 'J', 'P', 'G'],
-                "avi",
-                75.0,
-            ),
-            (
-                "mjpg-builtin q90",
-                videoio::CAP_OPENCV_MJPEG,
-                ['M', 'J', 'P', 'G'],
-                "avi",
-                90.0,
-            ),
-            (
-                "mjpg-ffmpeg",
-                videoio::CAP_FFMPEG,
-                ['M', 'J', 'P', 'G'],
-                "avi",
-                0.0,
-            ),
-            (
-                "avc1-ffmpeg",
-                videoio::CAP_FFMPEG,
-                ['a', 'v', 'c', '1'],
-                "mp4",
-                0.0,
-            ),
-            (
-                "mp4v-ffmpeg",
-                videoio::CAP_FFMPEG,
-                ['m', 'p', '4', 'v'],
-                "mp4",
-                0.0,
-            ),
-            (
-                "ffv1",
-                videoio::CAP_FFMPEG,
-                ['F', 'F', 'V', '1'],
-                "avi",
-                0.0,
-            ),
-        ] {
-            let path = format!("/tmp/synth_speed/enc_{}.{ext}", name.replace(' ', "_"));
-            let fourcc = videoio::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3]).unwrap();
-            let mut wr =
-                videoio::VideoWriter::new_with_backend(&path, api, fourcc, 60.0, size, true)
-                    .unwrap();
-            assert!(wr.is_opened().unwrap(), "{name}");
-            if q > 0.0 {
-                let ok = wr.set(videoio::VIDEOWRITER_PROP_QUALITY, q).unwrap();
-                println!(
-                    "quality set: {ok}, now {}",
-                    wr.get(videoio::VIDEOWRITER_PROP_QUALITY).unwrap()
-                );
-            }
-            let t0 = std::time::Instant::now();
-            for f in &frames {
-                wr.write(f).unwrap();
-            }
-            wr.release().unwrap();
-            let s = t0.elapsed().as_secs_f64();
-            let len = std::fs::metadata(&path).unwrap().len();
-            println!("{name}: {:.0} frames/s, {} kB", 300.0 / s, len / 1000);
-        }
-    }
-
-    #[test]
-    #[ignore]
-    fn mjpg_white() {
-        for (w, h, v) in [
-            (640, 360, 150.0),
-            (640, 360, 180.0),
-            (640, 360, 200.0),
-            (640, 360, 215.0),
-            (640, 360, 225.0),
-            (640, 352, 255.0),
-            (640, 376, 255.0),
-            (648, 360, 255.0),
-        ] {
-            let path = format!("/tmp/synth_speed/white_{w}x{h}_{v}.avi");
-            let fourcc = videoio::VideoWriter::fourcc('M', 'J', 'P', 'G').unwrap();
-            let mut wr = videoio::VideoWriter::new_with_backend(
-                &path,
-                videoio::CAP_OPENCV_MJPEG,
-                fourcc,
-                60.0,
-                Size::new(w, h),
-                true,
-            )
-            .unwrap();
-            wr.set(videoio::VIDEOWRITER_PROP_QUALITY, 75.0).unwrap();
-            let m = Mat::new_rows_cols_with_default(h, w, core::CV_8UC3, Scalar::all(v)).unwrap();
-            wr.write(&m).unwrap();
-            wr.release().unwrap();
-        }
-    }
-
-    #[test]
-    #[ignore]
-    fn speed() {
-        for (w, h, fps, dur, ext) in [
-            (640, 360, 60.0, 20.0, "mp4"),
-            (640, 360, 30.0, 20.0, "mp4"),
-            (1280, 720, 60.0, 10.0, "mp4"),
-            (640, 360, 60.0, 20.0, "avi"),
-            (1280, 720, 60.0, 10.0, "avi"),
-        ] {
-            for style in ["dark-wire", "oblique"] {
-                let e = exp(&format!(
-                    ", style: {style}, width: {w}, height: {h}, fps: {fps}"
-                ));
-                let t0 = std::time::Instant::now();
-                let rep = render(
-                    &e,
-                    Path::new(&format!("/tmp/synth_speed/v_{w}_{style}.{ext}")),
-                    Some(dur),
-                    &mut |_, _| {},
-                )
-                .unwrap();
-                let s = t0.elapsed().as_secs_f64();
-                println!(
-                    "{w}x{h}@{fps} {style} {}: {} frames in {s:.2} s = {:.0} frames/s ({})",
-                    rep.codec,
-                    rep.frames,
-                    rep.frames as f64 / s,
-                    rep.path.display()
-                );
-            }
         }
     }
 }

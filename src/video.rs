@@ -75,6 +75,9 @@ pub fn probe(path: &Path) -> Result<VideoInfo> {
             path.display()
         );
     }
+    if have_ffmpeg() {
+        return probe_ffprobe(path);
+    }
     let cap =
         videoio::VideoCapture::from_file(path.to_string_lossy().into_owned(), videoio::CAP_ANY)
             .with_context(|| format!("{}: cannot open as a video", path.display()))?;
@@ -103,6 +106,46 @@ pub fn probe(path: &Path) -> Result<VideoInfo> {
         frames_header: (n > 0.0).then_some(n as u64),
         duration_s: (n > 0.0 && fps > 0.0).then_some(n / fps),
         codec,
+    })
+}
+
+fn probe_ffprobe(path: &Path) -> Result<VideoInfo> {
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-select_streams", "v:0", "-show_entries"])
+        .arg("stream=width,height,nb_frames,codec_name,duration")
+        .args(["-of", "default=noprint_wrappers=1"])
+        .arg(path)
+        .stdin(Stdio::null())
+        .output()
+        .with_context(|| format!("{}: cannot run ffprobe", path.display()))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let field = |k: &str| {
+        text.lines()
+            .find_map(|l| l.strip_prefix(&format!("{k}=")))
+            .map(str::trim)
+            .filter(|v| !v.is_empty() && *v != "N/A")
+    };
+    let (Some(w), Some(h)) = (
+        field("width").and_then(|v| v.parse::<u32>().ok()),
+        field("height").and_then(|v| v.parse::<u32>().ok()),
+    ) else {
+        let err = String::from_utf8_lossy(&out.stderr);
+        let why = err
+            .lines()
+            .map(|l| l.rsplit("] ").next().unwrap_or(l).trim())
+            .find(|l| !l.is_empty())
+            .unwrap_or("no video stream");
+        bail!(
+            "{}: cannot open as a video ({why}); no frame decoded",
+            path.display()
+        );
+    };
+    Ok(VideoInfo {
+        width: w,
+        height: h,
+        frames_header: field("nb_frames").and_then(|v| v.parse().ok()),
+        duration_s: field("duration").and_then(|v| v.parse().ok()),
+        codec: field("codec_name").unwrap_or("?").to_string(),
     })
 }
 
@@ -196,7 +239,10 @@ impl FfmpegSource {
                         break;
                     }
                 } else if !line.contains("showinfo")
-                    && (line.contains("rror") || line.contains("nvalid") || line.contains("runcat"))
+                    && (line.contains("rror")
+                        || line.contains("nvalid")
+                        || line.contains("runcat")
+                        || line.contains("partial file"))
                 {
                     if let Ok(mut e) = errs.lock() {
                         if e.len() < 8 {
@@ -220,16 +266,24 @@ impl FfmpegSource {
     }
 
     fn fail_message(&self) -> String {
-        let errs = self.errors.lock().map(|e| e.join("; ")).unwrap_or_default();
+        // The decoder's first complaint, without its "[h264 @ 0x...]" prefix.
+        let why = self
+            .errors
+            .lock()
+            .ok()
+            .and_then(|e| e.first().cloned())
+            .map(|l| l.rsplit("] ").next().unwrap_or(&l).trim().to_string());
         let last = if self.next_index == 0 {
             "no frame decoded".to_string()
         } else {
             format!("last good frame {}", self.next_index - 1)
         };
-        if errs.is_empty() {
-            format!("{}: decoding failed ({last})", self.path.display())
-        } else {
-            format!("{}: decoding failed ({last}): {errs}", self.path.display())
+        match why {
+            Some(w) => format!(
+                "{}: truncated or damaged video ({last}): {w}",
+                self.path.display()
+            ),
+            None => format!("{}: decoding failed ({last})", self.path.display()),
         }
     }
 }

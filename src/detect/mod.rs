@@ -370,13 +370,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     let mut rows = Vec::new();
     let mut k = 0usize;
     loop {
-        let more = src.next_frame(&mut frame).map_err(|e| {
-            let last_good = rows.last().map(|r: &AngleRow| r.frame);
-            match last_good {
-                Some(f) => e.context(format!("detection stopped after frame {f}")),
-                None => e,
-            }
-        })?;
+        let more = src.next_frame(&mut frame)?;
         if !more {
             break;
         }

@@ -1,0 +1,113 @@
+//! Damaged or unusable videos stop `rollfric detect` with one line naming the file (and
+//! the last good frame where there was one), and no CSV is written: partial angles are
+//! never passed off as complete.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn have_ffmpeg() -> bool {
+    Command::new("ffmpeg").arg("-version").output().is_ok()
+}
+
+fn detect(video: &Path, csv: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rollfric"))
+        .arg("detect")
+        .arg(video)
+        .arg("-o")
+        .arg(csv)
+        .output()
+        .unwrap()
+}
+
+fn assert_fails(out: &Output, csv: &Path, file: &str, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "should fail: {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "one line expected:\n{err}"
+    );
+    assert!(err.contains(file), "names {file}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "says `{n}`: {err}");
+    }
+    assert!(
+        !csv.exists(),
+        "no CSV may be written for a failed detection"
+    );
+}
+
+/// A short H.264 clip with its index at the front, so that a cut keeps it decodable.
+fn make_clip(dir: &Path, name: &str, source: &str) -> PathBuf {
+    let p = dir.join(name);
+    let st = Command::new("ffmpeg")
+        .args(["-v", "error", "-y", "-f", "lavfi", "-i", source])
+        .args([
+            "-c:v",
+            "libx264",
+            "-pix_fmt",
+            "yuv420p",
+            "-movflags",
+            "+faststart",
+        ])
+        .arg(&p)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    p
+}
+
+#[test]
+fn fails_when_video_is_empty_corrupt_or_truncated() {
+    if !have_ffmpeg() {
+        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let csv = d.join("angles.csv");
+
+    let empty = d.join("empty.mp4");
+    std::fs::write(&empty, b"").unwrap();
+    assert_fails(&detect(&empty, &csv), &csv, "empty.mp4", &["empty"]);
+
+    let junk = d.join("junk.mp4");
+    let bytes: Vec<u8> = (0..50_000u32)
+        .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+        .collect();
+    std::fs::write(&junk, bytes).unwrap();
+    assert_fails(
+        &detect(&junk, &csv),
+        &csv,
+        "junk.mp4",
+        &["cannot open as a video"],
+    );
+
+    // A moving bar: decodable, then cut in the middle of its data.
+    let clip = make_clip(d, "clip.mp4", "testsrc2=size=320x240:rate=30:duration=6");
+    let full = std::fs::read(&clip).unwrap();
+    let cut = d.join("cut.mp4");
+    std::fs::write(&cut, &full[..full.len() * 6 / 10]).unwrap();
+    assert_fails(
+        &detect(&cut, &csv),
+        &csv,
+        "cut.mp4",
+        &["truncated or damaged", "last good frame"],
+    );
+}
+
+#[test]
+fn fails_when_no_wire_can_be_found() {
+    if !have_ffmpeg() {
+        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let still = make_clip(
+        dir.path(),
+        "still.mp4",
+        "color=c=gray:size=320x240:rate=30:duration=3",
+    );
+    let csv = dir.path().join("angles.csv");
+    assert_fails(&detect(&still, &csv), &csv, "still.mp4", &["no wire found"]);
+}

@@ -63,4 +63,130 @@ fn main() {
             ms(sim)
         );
     }
+    if std::env::var_os("ROLLFRIC_BENCH_NO_VIDEO").is_none() {
+        video_bench(root);
+    }
+}
+
+/// Video figures on one 1280x720 H.264 file, side by side in one run: decode only
+/// (`ffmpeg -f null`), OpenCV `read()` only, OpenCV `read()` + grey, and the detector;
+/// then the detector's peak memory on a 10 s and a 60 s cut of the same video.
+fn video_bench(root: &Path) {
+    use std::process::Command;
+    let dir = root.join("target/bench");
+    std::fs::create_dir_all(&dir).unwrap();
+    let long = dir.join("twin-1280x720-60s.mp4");
+    let short = dir.join("twin-1280x720-10s.mp4");
+    if !long.exists() {
+        // Render the glass twin at 1280x720, 60 fps, 60 s (MJPG is fast to write), then
+        // encode it to H.264 with ffmpeg.
+        let mut exp = Experiment::load(&root.join("experiments/glass.yaml")).unwrap();
+        let s = exp.file.synthetic.as_mut().unwrap();
+        s.width = 1280;
+        s.height = 720;
+        s.fps = 60.0;
+        let avi = dir.join("twin-1280x720-60s.avi");
+        rollfric::synth::render(&exp, &avi, Some(60.0), &mut |_, _| {}).unwrap();
+        let st = Command::new("ffmpeg")
+            .args(["-v", "error", "-y", "-i"])
+            .arg(&avi)
+            .args([
+                "-c:v", "libx264", "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p",
+            ])
+            .arg(&long)
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let _ = std::fs::remove_file(&avi);
+    }
+    if !short.exists() {
+        let st = Command::new("ffmpeg")
+            .args(["-v", "error", "-y", "-i"])
+            .arg(&long)
+            .args(["-t", "10", "-c", "copy"])
+            .arg(&short)
+            .status()
+            .unwrap();
+        assert!(st.success());
+    }
+    let frames = {
+        let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
+        let mut n = 0u64;
+        while cap.read_only().unwrap() {
+            n += 1;
+        }
+        n as f64
+    };
+    let decode = median_of(3, || {
+        let st = Command::new("ffmpeg")
+            .args(["-v", "error", "-i"])
+            .arg(&long)
+            .args(["-f", "null", "-"])
+            .status()
+            .unwrap();
+        assert!(st.success());
+    });
+    let cv_read = median_of(3, || {
+        let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
+        while cap.read_only().unwrap() {}
+    });
+    let cv_gray = median_of(3, || {
+        use rollfric::video::FrameSource;
+        let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
+        let mut f = rollfric::video::Frame {
+            index: 0,
+            t_s: 0.0,
+            width: 0,
+            height: 0,
+            data: Vec::new(),
+        };
+        while cap.next_frame(&mut f).unwrap() {}
+    });
+    let csv = dir.join("angles.csv");
+    let run_detect = |video: &Path| -> String {
+        let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
+            .arg("detect")
+            .arg(video)
+            .arg("-o")
+            .arg(&csv)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).to_string()
+    };
+    let detect = median_of(3, || {
+        run_detect(&long);
+    });
+    let fps = |d: Duration| frames / d.as_secs_f64();
+    println!("video 1280x720 H.264, {frames:.0} frames (60 s at 60 fps), median of 3, frames/s:");
+    println!("  decode only (ffmpeg -f null)      {:>7.0}", fps(decode));
+    println!(
+        "  OpenCV read() only                {:>7.0}  ({:.2}x decode)",
+        fps(cv_read),
+        decode.as_secs_f64() / cv_read.as_secs_f64()
+    );
+    println!(
+        "  OpenCV read() + BGR->grey         {:>7.0}  ({:.2}x decode)",
+        fps(cv_gray),
+        decode.as_secs_f64() / cv_gray.as_secs_f64()
+    );
+    println!(
+        "  detector (rollfric detect)        {:>7.0}  ({:.2}x decode)",
+        fps(detect),
+        decode.as_secs_f64() / detect.as_secs_f64()
+    );
+    let peak = |msg: &str| -> String {
+        msg.split("peak memory ")
+            .nth(1)
+            .and_then(|s| s.split(')').next())
+            .unwrap_or("?")
+            .to_string()
+    };
+    let m10 = peak(&run_detect(&short));
+    let m60 = peak(&run_detect(&long));
+    println!("  detector peak memory: 10 s video {m10}, 60 s video {m60}");
 }

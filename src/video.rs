@@ -55,14 +55,17 @@ pub trait FrameSource {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool>;
 }
 
-/// Whether the `ffmpeg` program can be run.
+/// Whether the `ffmpeg` program can be run (asked once per process).
 pub fn have_ffmpeg() -> bool {
-    Command::new("ffmpeg")
-        .arg("-version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+    static HAVE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *HAVE.get_or_init(|| {
+        Command::new("ffmpeg")
+            .arg("-version")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    })
 }
 
 /// Probe a video's size and header facts (OpenCV; no decoding).
@@ -153,7 +156,11 @@ fn probe_ffprobe(path: &Path) -> Result<VideoInfo> {
 pub struct FfmpegSource {
     path: PathBuf,
     child: Child,
-    stdout: std::process::ChildStdout,
+    /// Frames read ahead by a reader thread, so that decoding goes on while a frame is
+    /// processed (a pipe buffer holds less than one frame).
+    frames: mpsc::Receiver<Chunk>,
+    /// Spent buffers going back to the reader (no allocation per frame).
+    spent: mpsc::Sender<Vec<u8>>,
     times: mpsc::Receiver<f64>,
     errors: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
     width: usize,
@@ -201,8 +208,36 @@ impl FfmpegSource {
             .stderr(Stdio::piped())
             .spawn()
             .with_context(|| format!("{}: cannot start ffmpeg", path.display()))?;
-        let stdout = child.stdout.take().expect("piped");
+        let mut stdout = child.stdout.take().expect("piped");
         let stderr = child.stderr.take().expect("piped");
+        let frame_len = width * height;
+        let (frames_tx, frames) = mpsc::sync_channel::<Chunk>(READ_AHEAD);
+        let (spent, spent_rx) = mpsc::channel::<Vec<u8>>();
+        std::thread::spawn(move || loop {
+            let mut buf = spent_rx.try_recv().unwrap_or_default();
+            buf.resize(frame_len, 0);
+            let mut got = 0;
+            while got < frame_len {
+                match stdout.read(&mut buf[got..]) {
+                    Ok(0) => break,
+                    Ok(k) => got += k,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                    Err(e) => {
+                        let _ = frames_tx.send(Chunk::Failed(e.to_string()));
+                        return;
+                    }
+                }
+            }
+            let chunk = if got == frame_len {
+                Chunk::Frame(buf)
+            } else {
+                Chunk::End { partial: got > 0 }
+            };
+            let end = !matches!(chunk, Chunk::Frame(_));
+            if frames_tx.send(chunk).is_err() || end {
+                return;
+            }
+        });
         let (tx, times) = mpsc::channel();
         let errors = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
         let errs = errors.clone();
@@ -255,7 +290,8 @@ impl FfmpegSource {
         Ok(Self {
             path: path.to_path_buf(),
             child,
-            stdout,
+            frames,
+            spent,
             times,
             errors,
             width,
@@ -288,42 +324,56 @@ impl FfmpegSource {
     }
 }
 
+/// What the reader thread hands over.
+enum Chunk {
+    Frame(Vec<u8>),
+    /// The stream ended; `partial` if it ended inside a frame.
+    End {
+        partial: bool,
+    },
+    Failed(String),
+}
+
+/// Frames read ahead of the detector (flat memory: a few frames of the cropped region).
+const READ_AHEAD: usize = 6;
+
 impl FrameSource for FfmpegSource {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
         if self.finished {
             return Ok(false);
         }
-        let n = self.width * self.height;
-        frame.data.resize(n, 0);
-        let mut got = 0;
-        while got < n {
-            match self.stdout.read(&mut frame.data[got..]) {
-                Ok(0) => break,
-                Ok(k) => got += k,
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-                Err(e) => bail!("{}: reading frames from ffmpeg: {e}", self.path.display()),
+        let chunk = self.frames.recv().unwrap_or(Chunk::End { partial: false });
+        let partial = match chunk {
+            Chunk::Frame(buf) => {
+                let old = std::mem::replace(&mut frame.data, buf);
+                let _ = self.spent.send(old);
+                let t = self.times.recv().unwrap_or(f64::NAN);
+                frame.index = self.next_index;
+                frame.t_s = t;
+                frame.width = self.width;
+                frame.height = self.height;
+                self.next_index += 1;
+                return Ok(true);
             }
+            Chunk::Failed(e) => {
+                self.finished = true;
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+                bail!("{}: reading frames from ffmpeg: {e}", self.path.display());
+            }
+            Chunk::End { partial } => partial,
+        };
+        self.finished = true;
+        let status = self.child.wait()?;
+        if partial || !status.success() {
+            bail!("{}", self.fail_message());
         }
-        if got < n {
-            self.finished = true;
-            let status = self.child.wait()?;
-            if got > 0 || !status.success() {
-                bail!("{}", self.fail_message());
-            }
-            // A clean end; a decoder that met damage but carried on still says so.
-            let errs = self.errors.lock().map(|e| e.clone()).unwrap_or_default();
-            if !errs.is_empty() {
-                bail!("{}", self.fail_message());
-            }
-            return Ok(false);
+        // A clean end; a decoder that met damage but carried on still says so.
+        let errs = self.errors.lock().map(|e| e.clone()).unwrap_or_default();
+        if !errs.is_empty() {
+            bail!("{}", self.fail_message());
         }
-        let t = self.times.recv().unwrap_or(f64::NAN);
-        frame.index = self.next_index;
-        frame.t_s = t;
-        frame.width = self.width;
-        frame.height = self.height;
-        self.next_index += 1;
-        Ok(true)
+        Ok(false)
     }
 }
 

@@ -157,6 +157,56 @@ pub struct AngleRow {
     /// 0..1: the fraction of the wire's visible band covered by detected pixels.
     pub quality: f64,
     pub flag: Option<Flag>,
+    /// Weighted moments of the wire pixels `[sum w, sum w x, sum w y, sum w x^2,
+    /// sum w x y, sum w y^2]` (working-scale region pixels), so that the angle can be
+    /// refitted about a refined pivot after the pass.
+    #[serde(skip)]
+    pub moments: Option<[f64; 6]>,
+}
+
+impl Moments for [f64; 6] {
+    fn line_about(&self, p: Pt) -> Option<(f64, Pt)> {
+        let [sw, sx, sy, sxx, sxy, syy] = *self;
+        if sw <= 0.0 {
+            return None;
+        }
+        // Second moments about p.
+        let mxx = sxx - 2.0 * p.x * sx + sw * p.x * p.x;
+        let mxy = sxy - p.x * sy - p.y * sx + sw * p.x * p.y;
+        let myy = syy - 2.0 * p.y * sy + sw * p.y * p.y;
+        let th = 0.5 * (2.0 * mxy).atan2(mxx - myy);
+        let d = Pt::new(th.cos(), th.sin());
+        let c = Pt::new(sx / sw, sy / sw);
+        let d = if (c - p).dot(&d) >= 0.0 { d } else { -d };
+        Some((d.y.atan2(d.x), c))
+    }
+
+    fn free_line(&self) -> Option<Line> {
+        let [sw, sx, sy, sxx, sxy, syy] = *self;
+        if sw <= 0.0 {
+            return None;
+        }
+        let c = Pt::new(sx / sw, sy / sw);
+        let (cxx, cxy, cyy) = (
+            sxx / sw - c.x * c.x,
+            sxy / sw - c.x * c.y,
+            syy / sw - c.y * c.y,
+        );
+        let th = 0.5 * (2.0 * cxy).atan2(cxx - cyy);
+        Some(Line {
+            point: c,
+            dir: Pt::new(th.cos(), th.sin()),
+        })
+    }
+}
+
+/// Line fits from stored pixel moments.
+trait Moments {
+    /// The orthogonal fit constrained through `p`: angle (pointing away from `p`) and
+    /// the pixels' centroid.
+    fn line_about(&self, p: Pt) -> Option<(f64, Pt)>;
+    /// The unconstrained orthogonal fit.
+    fn free_line(&self) -> Option<Line>;
 }
 
 /// Settings of one detection.
@@ -277,8 +327,13 @@ fn open_source(
     }
 }
 
+/// Length of the first look at the video (geometry and background), s: more than half
+/// a swing of any pendulum up to a 5 s period.
+const INIT_SECONDS: f64 = 2.5;
+
 /// Detect the wire angle in every frame of a video.
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
+    let started = std::time::Instant::now();
     let info = video::probe(path)?;
     let bound = opts.roi.unwrap_or(Roi {
         x: 0,
@@ -340,7 +395,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         init.w = frame.width;
         init.h = frame.height;
         init.data.push(frame.data.clone());
-        if frame.t_s - t0 >= 4.0 || init.data.len() >= 300 {
+        if frame.t_s - t0 >= INIT_SECONDS || init.data.len() >= 300 {
             break;
         }
     }
@@ -358,6 +413,12 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     )
     .with_context(|| format!("{}: no wire found", path.display()))?;
     let init_angles = geo.initial_angles.clone();
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        eprintln!(
+            "timing: geometry done at {:.2} s",
+            started.elapsed().as_secs_f64()
+        );
+    }
     let init_bg = background_from(&init, geo.dark)?;
     let init_tmap = geometry::threshold_map(&init, 0.5 * opts.threshold_sigma)?;
     drop(init);
@@ -369,8 +430,11 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     let tty = std::io::stderr().is_terminal();
     let mut rows = Vec::new();
     let mut k = 0usize;
+    let mut waited = 0.0f64;
     loop {
+        let t_wait = std::time::Instant::now();
         let more = src.next_frame(&mut frame)?;
+        waited += t_wait.elapsed().as_secs_f64();
         if !more {
             break;
         }
@@ -381,9 +445,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
             break;
         }
         let hint = init_angles.get(k).copied().flatten();
-        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-            eprintln!("hint {k}: {:?}", hint.map(f64::to_degrees));
-        }
+
         rows.push(tracker.step(&frame, hint)?);
         k += 1;
         if tty && k.is_multiple_of(100) {
@@ -396,6 +458,12 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     if tty {
         eprintln!();
     }
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        eprintln!(
+            "timing: streaming pass done at {:.2} s ({waited:.2} s waiting for frames)",
+            started.elapsed().as_secs_f64()
+        );
+    }
     drop(src);
     if rows.is_empty() {
         bail!("{}: no frame in the requested range", path.display());
@@ -406,8 +474,9 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
             path.display()
         );
     }
+    let pivot = tracker.refine_pivot(&mut rows);
     fill_flagged(&mut rows);
-    apply_marks(&mut rows, &opts.marks, geo.pivot);
+    apply_marks(&mut rows, &opts.marks, pivot);
     let usable = rows.iter().filter(|r| r.status != Status::Missing).count();
     if usable < rows.len() / 2 {
         bail!(
@@ -423,7 +492,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     }
     Ok(Detection {
         rows,
-        pivot_px: [geo.pivot.x, geo.pivot.y],
+        pivot_px: [pivot.x, pivot.y],
         roi: [geo.roi.x, geo.roi.y, geo.roi.w, geo.roi.h],
         dark_wire: geo.dark,
         band_px: [geo.r_lo, geo.r_hi],
@@ -452,14 +521,17 @@ fn background_from(init: &InitFrames, dark: bool) -> Result<Mat> {
 /// Per-frame state of the streaming pass.
 struct Tracker {
     geo: WireGeometry,
-    /// Work at 1/scale of the full frame.
+    /// Work at 1/scale of the full frame, in a region starting at `(roi_x, roi_y)`.
     scale: f64,
+    roi_x: f64,
+    roi_y: f64,
     /// Pivot and band in the scaled region's pixels.
     piv: Pt,
     r_lo: f64,
     r_hi: f64,
     small: Mat,
     bg: Mat,
+    tmp: Mat,
     raw_ev: Mat,
     kernel: Mat,
     /// Per-pixel detection threshold (grey levels).
@@ -530,6 +602,8 @@ impl Tracker {
         Ok(Self {
             geo: geo.clone(),
             scale: shrink,
+            roi_x: roi.x as f64,
+            roi_y: roi.y as f64,
             piv: Pt::new(
                 (geo.pivot.x - roi.x as f64) / shrink,
                 (geo.pivot.y - roi.y as f64) / shrink,
@@ -539,6 +613,7 @@ impl Tracker {
             small: Mat::default(),
             bg,
             raw_ev: Mat::default(),
+            tmp: Mat::default(),
             kernel: imgproc::get_structuring_element_def(
                 imgproc::MORPH_ELLIPSE,
                 core::Size::new(7, 7),
@@ -627,7 +702,7 @@ impl Tracker {
         let mad = if self.prev.is_empty() {
             f64::NAN
         } else {
-            mean_abs_diff(&f.data, &self.prev, 5)
+            mean_abs_diff_sampled(&f.data, &self.prev, 5)
         };
         let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
         if mad.is_finite() && !duplicate {
@@ -636,11 +711,9 @@ impl Tracker {
                 None => mad,
             });
         }
-        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-            eprintln!("mad {} {mad:.3} ref {:?}", f.index, self.mad_ref);
-        }
+
         self.prev.clear();
-        self.prev.extend_from_slice(&f.data);
+        self.prev.extend(f.data.iter().step_by(5));
         if !flash {
             self.mean_level = Some(match self.mean_level {
                 Some(m) => 0.9 * m + 0.1 * level,
@@ -661,20 +734,20 @@ impl Tracker {
             &self.kernel,
         )?;
         if !flash {
-            let prev = self.bg.clone();
             if self.geo.dark {
-                core::max(&prev, &img, &mut self.bg)?;
+                core::max(&self.bg, &img, &mut self.tmp)?;
             } else {
-                core::min(&prev, &img, &mut self.bg)?;
+                core::min(&self.bg, &img, &mut self.tmp)?;
             }
+            std::mem::swap(&mut self.bg, &mut self.tmp);
             if f.index.is_multiple_of(self.decay_every) {
-                let prev = self.bg.clone();
                 let one = Scalar::all(1.0);
                 if self.geo.dark {
-                    core::subtract_def(&prev, &one, &mut self.bg)?;
+                    core::subtract_def(&self.bg, &one, &mut self.tmp)?;
                 } else {
-                    core::add_def(&prev, &one, &mut self.bg)?;
+                    core::add_def(&self.bg, &one, &mut self.tmp)?;
                 }
+                std::mem::swap(&mut self.bg, &mut self.tmp);
             }
         }
         let thresh = match self.thresh {
@@ -700,6 +773,7 @@ impl Tracker {
             status: Status::Ok,
             quality: 0.0,
             flag: None,
+            moments: None,
         };
         if flash {
             row.flag = Some(Flag::Flash);
@@ -707,8 +781,12 @@ impl Tracker {
             self.save_diag(&img, f.index, f64::NAN, pred)?;
             return Ok(row);
         }
-        let (angle, quality) = self.measure(thresh, pred)?.unwrap_or((f64::NAN, 0.0));
+        let (angle, quality, moments) = match self.measure(thresh, pred)? {
+            Some((a, q, m)) => (a, q, Some(m)),
+            None => (f64::NAN, 0.0, None),
+        };
         row.quality = quality;
+        row.moments = moments;
         // Fewer than three accepted frames make a poor prediction: open the gate.
         let short = if self.hist.len() < 3 { 4.0 } else { 1.0 };
         // Fast motion at a low frame rate predicts less well: widen the gate by half the
@@ -730,7 +808,7 @@ impl Tracker {
         if angle.is_finite() {
             row.angle_rad = Some(angle);
         }
-        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "frames") {
             eprintln!(
                 "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?} thresh {:.1}",
                 f.index,
@@ -790,7 +868,7 @@ impl Tracker {
 
     /// The wire's angle and coverage in the current evidence image, searching a wedge
     /// around `pred` (or every angle the wire was seen at, without a prediction).
-    fn measure(&mut self, thresh: f64, pred: Option<f64>) -> Result<Option<(f64, f64)>> {
+    fn measure(&mut self, thresh: f64, pred: Option<f64>) -> Result<Option<(f64, f64, [f64; 6])>> {
         let _ = thresh;
         core::compare(&self.ev, &self.tmap, &mut self.bin, core::CMP_GT)?;
         let mut nz = Vector::<Point>::new();
@@ -888,7 +966,53 @@ impl Tracker {
         } else {
             -line.dir
         };
-        Ok(Some((d.y.atan2(d.x), quality)))
+        let mut m = [0.0f64; 6];
+        for (q, w) in &sel {
+            m[0] += w;
+            m[1] += w * q.x;
+            m[2] += w * q.y;
+            m[3] += w * q.x * q.x;
+            m[4] += w * q.x * q.y;
+            m[5] += w * q.y * q.y;
+        }
+        Ok(Some((d.y.atan2(d.x), quality, m)))
+    }
+
+    /// Refine the pivot from the whole pass: the robust intersection of every accepted
+    /// frame's free line fit (hundreds of lines at different angles, against the few
+    /// dozen of the first seconds), then refit every angle about it from the stored
+    /// pixel moments. Returns the pivot in full-frame pixels.
+    fn refine_pivot(&self, rows: &mut [AngleRow]) -> Pt {
+        let to_full = |p: Pt| Pt::new(p.x * self.scale + self.roi_x, p.y * self.scale + self.roi_y);
+        let lines: Vec<Line> = rows
+            .iter()
+            .filter(|r| r.flag.is_none())
+            .filter_map(|r| r.moments.as_ref().and_then(|m| m.free_line()))
+            .collect();
+        let angles: Vec<f64> = lines
+            .iter()
+            .map(|l| l.dir.y.atan2(l.dir.x).rem_euclid(std::f64::consts::PI))
+            .collect();
+        let spread = angles.iter().fold(f64::MIN, |a, &b| a.max(b))
+            - angles.iter().fold(f64::MAX, |a, &b| a.min(b));
+        if lines.len() < 20 || spread < 2f64.to_radians() {
+            return to_full(self.piv);
+        }
+        let Ok(p) = geometry::intersect(&lines) else {
+            return to_full(self.piv);
+        };
+        // Accept a refinement, not a jump elsewhere.
+        if (p - self.piv).norm() > 0.05 * (self.r_lo + self.r_hi) {
+            return to_full(self.piv);
+        }
+        for r in rows.iter_mut() {
+            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {
+                if r.angle_rad.is_some() {
+                    r.angle_rad = Some(a);
+                }
+            }
+        }
+        to_full(p)
     }
 
     /// The paper's Figure 11 for a flagged frame: detected line red, predicted green.
@@ -946,15 +1070,16 @@ fn sampled_mean(d: &[u8], step: usize) -> f64 {
     s as f64 / n.max(1) as f64
 }
 
-/// Mean absolute difference of every `step`-th byte.
-fn mean_abs_diff(a: &[u8], b: &[u8], step: usize) -> f64 {
-    if a.len() != b.len() {
-        return f64::INFINITY;
-    }
+/// Mean absolute difference between every `step`-th byte of `a` and the bytes of
+/// `sampled` (which holds every `step`-th byte of the previous frame).
+fn mean_abs_diff_sampled(a: &[u8], sampled: &[u8], step: usize) -> f64 {
     let (mut s, mut n) = (0u64, 0u64);
-    for (x, y) in a.iter().zip(b).step_by(step) {
+    for (x, y) in a.iter().step_by(step).zip(sampled) {
         s += x.abs_diff(*y) as u64;
         n += 1;
+    }
+    if n as usize != sampled.len() {
+        return f64::INFINITY;
     }
     s as f64 / n.max(1) as f64
 }

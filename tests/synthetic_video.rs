@@ -1,0 +1,146 @@
+//! The digital twin end to end: rendered videos of every style (noise, blur, lighting
+//! drift and flicker, compression, spoiled frames) measured back by the detector, and
+//! the rolling-friction coefficient of every experiment measured back from its video.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn rollfric(args: &[&str], dir: &Path) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "rollfric {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
+
+fn have_ffmpeg() -> bool {
+    Command::new("ffmpeg").arg("-version").output().is_ok()
+}
+
+struct Row {
+    angle: Option<f64>,
+    tag: String,
+}
+
+fn read(path: &Path, col: &str) -> Vec<Row> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let ia = head.iter().position(|h| *h == "angle_rad").unwrap();
+    let it = head.iter().position(|h| *h == col).unwrap();
+    lines
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            Row {
+                angle: v[ia].parse().ok(),
+                tag: v[it].to_string(),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn every_style_is_measured_within_a_twentieth_of_a_degree() {
+    if !have_ffmpeg() {
+        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let glass = std::fs::read_to_string(root().join("experiments/glass.yaml")).unwrap();
+    for (i, style) in ["dark-wire", "light-wire", "oblique"].iter().enumerate() {
+        let text = glass
+            .replace("  fps: 30\n", "  fps: 60\n  duration_s: 12\n")
+            .replace("style: dark-wire", &format!("style: {style}"))
+            .replace("  seed: 3\n", &format!("  seed: {}\n", 20 + i));
+        let exp = d.join(format!("{style}.yaml"));
+        std::fs::write(&exp, text).unwrap();
+        let (video, truth, angles) = (
+            d.join(format!("{style}.mp4")),
+            d.join(format!("{style}-truth.csv")),
+            d.join(format!("{style}-angles.csv")),
+        );
+        let s = |p: &Path| p.to_str().unwrap().to_string();
+        rollfric(
+            &["synth", &s(&exp), "-o", &s(&video), "--truth", &s(&truth)],
+            d,
+        );
+        // H.264 when this OpenCV writes it, MJPG otherwise.
+        let video = if video.exists() {
+            video
+        } else {
+            video.with_extension("avi")
+        };
+        rollfric(&["detect", &s(&video), "-o", &s(&angles)], d);
+        let t = read(&truth, "spoiled");
+        let a = read(&angles, "status");
+        assert_eq!(t.len(), a.len(), "{style}: one row per frame");
+        let mut spoiled = 0;
+        let mut diffs = Vec::new();
+        for (tr, de) in t.iter().zip(&a) {
+            if tr.tag != "none" {
+                spoiled += 1;
+                assert_ne!(de.tag, "ok", "{style}: a `{}` frame passed as ok", tr.tag);
+            }
+            if let Some(x) = de.angle {
+                diffs.push(x - tr.angle.unwrap());
+            }
+        }
+        assert!(spoiled >= 3, "{style}: {spoiled} spoiled frames");
+        let missing = a.iter().filter(|r| r.tag == "missing").count();
+        assert!(missing * 100 <= a.len(), "{style}: {missing} missing");
+        let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+        let rms = (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / diffs.len() as f64)
+            .sqrt()
+            .to_degrees();
+        assert!(rms <= 0.05, "{style}: angle RMS {rms:.4} deg");
+    }
+}
+
+#[test]
+fn every_experiment_measures_back_its_s_r_from_video() {
+    if !have_ffmpeg() {
+        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+        return;
+    }
+    // Renders (or reuses) the twins under build/, as `make reports` does.
+    for exp in [
+        "steel",
+        "glass",
+        "aluminum",
+        "copper",
+        "polycarbonate",
+        "carbon-fiber",
+        "glass-fiber-fabric",
+        "glass-d140",
+    ] {
+        let out = rollfric(&["fit", exp, "--json"], &root());
+        let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert!(
+            j["angles"]["kind"]
+                .as_str()
+                .unwrap()
+                .starts_with("synthetic-video"),
+            "{exp}: {}",
+            j["angles"]
+        );
+        let truth = j["truth_s_r_m"].as_f64().unwrap();
+        let got = j["s_r_m"].as_f64().unwrap();
+        let dev = (got - truth) / truth;
+        assert!(
+            dev.abs() < 0.01,
+            "{exp}: s_r from video {got:e} vs truth {truth:e} ({:+.2} %)",
+            100.0 * dev
+        );
+    }
+}

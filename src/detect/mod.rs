@@ -1212,6 +1212,7 @@ mod tests {
                     status: Status::Ok,
                     quality: 1.0,
                     flag: None,
+                    moments: None,
                 }
             })
             .collect();
@@ -1235,6 +1236,7 @@ mod tests {
             status: Status::Missing,
             quality: 0.0,
             flag: Some(Flag::Weak),
+            moments: None,
         }];
         let mut marks = BTreeMap::new();
         marks.insert(3, [[100.0, 300.0], [100.0, 100.0]]);

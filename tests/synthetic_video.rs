@@ -90,7 +90,14 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
         for (tr, de) in t.iter().zip(&a) {
             if tr.tag != "none" {
                 spoiled += 1;
-                assert_ne!(de.tag, "ok", "{style}: a `{}` frame passed as ok", tr.tag);
+                // Flagged, or untouched by the spoiling (a hand still outside the
+                // region of interest leaves the wire's angle as it was).
+                let err = de.angle.map(|a| (a - tr.angle.unwrap()).abs().to_degrees());
+                assert!(
+                    de.tag != "ok" || err.is_some_and(|e| e < 0.05),
+                    "{style}: a `{}` frame passed as ok with error {err:?} deg",
+                    tr.tag
+                );
             }
             if let Some(x) = de.angle {
                 diffs.push(x - tr.angle.unwrap());

@@ -144,6 +144,8 @@ pub enum Flag {
     Flash,
     /// The frame repeats the previous one (a dropped frame).
     Duplicate,
+    /// Much of the region changed at once (a hand or a shadow passing).
+    Disturbed,
 }
 
 /// One frame's result.
@@ -550,6 +552,8 @@ struct Tracker {
     q_ref: Option<f64>,
     /// Typical mean absolute change between consecutive frames.
     mad_ref: Option<f64>,
+    /// Mean square innovation of accepted frames, and how many were seen.
+    innov: Option<(f64, usize)>,
     since_good: usize,
     decay_every: u64,
     diag_dir: Option<PathBuf>,
@@ -629,8 +633,9 @@ impl Tracker {
             raw: Vec::new(),
             q_ref: None,
             mad_ref: None,
+            innov: None,
             since_good: 0,
-            decay_every: 6,
+            decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
             threshold_sigma: opts.threshold_sigma,
@@ -705,6 +710,10 @@ impl Tracker {
             mean_abs_diff_sampled(&f.data, &self.prev, 5)
         };
         let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
+        let disturbed = self.mad_ref.is_some_and(|r| mad > 4.0 * r.max(0.5));
+        if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "mad") {
+            eprintln!("mad {} {mad:.3} ref {:?}", f.index, self.mad_ref);
+        }
         if mad.is_finite() && !duplicate {
             self.mad_ref = Some(match self.mad_ref {
                 Some(r) => 0.95 * r + 0.05 * mad.min(3.0 * r),
@@ -795,9 +804,27 @@ impl Tracker {
             [.., (_, a), (_, b)] => (b - a).abs(),
             _ => 0.0,
         };
-        let gate = (self.gate + 0.5 * step) * (1.0 + self.since_good as f64) * short;
-        let flag = if duplicate {
+        // Once the innovations (measured minus predicted) of accepted frames are known,
+        // the gate tightens to four times their RMS: a repeated frame that the codec did
+        // not keep bit-identical still lags its prediction by a fraction of a degree.
+        let base = match self.innov {
+            Some((ms, n)) if n >= 30 => (4.0 * ms.sqrt()).clamp(0.05f64.to_radians(), self.gate),
+            _ => self.gate,
+        };
+        let gate = (base + 0.5 * step) * (1.0 + self.since_good as f64) * short;
+        // A repeated frame the codec did not keep identical: the wire stands still
+        // where the prediction says it moved by well over the measurement noise.
+        let stalled = match (self.hist.last(), pred, self.innov) {
+            (Some(&(_, prev)), Some(p), Some((ms, n))) if n >= 30 && angle.is_finite() => {
+                let expected = (p - prev).abs();
+                expected > 2.0 * ms.sqrt() && (angle - prev).abs() < 0.3 * expected
+            }
+            _ => false,
+        };
+        let flag = if duplicate || stalled {
             Some(Flag::Duplicate)
+        } else if disturbed {
+            Some(Flag::Disturbed)
         } else if !angle.is_finite() || quality < (0.5 * self.q_ref.unwrap_or(0.6)).max(0.1) {
             Some(Flag::Weak)
         } else if pred.is_some_and(|p| (angle - p).abs() > gate) {
@@ -845,6 +872,13 @@ impl Tracker {
         };
         match flag {
             None => {
+                if let Some(p) = pred.filter(|_| self.hist.len() >= 3) {
+                    let e2 = (angle - p).powi(2);
+                    self.innov = Some(match self.innov {
+                        Some((ms, n)) => (0.97 * ms + 0.03 * e2.min(9.0 * ms.max(1e-12)), n + 1),
+                        None => (e2, 1),
+                    });
+                }
                 self.q_ref = Some(match self.q_ref {
                     Some(q) => 0.95 * q + 0.05 * quality,
                     None => quality,

@@ -448,7 +448,7 @@ pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
     }
     let _ = writeln!(
         o,
-        "\nAngles are SYNTHETIC (the digital twin's camera series) unless an experiment names a CSV;"
+        "\nAngles are SYNTHETIC (detected in the digital twin's rendered video) unless an experiment names a CSV or a lab video;"
     );
     let _ = writeln!(
         o,

@@ -329,9 +329,9 @@ fn open_source(
     }
 }
 
-/// Length of the first look at the video (geometry and background), s: more than half
-/// a swing of any pendulum up to a 5 s period.
-const INIT_SECONDS: f64 = 2.5;
+/// Length of the first look at the video (geometry and background), s: a whole swing
+/// of any pendulum up to a 4 s period, enough lines at enough angles for the pivot.
+const INIT_SECONDS: f64 = 4.0;
 
 /// Detect the wire angle in every frame of a video.
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {

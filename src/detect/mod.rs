@@ -68,23 +68,10 @@ impl Line {
 /// Orthogonal (total) least-squares line through weighted points: the principal axis
 /// of the weighted pixel cloud (ERRATA §6: unlike `y = A x + B`, exact for any slope).
 pub fn fit_line_weighted(pts: &[(Pt, f64)]) -> Option<Line> {
-    let sw: f64 = pts.iter().map(|p| p.1).sum();
-    if pts.len() < 2 || sw <= 0.0 {
+    if pts.len() < 2 {
         return None;
     }
-    let c = pts.iter().fold(Pt::zeros(), |a, (p, w)| a + p * *w) / sw;
-    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
-    for (p, w) in pts {
-        let d = p - c;
-        sxx += w * d.x * d.x;
-        sxy += w * d.x * d.y;
-        syy += w * d.y * d.y;
-    }
-    let th = 0.5 * (2.0 * sxy).atan2(sxx - syy);
-    Some(Line {
-        point: c,
-        dir: Pt::new(th.cos(), th.sin()),
-    })
+    moments(pts).free_line()
 }
 
 /// Orthogonal least-squares line constrained to pass through `pivot`: the principal
@@ -94,21 +81,25 @@ pub fn fit_line_through(pivot: Pt, pts: &[(Pt, f64)]) -> Option<Line> {
     if pts.len() < 2 {
         return None;
     }
-    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
-    for (p, w) in pts {
-        let d = p - pivot;
-        sxx += w * d.x * d.x;
-        sxy += w * d.x * d.y;
-        syy += w * d.y * d.y;
-    }
-    if sxx + syy <= 0.0 {
-        return None;
-    }
-    let th = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let (th, _) = moments(pts).line_about(pivot)?;
     Some(Line {
         point: pivot,
         dir: Pt::new(th.cos(), th.sin()),
     })
+}
+
+/// Weighted pixel moments `[sum w, sum w x, sum w y, sum w x^2, sum w x y, sum w y^2]`.
+pub fn moments(pts: &[(Pt, f64)]) -> [f64; 6] {
+    let mut m = [0.0f64; 6];
+    for (q, w) in pts {
+        m[0] += w;
+        m[1] += w * q.x;
+        m[2] += w * q.y;
+        m[3] += w * q.x * q.x;
+        m[4] += w * q.x * q.y;
+        m[5] += w * q.y * q.y;
+    }
+    m
 }
 
 /// Per-frame status, as the CSV writes it.
@@ -169,7 +160,7 @@ pub struct AngleRow {
 impl Moments for [f64; 6] {
     fn line_about(&self, p: Pt) -> Option<(f64, Pt)> {
         let [sw, sx, sy, sxx, sxy, syy] = *self;
-        if sw <= 0.0 {
+        if sw <= 0.0 || !(sxx + syy).is_finite() {
             return None;
         }
         // Second moments about p.
@@ -329,9 +320,9 @@ fn open_source(
     }
 }
 
-/// Length of the first look at the video (geometry and background), s: a whole swing
-/// of any pendulum up to a 4 s period, enough lines at enough angles for the pivot.
-const INIT_SECONDS: f64 = 4.0;
+/// Length of the first look at the video (geometry and background), s: more than half
+/// a swing of any pendulum up to a 5 s period.
+const INIT_SECONDS: f64 = 2.5;
 
 /// Detect the wire angle in every frame of a video.
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
@@ -1000,16 +991,7 @@ impl Tracker {
         } else {
             -line.dir
         };
-        let mut m = [0.0f64; 6];
-        for (q, w) in &sel {
-            m[0] += w;
-            m[1] += w * q.x;
-            m[2] += w * q.y;
-            m[3] += w * q.x * q.x;
-            m[4] += w * q.x * q.y;
-            m[5] += w * q.y * q.y;
-        }
-        Ok(Some((d.y.atan2(d.x), quality, m)))
+        Ok(Some((d.y.atan2(d.x), quality, moments(&sel))))
     }
 
     /// Refine the pivot from the whole pass: the robust intersection of every accepted

@@ -283,7 +283,6 @@ pub fn find(
     let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
     for &dark in &candidates {
         let mut lines = Vec::with_capacity(init.data.len());
-        let mut thresh = None;
         // At most about 60 frames are looked at closely (every `stride`-th).
         let stride = init.data.len().div_ceil(60).max(1);
         for (k, d) in init.data.iter().enumerate() {
@@ -305,7 +304,6 @@ pub fn find(
             core::compare(&th, &tmap, &mut keep, core::CMP_GT)?;
             let mut masked = Mat::default();
             th.copy_to_masked(&mut masked, &keep)?;
-            thresh = Some(1.0);
             lines.push(frame_lines(&masked, 0.5, min_len)?);
         }
         // The wire moves: its lines take many directions. A ghost (the background's
@@ -328,10 +326,9 @@ pub fn find(
         let total = bins.len() as f64 * 1e9 + weight;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
-                "geometry: dark={dark} lines={} directions={} weight={weight:.0} thresh={:?}",
+                "geometry: dark={dark} lines={} directions={} weight={weight:.0}",
                 lines.iter().filter(|v| !v.is_empty()).count(),
-                bins.len(),
-                thresh
+                bins.len()
             );
         }
         if best.as_ref().is_none_or(|b| total > b.1) {

@@ -533,7 +533,6 @@ struct Tracker {
     bin: Mat,
     prev: Vec<u8>,
     mean_level: Option<f64>,
-    thresh: Option<f64>,
     gate: f64,
     /// Recent accepted (t, angle) for the prediction.
     hist: Vec<(f64, f64)>,
@@ -549,7 +548,6 @@ struct Tracker {
     decay_every: u64,
     diag_dir: Option<PathBuf>,
     diagnostics: Vec<PathBuf>,
-    threshold_sigma: f64,
 }
 
 impl Tracker {
@@ -618,7 +616,6 @@ impl Tracker {
             bin: Mat::default(),
             prev: Vec::new(),
             mean_level: None,
-            thresh: None,
             gate: opts.gate_deg.to_radians(),
             hist: Vec::new(),
             raw: Vec::new(),
@@ -629,7 +626,6 @@ impl Tracker {
             decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
-            threshold_sigma: opts.threshold_sigma,
         })
     }
 
@@ -686,7 +682,6 @@ impl Tracker {
             }
             full.copy_to(&mut self.small)?;
         }
-        let img = self.small.clone();
         // Global brightness: a flash or a dropout is kept out of the background.
         let level = sampled_mean(&f.data, 7);
         let flash = self
@@ -723,9 +718,9 @@ impl Tracker {
         // Evidence (thin structures only: a top-hat removes the bob and a hand's
         // palm), then the background follows the scene.
         if self.geo.dark {
-            core::subtract_def(&self.bg, &img, &mut self.raw_ev)?;
+            core::subtract_def(&self.bg, &self.small, &mut self.raw_ev)?;
         } else {
-            core::subtract_def(&img, &self.bg, &mut self.raw_ev)?;
+            core::subtract_def(&self.small, &self.bg, &mut self.raw_ev)?;
         }
         imgproc::morphology_ex_def(
             &self.raw_ev,
@@ -735,9 +730,9 @@ impl Tracker {
         )?;
         if !flash {
             if self.geo.dark {
-                core::max(&self.bg, &img, &mut self.tmp)?;
+                core::max(&self.bg, &self.small, &mut self.tmp)?;
             } else {
-                core::min(&self.bg, &img, &mut self.tmp)?;
+                core::min(&self.bg, &self.small, &mut self.tmp)?;
             }
             std::mem::swap(&mut self.bg, &mut self.tmp);
             if f.index.is_multiple_of(self.decay_every) {
@@ -750,15 +745,6 @@ impl Tracker {
                 std::mem::swap(&mut self.bg, &mut self.tmp);
             }
         }
-        let thresh = match self.thresh {
-            Some(t) => t,
-            None => {
-                let med = median_of_u8(&self.ev)?;
-                let t = (self.threshold_sigma * 1.4826 * med.max(1.0)).max(8.0);
-                self.thresh = Some(t);
-                t
-            }
-        };
         // During the first seconds the geometry pass's angle of this very frame is the
         // better guess until three frames have been accepted.
         let pred = if self.hist.len() < 3 {
@@ -778,10 +764,10 @@ impl Tracker {
         if flash {
             row.flag = Some(Flag::Flash);
             self.since_good += 1;
-            self.save_diag(&img, f.index, f64::NAN, pred)?;
+            self.save_diag(f.index, f64::NAN, pred)?;
             return Ok(row);
         }
-        let (angle, quality, moments) = match self.measure(thresh, pred)? {
+        let (angle, quality, moments) = match self.measure(pred)? {
             Some((a, q, m)) => (a, q, Some(m)),
             None => (f64::NAN, 0.0, None),
         };
@@ -828,14 +814,13 @@ impl Tracker {
         }
         if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "frames") {
             eprintln!(
-                "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?} thresh {:.1}",
+                "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?}",
                 f.index,
                 f.t_s,
                 angle.to_degrees(),
                 pred.map(|p| (p.to_degrees() * 100.0).round() / 100.0),
                 quality,
-                flag,
-                thresh
+                flag
             );
         }
         if angle.is_finite() {
@@ -884,7 +869,7 @@ impl Tracker {
                 row.flag = Some(fl);
                 self.since_good += 1;
                 if fl != Flag::Duplicate {
-                    self.save_diag(&img, f.index, angle, pred)?;
+                    self.save_diag(f.index, angle, pred)?;
                 }
             }
         }
@@ -893,8 +878,7 @@ impl Tracker {
 
     /// The wire's angle and coverage in the current evidence image, searching a wedge
     /// around `pred` (or every angle the wire was seen at, without a prediction).
-    fn measure(&mut self, thresh: f64, pred: Option<f64>) -> Result<Option<(f64, f64, [f64; 6])>> {
-        let _ = thresh;
+    fn measure(&mut self, pred: Option<f64>) -> Result<Option<(f64, f64, [f64; 6])>> {
         core::compare(&self.ev, &self.tmap, &mut self.bin, core::CMP_GT)?;
         let mut nz = Vector::<Point>::new();
         core::find_non_zero(&self.bin, &mut nz)?;
@@ -1032,13 +1016,7 @@ impl Tracker {
     }
 
     /// The paper's Figure 11 for a flagged frame: detected line red, predicted green.
-    fn save_diag(
-        &mut self,
-        img: &impl core::ToInputArray,
-        index: u64,
-        angle: f64,
-        pred: Option<f64>,
-    ) -> Result<()> {
+    fn save_diag(&mut self, index: u64, angle: f64, pred: Option<f64>) -> Result<()> {
         let Some(dir) = &self.diag_dir else {
             return Ok(());
         };
@@ -1046,7 +1024,7 @@ impl Tracker {
             return Ok(());
         }
         let mut bgr = Mat::default();
-        imgproc::cvt_color_def(img, &mut bgr, imgproc::COLOR_GRAY2BGR)?;
+        imgproc::cvt_color_def(&self.small, &mut bgr, imgproc::COLOR_GRAY2BGR)?;
         let (piv, r_lo, r_hi) = (self.piv, self.r_lo, self.r_hi);
         let mut draw = |th: f64, color: Scalar| -> Result<()> {
             let a = piv + Pt::new(th.cos(), th.sin()) * r_lo;
@@ -1098,23 +1076,6 @@ fn mean_abs_diff_sampled(a: &[u8], sampled: &[u8], step: usize) -> f64 {
         return f64::INFINITY;
     }
     s as f64 / n.max(1) as f64
-}
-
-/// Median of a u8 image.
-fn median_of_u8(m: &Mat) -> Result<f64> {
-    let mut hist = [0usize; 256];
-    for &v in m.data_bytes()? {
-        hist[v as usize] += 1;
-    }
-    let half = m.total() / 2;
-    let mut acc = 0;
-    for (v, &c) in hist.iter().enumerate() {
-        acc += c;
-        if acc > half {
-            return Ok(v as f64);
-        }
-    }
-    Ok(0.0)
 }
 
 /// Operator marks replace the detection: the angle of the line through the two points,

@@ -7,7 +7,7 @@ SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
 # ffmpeg decodes video for the detector (and is the benchmark's decode-only reference).
-APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg
+APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver
 BIN := target/release/rollfric
 
 .PHONY: all deps build reports test check fmt clippy bench clean
@@ -34,8 +34,13 @@ build: deps
 reports: build
 	$(BIN) build
 
+# The unit and integration tests (the browser test included), then a build of every
+# experiment of the manifest and `rollfric check` on its summary.
 test: deps
 	$(CARGO) test --release --locked
+	$(CARGO) build --release --locked
+	$(BIN) build
+	$(BIN) check
 
 fmt:
 	$(CARGO) fmt --all -- --check

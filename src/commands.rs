@@ -1,7 +1,7 @@
 //! The command-line verbs, as library functions (so that tests call them directly and
 //! `main.rs` only parses arguments). Each returns its text output.
 
-use crate::config::{self, Experiment, Manifest};
+use crate::config::{self, Experiment};
 use crate::fit::{self, BetaChoice, FitOptions, FitResult};
 use crate::fsutil;
 use crate::physics::torsion::{torsion_check, TorsionCheck};
@@ -344,119 +344,6 @@ pub fn torsion_table(name: &str, c: &TorsionCheck, s_r_from: &str) -> String {
     o
 }
 
-/// One row of the interim build table.
-#[derive(Clone, Debug, Serialize)]
-pub struct BuildRow {
-    pub experiment: String,
-    pub result: Option<FitReport>,
-    pub error: Option<String>,
-    pub reference: Option<config::Reference>,
-    pub tolerances: Option<config::Tolerances>,
-}
-
-/// `rollfric build` (interim): fit every experiment of the manifest and print Table 1
-/// reproduced. Returns the text and whether every experiment succeeded and passed.
-pub fn build_cmd(manifest: &Path, json: bool) -> Result<(String, bool)> {
-    let (_m, files) = Manifest::load(manifest)?;
-    let mut rows = Vec::new();
-    for f in &files {
-        let run = || -> Result<(Experiment, FitReport)> {
-            let exp = Experiment::load(f)?;
-            let r = fit_experiment(&exp, &FitArgs::default())?;
-            Ok((exp, r))
-        };
-        match run() {
-            Ok((exp, r)) => rows.push(BuildRow {
-                experiment: r.experiment.clone(),
-                result: Some(r),
-                error: None,
-                reference: exp.file.reference.clone(),
-                tolerances: Some(exp.file.tolerances.clone()),
-            }),
-            Err(e) => rows.push(BuildRow {
-                experiment: f.display().to_string(),
-                result: None,
-                error: Some(format!("{e:#}")),
-                reference: None,
-                tolerances: None,
-            }),
-        }
-    }
-    let mut ok = true;
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        "{:<36} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  check",
-        "material",
-        "s_r e-6",
-        "paper",
-        "dev %",
-        "mu_r e-3",
-        "paper",
-        "dev %",
-        "a e-3",
-        "paper",
-        "dev %",
-        "truth %",
-    );
-    for row in &rows {
-        let Some(r) = &row.result else {
-            ok = false;
-            let _ = writeln!(
-                o,
-                "{:<36} FAILED: {}",
-                row.experiment,
-                row.error.as_deref().unwrap_or("")
-            );
-            continue;
-        };
-        let reference = row.reference.clone().unwrap_or_default();
-        let tol = row.tolerances.clone().unwrap_or_default();
-        let dev = |x: f64, r: Option<f64>| r.map(|r| (x - r) / r);
-        let f = &r.fit;
-        let devs = [
-            dev(f.s_r_m, reference.s_r_m),
-            dev(f.mu_r, reference.mu_r),
-            dev(f.a_rad_s, reference.a_rad_s),
-        ];
-        let truth = dev(f.s_r_m, r.truth_s_r_m);
-        let pass = devs.iter().flatten().all(|d| d.abs() <= tol.reference_rel)
-            && truth.is_none_or(|d| d.abs() <= tol.truth_rel);
-        ok &= pass;
-        let num =
-            |v: Option<f64>, scale: f64| v.map_or("-".to_string(), |v| format!("{:.3}", v * scale));
-        let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:+.2}", 100.0 * v));
-        let _ = writeln!(
-            o,
-            "{:<36} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>9} {:>9} {:>7} {:>8}  {}",
-            r.material,
-            num(Some(f.s_r_m), 1e6),
-            num(reference.s_r_m, 1e6),
-            pct(devs[0]),
-            num(Some(f.mu_r), 1e3),
-            num(reference.mu_r, 1e3),
-            pct(devs[1]),
-            num(Some(f.a_rad_s), 1e3),
-            num(reference.a_rad_s, 1e3),
-            pct(devs[2]),
-            pct(truth),
-            if pass { "pass" } else { "FAIL" }
-        );
-    }
-    if json {
-        return Ok((serde_json::to_string_pretty(&rows)? + "\n", ok));
-    }
-    let _ = writeln!(
-        o,
-        "\nAngles are SYNTHETIC (detected in the digital twin's rendered video) unless an experiment names a CSV or a lab video;"
-    );
-    let _ = writeln!(
-        o,
-        "paper columns are Table 1's published values, for reference only."
-    );
-    Ok((o, ok))
-}
-
 /// Options of `rollfric detect`.
 #[derive(Clone, Debug, Default)]
 pub struct DetectArgs {
@@ -577,21 +464,26 @@ pub fn video_for(exp: &Experiment) -> Result<std::path::PathBuf> {
             exp.path.display()
         );
     }
-    let dir = std::path::Path::new("build").join(&exp.name);
-    // The build's twins are MJPG: several times faster to write than H.264 through
-    // OpenCV, and lossy all the same.
-    let p = dir.join("twin.avi");
-    let fresh = match (std::fs::metadata(&p), std::fs::metadata(&exp.path)) {
-        (Ok(v), Ok(y)) => v.modified().ok() >= y.modified().ok(),
-        _ => false,
-    };
-    if !fresh {
-        eprint!("{}", synth_cmd(&exp.path, &p, None, None)?);
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let started = std::time::Instant::now();
+    let (video, _, rendered) =
+        crate::build::twin(exp, Path::new("build"), &mut |_, done, total| {
+            if tty && total > 0 {
+                eprint!("\rsynth: frame {done}/{total}");
+            }
+        })?;
+    if rendered {
+        if tty {
+            eprintln!();
+        }
+        eprintln!(
+            "{}: rendered the digital twin's video in {:.1} s -> {}",
+            exp.name,
+            started.elapsed().as_secs_f64(),
+            video.display()
+        );
     }
-    if p.exists() {
-        return Ok(p);
-    }
-    bail!("{}: the rendered video is missing", dir.display())
+    Ok(video)
 }
 
 /// This process's peak resident memory (Linux `VmHWM`), MiB.

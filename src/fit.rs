@@ -237,7 +237,7 @@ pub fn model_amplitudes(
 }
 
 /// One candidate exponent in the model comparison.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize, PartialEq)]
 pub struct BetaCandidate {
     pub beta: f64,
     pub s_r: f64,

@@ -40,3 +40,13 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         })
         .with_context(|| format!("{}: cannot write", path.display()))
 }
+
+/// Write `bytes` atomically unless the file already holds exactly them (an unchanged
+/// output keeps its bytes and its modification time). Returns whether it wrote.
+pub fn write_if_changed(path: &Path, bytes: &[u8]) -> Result<bool> {
+    if std::fs::read(path).is_ok_and(|old| old == bytes) {
+        return Ok(false);
+    }
+    write_atomic(path, bytes)?;
+    Ok(true)
+}

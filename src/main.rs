@@ -20,14 +20,31 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Fit every experiment of the manifest and print Table 1 reproduced.
+    /// Build every experiment of the manifest (synth, detect, fit, torsion, figures,
+    /// pages; cached stages are skipped) and write the reports.
     Build {
         /// The manifest listing the experiments.
         #[arg(long, default_value = "experiments/manifest.yaml")]
         manifest: PathBuf,
-        /// Print the results as JSON.
-        #[arg(long)]
-        json: bool,
+        /// Folder for the reports.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// Folder for the stages' cached outputs (rendered videos, angles, fits).
+        #[arg(long, default_value = "build")]
+        cache: PathBuf,
+        /// Experiments built at once (default: the number of cores).
+        #[arg(long, short)]
+        jobs: Option<usize>,
+        /// No progress output.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Compare the reproduced values of a build's summary with their expected values and
+    /// tolerances; exit 1 on a miss.
+    Check {
+        /// The build's summary.
+        #[arg(long, default_value = "reports/summary.json")]
+        summary: PathBuf,
     },
     /// Write what a camera would record of an experiment's digital twin (t_s,angle_rad).
     Simulate {
@@ -123,8 +140,35 @@ enum Cmd {
 
 fn run(cli: Cli) -> anyhow::Result<bool> {
     let out = match cli.cmd {
-        Cmd::Build { manifest, json } => {
-            let (text, ok) = commands::build_cmd(&manifest, json)?;
+        Cmd::Build {
+            manifest,
+            out,
+            cache,
+            jobs,
+            quiet,
+        } => {
+            let o = rollfric::build::build(&rollfric::build::BuildOptions {
+                manifest,
+                out: out.clone(),
+                cache,
+                jobs,
+                quiet,
+            })?;
+            let n = o.summary.experiments.len();
+            println!(
+                "{} experiments in {:.1} s: {} built, {} failed, {} missing a tolerance; {} report files rewritten -> {}",
+                n,
+                o.seconds,
+                n - o.failed,
+                o.failed,
+                o.missed,
+                o.written,
+                out.join("index.html").display()
+            );
+            return Ok(o.failed == 0 && o.missed == 0);
+        }
+        Cmd::Check { summary } => {
+            let (text, ok) = rollfric::report::check(&summary)?;
             print!("{text}");
             return Ok(ok);
         }

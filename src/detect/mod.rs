@@ -216,6 +216,19 @@ pub struct DetectOptions {
     pub diag_dir: Option<PathBuf>,
     /// Use OpenCV's decoder even when `ffmpeg` is available.
     pub force_opencv: bool,
+    /// Told the frames done (and the header's frame count) every 100 frames; when set,
+    /// the detector prints no progress of its own.
+    pub progress: Option<FrameProgress>,
+}
+
+/// A progress callback: `(frames done, frames expected)`.
+#[derive(Clone)]
+pub struct FrameProgress(pub std::sync::Arc<dyn Fn(u64, Option<u64>) + Send + Sync>);
+
+impl std::fmt::Debug for FrameProgress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("FrameProgress")
+    }
 }
 
 impl Default for DetectOptions {
@@ -230,6 +243,7 @@ impl Default for DetectOptions {
             marks: BTreeMap::new(),
             diag_dir: None,
             force_opencv: false,
+            progress: None,
         }
     }
 }
@@ -420,7 +434,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     let (mut src, decoder) = open_source(path, &info, Some(geo.roi), 1, opts)?;
     let mut tracker = Tracker::new(&geo, opts, init_bg, init_tmap, use_shrink as f64, bound)?;
     let total = info.frames_header;
-    let tty = std::io::stderr().is_terminal();
+    let tty = std::io::stderr().is_terminal() && opts.progress.is_none();
     let mut rows = Vec::new();
     let mut k = 0usize;
     let mut waited = 0.0f64;
@@ -441,6 +455,9 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
 
         rows.push(tracker.step(&frame, hint)?);
         k += 1;
+        if let Some(p) = opts.progress.as_ref().filter(|_| k.is_multiple_of(100)) {
+            (p.0)(k as u64, total);
+        }
         if tty && k.is_multiple_of(100) {
             match total {
                 Some(n) => eprint!("\rdetect: frame {k}/{n}"),

@@ -11,7 +11,7 @@ use super::{FrictionLaw, Pendulum};
 use serde::Serialize;
 
 /// The Appendix A table for one pendulum.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize, PartialEq)]
 pub struct TorsionCheck {
     /// Torsion-pendulum period `T`, s.
     pub period_s: f64,

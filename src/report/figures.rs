@@ -1,0 +1,414 @@
+//! The paper's figures, recomputed from each experiment's data (SVG via [`super::plot`]).
+//! Angles are drawn in degrees; every curve comes from the measurement or from
+//! integrating the fitted model, never from published numbers.
+
+use super::plot::{render_svg, Chart, Rgb, Series};
+use crate::fit::Measurement;
+use crate::physics::ode::{integrate, OdeOptions, Trajectory};
+use crate::physics::{FrictionLaw, Pendulum};
+use anyhow::Result;
+
+/// One row of an angle CSV as the report reads it.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub t_s: f64,
+    pub angle_rad: Option<f64>,
+    pub status: String,
+}
+
+/// A named figure, ready to write.
+pub struct Figure {
+    pub file: String,
+    pub svg: String,
+}
+
+fn fig(file: &str, chart: &Chart) -> Result<Figure> {
+    Ok(Figure {
+        file: file.to_string(),
+        svg: render_svg(chart)?,
+    })
+}
+
+/// The fitted model's motion over the measured span: from the first turning point, with
+/// the fitted start amplitude, `s_r` and `beta`.
+pub fn model_motion(p: &Pendulum, law: &FrictionLaw, t0: f64, a0: f64, t1: f64) -> Trajectory {
+    integrate(
+        p,
+        law,
+        t0,
+        [a0, 0.0],
+        &OdeOptions {
+            t_end: t1,
+            rtol: 1e-9,
+            atol: 1e-10,
+            ..OdeOptions::default()
+        },
+    )
+}
+
+/// `psi(t)` of a trajectory in the camera's frame, degrees: `psi_eq + side0 * psi`.
+fn signal(
+    tr: &Trajectory,
+    t0: f64,
+    t1: f64,
+    psi_eq: f64,
+    side0: f64,
+    per_s: f64,
+) -> Vec<(f64, f64)> {
+    let n = (((t1 - t0) * per_s).ceil() as usize).clamp(2, 200_000);
+    (0..=n)
+        .map(|i| {
+            let t = t0 + (t1 - t0) * i as f64 / n as f64;
+            (t, (psi_eq + side0 * tr.state(t)[0]).to_degrees())
+        })
+        .collect()
+}
+
+/// Envelope lines `psi_eq +/- (A0 - a t)` over `[t0, t1]`, degrees.
+fn envelope_lines(psi_eq: f64, a0: f64, a: f64, t0: f64, t1: f64) -> [Vec<(f64, f64)>; 2] {
+    let at = |t: f64, s: f64| (t, (psi_eq + s * (a0 - a * t)).to_degrees());
+    [
+        vec![at(t0, 1.0), at(t1, 1.0)],
+        vec![at(t0, -1.0), at(t1, -1.0)],
+    ]
+}
+
+/// Inputs of an experiment's figures.
+pub struct Inputs<'a> {
+    pub name: &'a str,
+    pub rows: &'a [Row],
+    pub m: &'a Measurement,
+    pub p: &'a Pendulum,
+    pub law: FrictionLaw,
+    /// Fitted amplitude at the first turning point, rad.
+    pub a_start: f64,
+    /// Relative change of `s_r` shown in Figure 16.
+    pub delta_rel: f64,
+    pub mu: Option<f64>,
+}
+
+/// Figures 12, 14a, 14b, 15, 16a, 16b, 17 and 18 of one experiment.
+pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
+    let m = x.m;
+    let ex = &m.extremes;
+    let (t0, t1) = (ex[0].t, ex[ex.len() - 1].t);
+    let eq = m.equilibrium.envelope;
+    let side0 = ex[0].side;
+    let deg = f64::to_degrees;
+    let mut out = Vec::new();
+
+    // Figure 12: the raw angle per frame, flagged frames circled.
+    let ok: Vec<(f64, f64)> = x
+        .rows
+        .iter()
+        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, deg(a))))
+        .collect();
+    let flagged: Vec<(f64, f64)> = x
+        .rows
+        .iter()
+        .filter(|r| r.status != "ok" && r.status != "manual")
+        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, deg(a))))
+        .collect();
+    let manual: Vec<(f64, f64)> = x
+        .rows
+        .iter()
+        .filter(|r| r.status == "manual")
+        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, deg(a))))
+        .collect();
+    let mut c = Chart::new(
+        &format!("Fig. 12 - {}: wire angle per frame", x.name),
+        "t (s)",
+        "angle from image x axis (deg)",
+    )
+    .with(Series::line("detected angle", Rgb::BLUE, ok))
+    .with(Series::circles(
+        "flagged (corrected or missing)",
+        Rgb::RED,
+        flagged,
+    ));
+    if !manual.is_empty() {
+        c = c.with(Series::crosses("operator mark", Rgb::GREEN, manual));
+    }
+    out.push(fig("fig12.svg", &c)?);
+
+    // Figure 14a: turning points as measured, with both equilibrium estimates.
+    let maxima: Vec<(f64, f64)> = ex
+        .iter()
+        .filter(|e| e.side > 0.0)
+        .map(|e| (e.t, deg(e.angle)))
+        .collect();
+    let minima: Vec<(f64, f64)> = ex
+        .iter()
+        .filter(|e| e.side < 0.0)
+        .map(|e| (e.t, deg(e.angle)))
+        .collect();
+    let h = |v: f64| vec![(t0, deg(v)), (t1, deg(v))];
+    out.push(fig(
+        "fig14a.svg",
+        &Chart::new(
+            &format!("Fig. 14a - {}: extreme elongations as measured", x.name),
+            "t (s)",
+            "angle (deg)",
+        )
+        .with(Series::markers("maxima", Rgb::BLUE, maxima))
+        .with(Series::markers("minima", Rgb::ORANGE, minima))
+        .with(Series::dashed(
+            "equilibrium, Eq. 38-39 (mean of extremes)",
+            Rgb::GREY,
+            h(m.equilibrium.paper),
+        ))
+        .with(Series::line(
+            "equilibrium, envelope fit",
+            Rgb::BLACK,
+            h(m.equilibrium.envelope),
+        )),
+    )?);
+
+    // Figure 14b: amplitudes about the equilibrium, both estimators, with the regression.
+    let about = |q: f64| -> Vec<(f64, f64)> {
+        ex.iter().map(|e| (e.t, deg((e.angle - q).abs()))).collect()
+    };
+    let fit_line = vec![
+        (t0, deg(m.envelope.intercept + m.envelope.slope * t0)),
+        (t1, deg(m.envelope.intercept + m.envelope.slope * t1)),
+    ];
+    out.push(fig(
+        "fig14b.svg",
+        &Chart::new(
+            &format!("Fig. 14b - {}: amplitude about the equilibrium", x.name),
+            "t (s)",
+            "|psi_k - psi_eq| (deg)",
+        )
+        .with(Series::markers(
+            "about the envelope-fit equilibrium",
+            Rgb::BLUE,
+            about(m.equilibrium.envelope),
+        ))
+        .with(Series::crosses(
+            "about the Eq. 38-39 equilibrium",
+            Rgb::ORANGE,
+            about(m.equilibrium.paper),
+        ))
+        .with(Series::dashed(
+            "regression line (slope -a)",
+            Rgb::BLACK,
+            fit_line,
+        )),
+    )?);
+
+    // Figure 15: the fitted model's signal over the measured turning points.
+    let model = model_motion(x.p, &x.law, t0, x.a_start, t1);
+    let [up, down] = envelope_lines(eq, m.equilibrium.a0, m.equilibrium.a, t0, t1);
+    let points: Vec<(f64, f64)> = ex.iter().map(|e| (e.t, deg(e.angle))).collect();
+    out.push(fig(
+        "fig15.svg",
+        &Chart::new(
+            &format!(
+                "Fig. 15 - {}: model signal, s_r = {:.3e} m, beta = {}",
+                x.name,
+                x.law.s_r,
+                trim(x.law.beta)
+            ),
+            "t (s)",
+            "angle (deg)",
+        )
+        .with(Series::line(
+            "model (Eq. 33, fitted)",
+            Rgb::BLUE,
+            signal(&model, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
+        ))
+        .with(Series::markers(
+            "measured extremes",
+            Rgb::RED,
+            points.clone(),
+        ))
+        .with(Series::dashed("envelope fit", Rgb::BLACK, up.clone()))
+        .with(Series::dashed("", Rgb::BLACK, down.clone())),
+    )?);
+
+    // Figure 16a/b: the same with s_r changed by +/- delta.
+    for (file, sign, tag) in [("fig16a.svg", 1.0, "a"), ("fig16b.svg", -1.0, "b")] {
+        let law = FrictionLaw::new(x.law.s_r * (1.0 + sign * x.delta_rel), x.law.beta);
+        let tr = model_motion(x.p, &law, t0, x.a_start, t1);
+        out.push(fig(
+            file,
+            &Chart::new(
+                &format!(
+                    "Fig. 16{tag} - {}: s_r = {:.3e} m ({:+.0} %)",
+                    x.name,
+                    law.s_r,
+                    100.0 * sign * x.delta_rel
+                ),
+                "t (s)",
+                "angle (deg)",
+            )
+            .with(Series::line(
+                "model with changed s_r",
+                Rgb::BLUE,
+                signal(&tr, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
+            ))
+            .with(Series::markers(
+                "measured extremes",
+                Rgb::RED,
+                points.clone(),
+            ))
+            .with(Series::dashed("measured envelope", Rgb::BLACK, up.clone()))
+            .with(Series::dashed("", Rgb::BLACK, down.clone())),
+        )?);
+    }
+
+    // Figure 17: the normal force along the fitted motion; Figure 18: |T|/N.
+    let n = 4000;
+    let mut nf = Vec::with_capacity(n + 1);
+    let mut tn = Vec::with_capacity(n + 1);
+    for i in 0..=n {
+        let t = t0 + (t1 - t0) * i as f64 / n as f64;
+        let [psi, w] = model.state(t);
+        let nn = x.p.normal_force(psi, w);
+        let tf =
+            x.p.friction_force(&x.law, psi, if w == 0.0 { model.direction(t) } else { w });
+        nf.push((t, nn));
+        tn.push((t, (tf / nn).abs()));
+    }
+    let (lo, hi) = nf.iter().fold((f64::INFINITY, 0.0f64), |(l, h), &(_, v)| {
+        (l.min(v), h.max(v))
+    });
+    let mean = nf.iter().map(|p| p.1).sum::<f64>() / nf.len() as f64;
+    let hl = |v: f64| vec![(t0, v), (t1, v)];
+    out.push(fig(
+        "fig17.svg",
+        &Chart::new(
+            &format!(
+                "Fig. 17 - {}: normal force, varies {:.4} % of its mean",
+                x.name,
+                100.0 * (hi - lo) / mean
+            ),
+            "t (s)",
+            "N (newton)",
+        )
+        .with(Series::line("N(t) (Eq. 30)", Rgb::BLUE, nf))
+        .with(Series::dashed(&format!("max {hi:.5} N"), Rgb::RED, hl(hi)))
+        .with(Series::dashed(
+            &format!("mean {mean:.5} N"),
+            Rgb::BLACK,
+            hl(mean),
+        ))
+        .with(Series::dashed(
+            &format!("min {lo:.5} N"),
+            Rgb::GREEN,
+            hl(lo),
+        )),
+    )?);
+    let tmax = tn.iter().map(|p| p.1).fold(0.0f64, f64::max);
+    let mut c = Chart::new(
+        &format!(
+            "Fig. 18 - {}: |T|/N along the motion (max {tmax:.2e})",
+            x.name
+        ),
+        "t (s)",
+        "|T| / N",
+    )
+    .with(Series::line("|T|/N (Eq. 31 over Eq. 30)", Rgb::BLUE, tn));
+    if let Some(mu) = x.mu {
+        c = c.with(Series::dashed(
+            &format!("sliding friction mu = {mu} (Eq. 34)"),
+            Rgb::RED,
+            hl(mu),
+        ));
+        c.y_range = Some((0.0, 1.1 * mu.max(tmax)));
+    }
+    out.push(fig("fig18.svg", &c)?);
+    Ok(out)
+}
+
+/// A number without trailing zeros (`1`, `1.5`, `1.3333`).
+pub fn trim(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
+/// One point of Figure 19.
+pub struct Fig19Point {
+    pub label: String,
+    pub a_rad_s: f64,
+    pub mu_r: f64,
+    /// The model's analytic ratio `mu_r / a` for this experiment's geometry.
+    pub model_ratio: f64,
+    pub d_m: f64,
+}
+
+/// Figure 19: `mu_r` against `a`, the fitted proportionality line through the origin and
+/// the model's analytic lines (ERRATA §2) for the shortest and longest pendulum.
+pub fn figure19(points: &[Fig19Point]) -> Result<Figure> {
+    let xs: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| (p.a_rad_s * 1e3, p.mu_r * 1e3))
+        .collect();
+    let amax = points.iter().map(|p| p.a_rad_s).fold(0.0f64, f64::max) * 1.1;
+    let sxy: f64 = points.iter().map(|p| p.a_rad_s * p.mu_r).sum();
+    let sxx: f64 = points.iter().map(|p| p.a_rad_s * p.a_rad_s).sum();
+    let k = if sxx > 0.0 { sxy / sxx } else { f64::NAN };
+    let mut c = Chart::new(
+        "Fig. 19 - coefficient of rolling friction against envelope slope",
+        "a (1e-3 rad/s)",
+        "mu_r (1e-3)",
+    )
+    .with(Series::markers("reproduced experiments", Rgb::RED, xs))
+    .with(Series::line(
+        &format!("fitted proportionality mu_r = {k:.4} s x a"),
+        Rgb::BLUE,
+        vec![(0.0, 0.0), (amax * 1e3, k * amax * 1e3)],
+    ));
+    let mut by_d: Vec<&Fig19Point> = points.iter().collect();
+    by_d.sort_by(|a, b| a.d_m.total_cmp(&b.d_m));
+    let ends: Vec<&Fig19Point> = match (by_d.first(), by_d.last()) {
+        (Some(a), Some(b)) if (a.d_m - b.d_m).abs() > 1e-9 => vec![*a, *b],
+        (Some(a), _) => vec![*a],
+        _ => vec![],
+    };
+    for (p, color) in ends.iter().zip([Rgb::GREY, Rgb::PURPLE]) {
+        c = c.with(Series::dashed(
+            &format!(
+                "model, d = {:.4} m (mu_r = pi tan(alpha) a / 2 omega_0)",
+                p.d_m
+            ),
+            color,
+            vec![(0.0, 0.0), (amax * 1e3, p.model_ratio * amax * 1e3)],
+        ));
+    }
+    c.x_range = Some((0.0, amax * 1e3));
+    fig("fig19.svg", &c)
+}
+
+/// Figure 2: the model's signals for beta = 1 and beta = 3/2 with the same torque at rest.
+pub fn figure2(p: &Pendulum, s_r: f64, psi0: f64) -> Result<Vec<Figure>> {
+    let n0 = p.rest_normal_force();
+    let period = std::f64::consts::TAU / p.omega0();
+    let mut out = Vec::new();
+    for (file, beta, tag) in [("fig2a.svg", 1.0, "a"), ("fig2b.svg", 1.5, "b")] {
+        // Same rolling torque at rest: s_r' N0^beta = s_r N0.
+        let law = FrictionLaw::new(s_r * n0.powf(1.0 - beta), beta);
+        let t1 = 40.0 * period;
+        let tr = model_motion(p, &law, 0.0, psi0, t1);
+        let end = tr.stopped_at.unwrap_or(t1).min(t1);
+        out.push(fig(
+            file,
+            &Chart::new(
+                &format!(
+                    "Fig. 2{tag} - model signal, M_r = s_r N^beta, beta = {}, s_r = {:.3e}",
+                    trim(beta),
+                    law.s_r
+                ),
+                "t (s)",
+                "psi (deg)",
+            )
+            .with(Series::line(
+                "psi(t), Eq. 33",
+                Rgb::BLUE,
+                signal(&tr, 0.0, end, 0.0, 1.0, 40.0 / period),
+            )),
+        )?);
+    }
+    Ok(out)
+}

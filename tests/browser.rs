@@ -1,0 +1,938 @@
+//! Headless-browser check of the HTML reports: every `<img>` figure loads, the pages log
+//! no JavaScript or console error, and full-page screenshots are left for a person to
+//! look at (`target/screenshots/index.png` and `target/screenshots/<page>.png`).
+//!
+//! It drives Debian's `chromium` through `chromedriver`'s W3C WebDriver JSON API with a
+//! small std-only HTTP/1.1 client; `make deps` installs both (`chromium chromium-driver`).
+//! Before the reports, the same browser session judges a few fake pages (a missing
+//! figure, a thrown error, a `console.error`, no figure at all) to prove the checks bite.
+//!
+//! Environment:
+//! - `ROLLFRIC_REPORTS`: check this report folder instead of building a small one
+//!   (`rollfric build` of one experiment into `target/browser/reports`).
+//! - `ROLLFRIC_BROWSER_PAGE`: the material page checked besides `index.html`
+//!   (default `glass-fiber-fabric.html`), relative to the report folder.
+//! - `ROLLFRIC_CHROMIUM`, `ROLLFRIC_CHROMEDRIVER`: other browser / driver binaries.
+
+use serde_json::{json, Value};
+use std::fs;
+use std::io::{BufRead, BufReader, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Longest wait for one HTTP answer of chromedriver (a page load included).
+const HTTP_TIMEOUT: Duration = Duration::from_secs(60);
+/// Longest wait for chromedriver to answer `/status` with `ready`.
+const DRIVER_START_TIMEOUT: Duration = Duration::from_secs(30);
+/// Chromium as root in a closed network: no sandbox, no GPU, and none of the background
+/// connections (their refusals would otherwise show up as errors and delays).
+const CHROMIUM_FLAGS: [&str; 10] = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-dev-shm-usage",
+    "--window-size=1280,2000",
+];
+/// Tallest screenshot taken, CSS px (a longer page is cut there).
+const MAX_SHOT_HEIGHT: f64 = 16_000.0;
+const DEFAULT_PAGE: &str = "glass-fiber-fabric.html";
+const MAKE_DEPS: &str = "run `make deps` (the Makefile installs the Debian packages \
+                         chromium and chromium-driver), or point ROLLFRIC_CHROMIUM / \
+                         ROLLFRIC_CHROMEDRIVER at them";
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+// ---------------------------------------------------------------------------------------
+// The test.
+
+#[test]
+fn reports_render_in_chromium() {
+    let (chromium, chromedriver) = browser_binaries();
+    let reports = reports_dir();
+    let page = std::env::var("ROLLFRIC_BROWSER_PAGE").unwrap_or_else(|_| DEFAULT_PAGE.into());
+    let pages = [("index.html".to_string(), "index".to_string()), {
+        let stem = page.trim_end_matches(".html").replace(['/', '\\'], "_");
+        (page, stem)
+    }];
+    for (file, _) in &pages {
+        let path = reports.join(file);
+        assert!(
+            path.is_file(),
+            "{} is missing; the HTML files in {} are: {:?}",
+            path.display(),
+            reports.display(),
+            html_files(&reports)
+        );
+    }
+
+    let started = Instant::now();
+    let browser = Browser::start(&chromium, &chromedriver);
+    println!(
+        "chromium {} via chromedriver on port {} ({:.1} s to start)",
+        browser.version,
+        browser.port,
+        started.elapsed().as_secs_f64()
+    );
+
+    self_check(&browser);
+
+    let shots = root().join("target/screenshots");
+    fs::create_dir_all(&shots).unwrap_or_else(|e| panic!("create {}: {e}", shots.display()));
+    let mut failures = Vec::new();
+    for (file, stem) in &pages {
+        let path = reports.join(file);
+        let seen = browser.observe(&path);
+        let shot = shots.join(format!("{stem}.png"));
+        match browser.screenshot(&shot) {
+            Ok((w, h)) => println!("screenshot {} ({w}x{h} px)", shot.display()),
+            Err(e) => failures.push(format!("{file}: screenshot failed: {e}")),
+        }
+        for line in &seen.log {
+            println!("  {file} browser log: {line}");
+        }
+        match verdict(&seen) {
+            Ok(()) => println!(
+                "{file}: {} images load, no severe log entry",
+                seen.images.len()
+            ),
+            Err(e) => failures.push(format!("{} ({}):\n{e}", file, path.display())),
+        }
+    }
+    println!(
+        "browser checks took {:.1} s (report build excluded)",
+        started.elapsed().as_secs_f64()
+    );
+    // `browser` is dropped on return or on this panic: the session is deleted and
+    // chromedriver killed either way.
+    assert!(
+        failures.is_empty(),
+        "the reports do not render cleanly in chromium:\n\n{}",
+        failures.join("\n\n")
+    );
+}
+
+/// Fake pages in a temporary folder, judged in the same session: the good one must pass,
+/// each broken one must fail for its own reason.
+fn self_check(browser: &Browser) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="120" height="60"><rect width="120" height="60" fill="teal"/></svg>"#;
+    fs::write(dir.path().join("fig.svg"), svg).unwrap();
+    fs::write(dir.path().join("not-an-image.svg"), "plain text").unwrap();
+    let page = |name: &str, body: &str| {
+        let path = dir.path().join(name);
+        let html = format!(
+            "<!doctype html><html><head><meta charset=utf-8></head><body>{body}</body></html>"
+        );
+        fs::write(&path, html).unwrap();
+        path
+    };
+    let good = page(
+        "good.html",
+        r#"<img src="fig.svg"><script>console.log("fine")</script>"#,
+    );
+    let cases = [
+        (
+            page(
+                "missing.html",
+                r#"<img src="fig.svg"><img src="missing.svg">"#,
+            ),
+            "missing.svg",
+        ),
+        (
+            page("garbage.html", r#"<img src="not-an-image.svg">"#),
+            "not-an-image.svg",
+        ),
+        (
+            page(
+                "throws.html",
+                r#"<img src="fig.svg"><script>null.x()</script>"#,
+            ),
+            "Uncaught TypeError",
+        ),
+        (
+            page(
+                "console.html",
+                r#"<img src="fig.svg"><script>console.error("self-check boom")</script>"#,
+            ),
+            "self-check boom",
+        ),
+        (page("empty.html", "<p>no figure</p>"), "no <img>"),
+    ];
+    if let Err(e) = verdict(&browser.observe(&good)) {
+        panic!("browser self-check: a clean fake page was judged broken:\n{e}");
+    }
+    for (path, expect) in &cases {
+        match verdict(&browser.observe(path)) {
+            Ok(()) => panic!(
+                "browser self-check: broken fake page {} passed",
+                path.display()
+            ),
+            Err(e) => assert!(
+                e.contains(expect),
+                "browser self-check: {} failed, but without naming {expect:?}:\n{e}",
+                path.display()
+            ),
+        }
+    }
+    println!(
+        "browser self-check: 1 clean and {} broken fake pages judged right",
+        cases.len()
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// What is checked on a page (pure, unit-tested below).
+
+#[derive(Debug, Clone, PartialEq)]
+struct Img {
+    src: String,
+    complete: bool,
+    natural_width: u64,
+}
+
+#[derive(Debug, Default)]
+struct Observation {
+    images: Vec<Img>,
+    /// Browser log entries as `LEVEL source: message`.
+    log: Vec<String>,
+}
+
+/// `Ok` when the page shows at least one image, all of them loaded and decoded, and the
+/// browser logged nothing SEVERE (uncaught errors, `console.error`, failed loads).
+fn verdict(seen: &Observation) -> Result<(), String> {
+    let mut problems = Vec::new();
+    if seen.images.is_empty() {
+        problems.push("no <img> on the page".to_string());
+    }
+    let broken: Vec<String> = seen
+        .images
+        .iter()
+        .filter(|i| !(i.complete && i.natural_width > 0))
+        .map(|i| {
+            format!(
+                "  {} (complete={}, naturalWidth={})",
+                i.src, i.complete, i.natural_width
+            )
+        })
+        .collect();
+    if !broken.is_empty() {
+        problems.push(format!(
+            "{} of {} images did not load:\n{}",
+            broken.len(),
+            seen.images.len(),
+            broken.join("\n")
+        ));
+    }
+    let severe: Vec<&String> = seen
+        .log
+        .iter()
+        .filter(|l| l.starts_with("SEVERE"))
+        .collect();
+    if !severe.is_empty() {
+        let lines: Vec<String> = severe.iter().map(|l| format!("  {l}")).collect();
+        problems.push(format!("severe browser log entries:\n{}", lines.join("\n")));
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
+}
+
+/// The `<img>` list returned by [`IMAGES_SCRIPT`].
+fn parse_images(v: &Value) -> Result<Vec<Img>, String> {
+    let list = v
+        .as_array()
+        .ok_or_else(|| format!("image list is not an array: {v}"))?;
+    Ok(list
+        .iter()
+        .map(|i| Img {
+            src: i["src"].as_str().unwrap_or("").to_string(),
+            complete: i["complete"].as_bool().unwrap_or(false),
+            natural_width: i["naturalWidth"].as_u64().unwrap_or(0),
+        })
+        .collect())
+}
+
+/// The entries of chromedriver's browser log as `LEVEL source: message`.
+fn parse_log(v: &Value) -> Vec<String> {
+    v.as_array()
+        .map(|entries| {
+            entries
+                .iter()
+                .map(|e| {
+                    format!(
+                        "{} {}: {}",
+                        e["level"].as_str().unwrap_or("?"),
+                        e["source"].as_str().unwrap_or("?"),
+                        e["message"].as_str().unwrap_or("")
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Async script: lazy images are made eager, every image is waited for (20 s at most),
+/// then each one's src, `complete` and `naturalWidth` are returned.
+const IMAGES_SCRIPT: &str = r#"
+const done = arguments[arguments.length - 1];
+const imgs = Array.from(document.images);
+for (const i of imgs) { if (i.loading === "lazy") i.loading = "eager"; }
+const settled = i => i.complete ? Promise.resolve() : new Promise(r => {
+  i.addEventListener("load", r, { once: true });
+  i.addEventListener("error", r, { once: true });
+});
+const limit = new Promise(r => setTimeout(r, 20000));
+Promise.race([Promise.all(imgs.map(settled)), limit]).then(() => done(imgs.map(i => ({
+  src: i.currentSrc || i.src || i.getAttribute("src") || "(no src)",
+  complete: i.complete,
+  naturalWidth: i.naturalWidth,
+}))));
+"#;
+
+// ---------------------------------------------------------------------------------------
+// Finding the browser and the reports.
+
+fn browser_binaries() -> (PathBuf, PathBuf) {
+    let chromium = std::env::var_os("ROLLFRIC_CHROMIUM")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
+    let chromedriver = std::env::var_os("ROLLFRIC_CHROMEDRIVER")
+        .map(PathBuf::from)
+        .or_else(|| on_path("chromedriver"))
+        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromedriver"));
+    for (what, path) in [("chromium", &chromium), ("chromedriver", &chromedriver)] {
+        assert!(
+            path.is_file(),
+            "{what} not found at {}: the browser test needs it; {MAKE_DEPS}",
+            path.display()
+        );
+    }
+    (chromium, chromedriver)
+}
+
+fn on_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+/// The HTML files under `dir` (two levels deep), relative to it, sorted.
+fn html_files(dir: &Path) -> Vec<String> {
+    fn walk(base: &Path, dir: &Path, depth: u32, out: &mut Vec<String>) {
+        let Ok(entries) = fs::read_dir(dir) else {
+            return;
+        };
+        for path in entries.filter_map(|e| e.ok()).map(|e| e.path()) {
+            if path.is_dir() && depth > 0 {
+                walk(base, &path, depth - 1, out);
+            } else if path.extension().is_some_and(|x| x == "html") {
+                let rel = path.strip_prefix(base).unwrap_or(&path);
+                out.push(rel.to_string_lossy().into_owned());
+            }
+        }
+    }
+    let mut names = Vec::new();
+    walk(dir, dir, 1, &mut names);
+    names.sort();
+    names
+}
+
+/// `ROLLFRIC_REPORTS`, or a one-experiment report set built now by the binary into
+/// `target/browser/reports` (its cache in `target/browser/cache` is kept between runs).
+fn reports_dir() -> PathBuf {
+    if let Some(dir) = std::env::var_os("ROLLFRIC_REPORTS") {
+        let dir = PathBuf::from(dir);
+        assert!(
+            dir.is_dir(),
+            "ROLLFRIC_REPORTS={} is not a folder",
+            dir.display()
+        );
+        println!(
+            "checking the reports in {} (ROLLFRIC_REPORTS)",
+            dir.display()
+        );
+        return dir;
+    }
+    let work = root().join("target/browser");
+    fs::create_dir_all(&work).unwrap_or_else(|e| panic!("create {}: {e}", work.display()));
+    let experiment = root().join("experiments/glass-fiber-fabric.yaml");
+    assert!(experiment.is_file(), "{} is missing", experiment.display());
+    // A JSON string is a YAML double-quoted scalar: any path is quoted right.
+    let quoted = serde_json::to_string(&experiment.to_string_lossy()).unwrap();
+    let manifest = work.join("manifest.yaml");
+    fs::write(
+        &manifest,
+        format!("title: Browser test\nexperiments:\n  - {quoted}\n"),
+    )
+    .unwrap_or_else(|e| panic!("write {}: {e}", manifest.display()));
+    let out = work.join("reports");
+    if out.exists() {
+        fs::remove_dir_all(&out).unwrap_or_else(|e| panic!("clear {}: {e}", out.display()));
+    }
+    let cache = work.join("cache");
+    let started = Instant::now();
+    let run = Command::new(env!("CARGO_BIN_EXE_rollfric"))
+        .arg("build")
+        .arg("--manifest")
+        .arg(&manifest)
+        .arg("--out")
+        .arg(&out)
+        .arg("--cache")
+        .arg(&cache)
+        .current_dir(root())
+        .output()
+        .expect("run rollfric build");
+    assert!(
+        run.status.success(),
+        "rollfric build --manifest {} --out {} --cache {} failed ({}):\n--- stdout\n{}\n--- stderr\n{}",
+        manifest.display(),
+        out.display(),
+        cache.display(),
+        run.status,
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    println!(
+        "built the reports into {} in {:.1} s",
+        out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    out
+}
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("bind a free local port")
+}
+
+fn file_url(path: &Path) -> String {
+    let abs = fs::canonicalize(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut url = String::from("file://");
+    for b in abs.to_string_lossy().bytes() {
+        match b {
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'/' | b'-' | b'_' | b'.' | b'~' => {
+                url.push(b as char)
+            }
+            _ => url.push_str(&format!("%{b:02X}")),
+        }
+    }
+    url
+}
+
+// ---------------------------------------------------------------------------------------
+// chromedriver and its session. Dropping the `Browser` deletes the session (chromium
+// quits) and kills chromedriver, also when a check panics.
+
+struct Browser {
+    port: u16,
+    child: Child,
+    session: Option<String>,
+    /// chromium's own process id, killed if the session cannot be deleted.
+    chromium_pid: Option<u64>,
+    version: String,
+    log_path: PathBuf,
+    /// Chromium's fresh profile; a field, so it is removed only after chromium quits.
+    _profile: tempfile::TempDir,
+}
+
+impl Browser {
+    fn start(chromium: &Path, chromedriver: &Path) -> Browser {
+        let port = free_port();
+        let log_path = root().join("target/browser/chromedriver.log");
+        if let Some(dir) = log_path.parent() {
+            fs::create_dir_all(dir).unwrap_or_else(|e| panic!("create {}: {e}", dir.display()));
+        }
+        let log = fs::File::create(&log_path)
+            .unwrap_or_else(|e| panic!("create {}: {e}", log_path.display()));
+        let child = Command::new(chromedriver)
+            .arg(format!("--port={port}"))
+            .stdin(Stdio::null())
+            .stdout(log.try_clone().expect("clone log file"))
+            .stderr(log)
+            .spawn()
+            .unwrap_or_else(|e| panic!("start {}: {e}; {MAKE_DEPS}", chromedriver.display()));
+        let profile = tempfile::Builder::new()
+            .prefix("rollfric-chromium-")
+            .tempdir()
+            .expect("temp dir for the chromium profile");
+        let mut browser = Browser {
+            port,
+            child,
+            session: None,
+            chromium_pid: None,
+            version: String::new(),
+            log_path,
+            _profile: profile,
+        };
+        browser.wait_ready();
+        browser.open_session(chromium);
+        browser
+    }
+
+    fn driver_log(&self) -> String {
+        let text = fs::read_to_string(&self.log_path).unwrap_or_default();
+        let tail: Vec<&str> = text.lines().rev().take(30).collect();
+        let tail: Vec<&str> = tail.into_iter().rev().collect();
+        format!(
+            "--- {} (tail)\n{}",
+            self.log_path.display(),
+            tail.join("\n")
+        )
+    }
+
+    fn wait_ready(&mut self) {
+        let start = Instant::now();
+        let mut last = String::from("no answer yet");
+        while start.elapsed() < DRIVER_START_TIMEOUT {
+            if let Ok(Some(status)) = self.child.try_wait() {
+                panic!(
+                    "chromedriver exited at start ({status})\n{}",
+                    self.driver_log()
+                );
+            }
+            match http(self.port, "GET", "/status", None, Duration::from_secs(5)) {
+                Ok((200, v)) if v["value"]["ready"] == json!(true) => return,
+                Ok((code, v)) => last = format!("HTTP {code}: {v}"),
+                Err(e) => last = e,
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        panic!(
+            "chromedriver on port {} not ready after {} s (last: {last})\n{}",
+            self.port,
+            DRIVER_START_TIMEOUT.as_secs(),
+            self.driver_log()
+        );
+    }
+
+    fn open_session(&mut self, chromium: &Path) {
+        let mut args: Vec<String> = CHROMIUM_FLAGS.iter().map(|s| s.to_string()).collect();
+        args.push(format!(
+            "--user-data-dir={}",
+            self._profile.path().display()
+        ));
+        let caps = json!({"capabilities": {"alwaysMatch": {
+            "browserName": "chrome",
+            "pageLoadStrategy": "normal",
+            "timeouts": {"pageLoad": 50_000, "script": 40_000, "implicit": 0},
+            "goog:chromeOptions": {"binary": chromium.to_string_lossy(), "args": args},
+            "goog:loggingPrefs": {"browser": "ALL"},
+        }}});
+        let v = match self.call("POST", "/session", Some(&caps)) {
+            Ok(v) => v,
+            Err(e) => panic!(
+                "chromedriver could not start {}: {e}\n(does `{} --headless --no-sandbox \
+                 --dump-dom about:blank` work?)\n{}",
+                chromium.display(),
+                chromium.display(),
+                self.driver_log()
+            ),
+        };
+        let id = v["sessionId"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no sessionId in {v}"));
+        self.session = Some(id.to_string());
+        self.chromium_pid = v["capabilities"]["goog:processID"].as_u64();
+        self.version = v["capabilities"]["browserVersion"]
+            .as_str()
+            .unwrap_or("?")
+            .to_string();
+    }
+
+    /// One WebDriver command: its `value`, or the driver's error.
+    fn call(&self, method: &str, path: &str, body: Option<&Value>) -> Result<Value, String> {
+        let (code, v) = http(self.port, method, path, body, HTTP_TIMEOUT)?;
+        if code == 200 {
+            return Ok(v["value"].clone());
+        }
+        let err = &v["value"];
+        Err(format!(
+            "{method} {path}: HTTP {code} {}: {}",
+            err["error"].as_str().unwrap_or("?"),
+            err["message"].as_str().unwrap_or(&v.to_string())
+        ))
+    }
+
+    /// A command of the open session (`suffix` starts with `/`).
+    fn session_call(
+        &self,
+        method: &str,
+        suffix: &str,
+        body: Option<&Value>,
+    ) -> Result<Value, String> {
+        let id = self.session.as_deref().ok_or("no WebDriver session")?;
+        self.call(method, &format!("/session/{id}{suffix}"), body)
+    }
+
+    fn cdp(&self, cmd: &str, params: Value) -> Result<Value, String> {
+        self.session_call(
+            "POST",
+            "/goog/cdp/execute",
+            Some(&json!({"cmd": cmd, "params": params})),
+        )
+    }
+
+    /// Load a page, wait for it and its images, and drain the browser log.
+    fn observe(&self, page: &Path) -> Observation {
+        let url = file_url(page);
+        let ok = |what: &str, r: Result<Value, String>| {
+            r.unwrap_or_else(|e| panic!("{what} on {url}: {e}\n{}", self.driver_log()))
+        };
+        ok(
+            "navigate",
+            self.session_call("POST", "/url", Some(&json!({"url": url}))),
+        );
+        let start = Instant::now();
+        loop {
+            let state = ok(
+                "read document.readyState",
+                self.session_call(
+                    "POST",
+                    "/execute/sync",
+                    Some(&json!({"script": "return document.readyState", "args": []})),
+                ),
+            );
+            if state == json!("complete") {
+                break;
+            }
+            assert!(
+                start.elapsed() < HTTP_TIMEOUT,
+                "{url}: document.readyState still {state} after {} s",
+                HTTP_TIMEOUT.as_secs()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let images = ok(
+            "list the images",
+            self.session_call(
+                "POST",
+                "/execute/async",
+                Some(&json!({"script": IMAGES_SCRIPT, "args": []})),
+            ),
+        );
+        let images = parse_images(&images).unwrap_or_else(|e| panic!("{url}: {e}"));
+        // chromedriver (W3C mode) serves the legacy log endpoint under /se/log; each read
+        // returns the entries logged since the previous one.
+        let log = ok(
+            "read the browser log",
+            self.session_call("POST", "/se/log", Some(&json!({"type": "browser"}))),
+        );
+        Observation {
+            images,
+            log: parse_log(&log),
+        }
+    }
+
+    /// A full-page PNG of the current page (DevTools `Page.captureScreenshot` beyond the
+    /// viewport; the plain WebDriver viewport screenshot if that fails). Returns its size.
+    fn screenshot(&self, path: &Path) -> Result<(u32, u32), String> {
+        let data = match self.full_page_png() {
+            Ok(data) => data,
+            Err(e) => {
+                println!("full-page screenshot failed ({e}); taking the viewport only");
+                let v = self.session_call("GET", "/screenshot", None)?;
+                v.as_str().ok_or("screenshot is not a string")?.to_string()
+            }
+        };
+        let png = base64_decode(&data)?;
+        let size = png_size(&png).ok_or("the screenshot is not a PNG")?;
+        if let Some(dir) = path.parent() {
+            fs::create_dir_all(dir).map_err(|e| format!("create {}: {e}", dir.display()))?;
+        }
+        fs::write(path, &png).map_err(|e| format!("write {}: {e}", path.display()))?;
+        Ok(size)
+    }
+
+    fn full_page_png(&self) -> Result<String, String> {
+        let m = self.cdp("Page.getLayoutMetrics", json!({}))?;
+        let size = if m["cssContentSize"].is_object() {
+            &m["cssContentSize"]
+        } else {
+            &m["contentSize"]
+        };
+        let (w, h) = (size["width"].as_f64(), size["height"].as_f64());
+        let (w, h) = w.zip(h).ok_or_else(|| format!("no content size in {m}"))?;
+        let clip = json!({"x": 0, "y": 0, "width": w.ceil(), "height": h.ceil().min(MAX_SHOT_HEIGHT), "scale": 1});
+        let shot = self.cdp(
+            "Page.captureScreenshot",
+            json!({"format": "png", "captureBeyondViewport": true, "clip": clip}),
+        )?;
+        shot["data"]
+            .as_str()
+            .map(str::to_string)
+            .ok_or_else(|| "no data in Page.captureScreenshot".to_string())
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let mut quit = self.session.is_none();
+        if let Some(id) = self.session.take() {
+            let path = format!("/session/{id}");
+            quit = matches!(
+                http(self.port, "DELETE", &path, None, Duration::from_secs(15)),
+                Ok((200, _))
+            );
+        }
+        if !quit {
+            // The session could not be closed: end the chromium this test started.
+            if let Some(pid) = self.chromium_pid {
+                let _ = Command::new("kill")
+                    .args(["-KILL", &pid.to_string()])
+                    .status();
+            }
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// A minimal HTTP/1.1 client for chromedriver's JSON API.
+
+fn http(
+    port: u16,
+    method: &str,
+    path: &str,
+    body: Option<&Value>,
+    timeout: Duration,
+) -> Result<(u16, Value), String> {
+    let addr = SocketAddr::from(([127, 0, 0, 1], port));
+    let what = format!("{method} http://127.0.0.1:{port}{path}");
+    let mut stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5))
+        .map_err(|e| format!("{what}: connect: {e}"))?;
+    stream
+        .set_read_timeout(Some(timeout))
+        .and_then(|()| stream.set_write_timeout(Some(timeout)))
+        .map_err(|e| format!("{what}: {e}"))?;
+    let body = body.map(Value::to_string).unwrap_or_default();
+    let request = format!(
+        "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nAccept: application/json\r\n\
+         Content-Type: application/json; charset=utf-8\r\nContent-Length: {}\r\n\
+         Connection: close\r\n\r\n{body}",
+        body.len()
+    );
+    stream
+        .write_all(request.as_bytes())
+        .map_err(|e| format!("{what}: send: {e}"))?;
+    let (code, bytes) = read_response(&mut BufReader::new(stream))
+        .map_err(|e| format!("{what}: {e} (timeout {} s)", timeout.as_secs()))?;
+    if bytes.iter().all(u8::is_ascii_whitespace) {
+        return Ok((code, Value::Null));
+    }
+    let v = serde_json::from_slice(&bytes).map_err(|e| {
+        let text = String::from_utf8_lossy(&bytes);
+        format!(
+            "{what}: HTTP {code}, not JSON ({e}): {}",
+            &text[..text.len().min(500)]
+        )
+    })?;
+    Ok((code, v))
+}
+
+/// Status code and body of one HTTP/1.1 response (Content-Length, chunked, or to EOF).
+fn read_response(r: &mut impl BufRead) -> Result<(u16, Vec<u8>), String> {
+    let mut line = String::new();
+    r.read_line(&mut line)
+        .map_err(|e| format!("read status: {e}"))?;
+    let code = line
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse::<u16>().ok())
+        .ok_or_else(|| format!("bad status line {line:?}"))?;
+    let (mut length, mut chunked) = (None, false);
+    loop {
+        line.clear();
+        r.read_line(&mut line)
+            .map_err(|e| format!("read headers: {e}"))?;
+        let header = line.trim_end();
+        if header.is_empty() {
+            break;
+        }
+        if let Some((name, value)) = header.split_once(':') {
+            let (name, value) = (name.trim().to_ascii_lowercase(), value.trim());
+            if name == "content-length" {
+                length = Some(
+                    value
+                        .parse::<usize>()
+                        .map_err(|e| format!("Content-Length: {e}"))?,
+                );
+            } else if name == "transfer-encoding" && value.to_ascii_lowercase().contains("chunked")
+            {
+                chunked = true;
+            }
+        }
+    }
+    let mut body = Vec::new();
+    if chunked {
+        loop {
+            line.clear();
+            r.read_line(&mut line)
+                .map_err(|e| format!("read chunk size: {e}"))?;
+            let hex = line.trim().split(';').next().unwrap_or("");
+            let n =
+                usize::from_str_radix(hex, 16).map_err(|e| format!("chunk size {hex:?}: {e}"))?;
+            if n == 0 {
+                break;
+            }
+            let at = body.len();
+            body.resize(at + n, 0);
+            r.read_exact(&mut body[at..])
+                .map_err(|e| format!("read chunk: {e}"))?;
+            line.clear();
+            r.read_line(&mut line)
+                .map_err(|e| format!("read chunk end: {e}"))?;
+        }
+    } else if let Some(n) = length {
+        body.resize(n, 0);
+        r.read_exact(&mut body)
+            .map_err(|e| format!("read body: {e}"))?;
+    } else {
+        r.read_to_end(&mut body)
+            .map_err(|e| format!("read body: {e}"))?;
+    }
+    Ok((code, body))
+}
+
+/// Standard base64 (padding and whitespace allowed).
+fn base64_decode(text: &str) -> Result<Vec<u8>, String> {
+    let mut out = Vec::with_capacity(text.len() / 4 * 3);
+    let (mut acc, mut bits) = (0u32, 0u32);
+    for c in text.bytes() {
+        let v = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            b'=' => break,
+            c if c.is_ascii_whitespace() => continue,
+            c => return Err(format!("bad base64 byte {c:#04x}")),
+        };
+        acc = (acc << 6) | u32::from(v);
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    Ok(out)
+}
+
+/// Width and height of a PNG, from its IHDR chunk.
+fn png_size(png: &[u8]) -> Option<(u32, u32)> {
+    if png.len() < 24 || &png[..8] != b"\x89PNG\r\n\x1a\n" || &png[12..16] != b"IHDR" {
+        return None;
+    }
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    Some((be(&png[16..20]), be(&png[20..24])))
+}
+
+// ---------------------------------------------------------------------------------------
+// Unit tests of the pieces above that need no browser.
+
+#[test]
+fn verdict_names_broken_images_and_severe_entries() {
+    let img = |src: &str, complete, natural_width| Img {
+        src: src.into(),
+        complete,
+        natural_width,
+    };
+    let clean = Observation {
+        images: vec![img("file:///r/fig.svg", true, 640)],
+        log: vec![
+            "INFO console-api: hello".into(),
+            "WARNING other: meh".into(),
+        ],
+    };
+    assert_eq!(verdict(&clean), Ok(()));
+    let broken = Observation {
+        images: vec![
+            img("file:///r/fig.svg", true, 640),
+            img("file:///r/missing.svg", true, 0),
+            img("file:///r/slow.png", false, 0),
+        ],
+        log: vec!["SEVERE javascript: Uncaught TypeError: x".into()],
+    };
+    let e = verdict(&broken).unwrap_err();
+    assert!(e.contains("2 of 3 images"), "{e}");
+    assert!(
+        e.contains("missing.svg") && e.contains("slow.png") && !e.contains("fig.svg"),
+        "{e}"
+    );
+    assert!(e.contains("Uncaught TypeError"), "{e}");
+    let e = verdict(&Observation::default()).unwrap_err();
+    assert!(e.contains("no <img>"), "{e}");
+}
+
+#[test]
+fn chromedriver_answers_parse() {
+    let imgs = parse_images(&json!([
+        {"src": "file:///a.svg", "complete": true, "naturalWidth": 300},
+        {"src": "file:///b.svg", "complete": true, "naturalWidth": 0},
+    ]))
+    .unwrap();
+    assert_eq!(imgs.len(), 2);
+    assert_eq!(imgs[0].natural_width, 300);
+    assert!(parse_images(&json!(null)).is_err());
+    let log = parse_log(&json!([
+        {"level": "SEVERE", "source": "network", "message": "x.svg - Failed to load resource", "timestamp": 1},
+    ]));
+    assert_eq!(log, ["SEVERE network: x.svg - Failed to load resource"]);
+}
+
+#[test]
+fn http_responses_parse() {
+    let fixed = b"HTTP/1.1 200 OK\r\nContent-Length: 13\r\ncontent-type: application/json\r\n\r\n{\"value\":nul}trailing";
+    let (code, body) = read_response(&mut &fixed[..]).unwrap();
+    assert_eq!((code, body.as_slice()), (200, &b"{\"value\":nul}"[..]));
+    let chunked = b"HTTP/1.1 404 Not Found\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nWiki\r\n5;x=y\r\npedia\r\n0\r\n\r\n";
+    let (code, body) = read_response(&mut &chunked[..]).unwrap();
+    assert_eq!((code, body.as_slice()), (404, &b"Wikipedia"[..]));
+    let to_eof = b"HTTP/1.0 500 Oops\r\n\r\nall of it";
+    assert_eq!(read_response(&mut &to_eof[..]).unwrap().1, b"all of it");
+    assert!(read_response(&mut &b"garbage\r\n\r\n"[..]).is_err());
+}
+
+#[test]
+fn base64_and_png_header() {
+    assert_eq!(base64_decode("").unwrap(), b"");
+    assert_eq!(base64_decode("Zg==").unwrap(), b"f");
+    assert_eq!(base64_decode("Zm8=").unwrap(), b"fo");
+    assert_eq!(base64_decode("Zm9v").unwrap(), b"foo");
+    assert_eq!(base64_decode("Zm9vYmFy\n").unwrap(), b"foobar");
+    assert_eq!(base64_decode("+/+/").unwrap(), [0xfb, 0xff, 0xbf]);
+    assert!(base64_decode("Zm9v!").is_err());
+    // A 1x1 PNG, base64 as chromedriver sends it.
+    let png = base64_decode(
+        "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGP4z8DwHwAFAAH/iZk9HQAAAABJRU5ErkJggg==",
+    )
+    .unwrap();
+    assert_eq!(png_size(&png), Some((1, 1)));
+    assert_eq!(png_size(b"GIF89a"), None);
+}
+
+#[test]
+fn file_urls_are_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("a b#c.html");
+    fs::write(&page, "").unwrap();
+    let url = file_url(&page);
+    assert!(url.starts_with("file:///"), "{url}");
+    assert!(url.ends_with("/a%20b%23c.html"), "{url}");
+}

@@ -91,6 +91,8 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_default();
+    remove_stale_temporaries(&opts.out, 2);
+    remove_stale_temporaries(&opts.cache, 2);
     let progress = Arc::new(Progress::new(files.len(), opts.quiet));
     let jobs = opts
         .jobs
@@ -162,6 +164,25 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         seconds: started.elapsed().as_secs_f64(),
         written,
     })
+}
+
+/// Remove the temporary files a killed build left (`.<name>.tmp<pid>[.<ext>]`, as
+/// [`fsutil::write_atomic`] and the renderer name them), `depth` folders deep.
+fn remove_stale_temporaries(dir: &Path, depth: usize) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        let name = e.file_name().to_string_lossy().into_owned();
+        if p.is_dir() {
+            if depth > 1 {
+                remove_stale_temporaries(&p, depth - 1);
+            }
+        } else if name.starts_with('.') && name.contains(".tmp") {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
 }
 
 /// What every stage of one experiment needs.

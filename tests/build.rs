@@ -1,0 +1,291 @@
+//! `rollfric build` and `rollfric check` end to end on a small manifest: the cache, byte
+//! reproducibility, isolation of a failing experiment, atomicity under a kill.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_rollfric"))
+}
+
+fn experiments() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments")
+}
+
+/// A manifest folder with two short twins (the glass-fiber row twice, with different
+/// seeds and names) and, optionally, an experiment whose video is missing.
+fn setup(dir: &Path, with_missing: bool) -> PathBuf {
+    let base = std::fs::read_to_string(experiments().join("glass-fiber-fabric.yaml")).unwrap();
+    let mk = |name: &str, seed: u32| {
+        let text = base
+            .replace("name: glass-fiber-fabric", &format!("name: {name}"))
+            .replace("seed: 8", &format!("seed: {seed}"));
+        assert!(text.contains(&format!("name: {name}")), "fixture changed");
+        std::fs::write(dir.join(format!("{name}.yaml")), text).unwrap();
+    };
+    mk("fabric-a", 8);
+    mk("fabric-b", 11);
+    let mut list = vec!["fabric-a.yaml", "fabric-b.yaml"];
+    if with_missing {
+        // A lab experiment whose recording is not there.
+        let text = base
+            .replace("name: glass-fiber-fabric", "name: lab-run")
+            .split("\nsynthetic:")
+            .next()
+            .unwrap()
+            .to_string()
+            + "\nvideo:\n  path: videos/lab-run.mp4\n";
+        std::fs::write(dir.join("lab-run.yaml"), text).unwrap();
+        list.push("lab-run.yaml");
+    }
+    let m = dir.join("manifest.yaml");
+    let mut text = "title: Build test\nexperiments:\n".to_string();
+    for l in list {
+        text += &format!("  - {l}\n");
+    }
+    std::fs::write(&m, text).unwrap();
+    m
+}
+
+fn build(m: &Path, out: &Path, cache: &Path) -> Output {
+    bin()
+        .args(["build", "--manifest"])
+        .arg(m)
+        .arg("--out")
+        .arg(out)
+        .arg("--cache")
+        .arg(cache)
+        .output()
+        .unwrap()
+}
+
+/// Every file under `dir`, relative path -> bytes.
+fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().display().to_string();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn build_caches_reproduces_and_reruns_only_what_changed() {
+    let d = tempfile::tempdir().unwrap();
+    let m = setup(d.path(), false);
+    let (out, cache) = (d.path().join("reports"), d.path().join("cache"));
+    let first = build(&m, &out, &cache);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let files = snapshot(&out);
+    for f in [
+        "index.html",
+        "index.md",
+        "summary.json",
+        "fig19.svg",
+        "fig2a.svg",
+        "fig2b.svg",
+        "fabric-a.html",
+        "fabric-a.md",
+        "fabric-a/fig11.png",
+        "fabric-a/fig12.svg",
+        "fabric-a/fig14a.svg",
+        "fabric-a/fig14b.svg",
+        "fabric-a/fig15.svg",
+        "fabric-a/fig16a.svg",
+        "fabric-a/fig16b.svg",
+        "fabric-a/fig17.svg",
+        "fabric-a/fig18.svg",
+        "fabric-b.html",
+    ] {
+        assert!(files.contains_key(f), "{f} missing: {:?}", files.keys());
+    }
+    // Nothing machine-specific inside.
+    let root = d.path().display().to_string();
+    for (name, bytes) in &files {
+        let text = String::from_utf8_lossy(bytes);
+        assert!(
+            !text.contains(&root),
+            "{name} holds the absolute path {root}"
+        );
+    }
+    let index = String::from_utf8_lossy(&files["index.html"]).into_owned();
+    assert!(
+        index.contains("SYNTHETIC"),
+        "the index must say the inputs are synthetic"
+    );
+
+    // Unchanged: everything cached, no byte changes, fast.
+    let t = std::time::Instant::now();
+    let second = build(&m, &out, &cache);
+    let secs = t.elapsed().as_secs_f64();
+    assert!(second.status.success());
+    let err = stderr(&second);
+    assert_eq!(err.matches(": cached in").count(), 2, "{err}");
+    assert!(secs < 5.0, "an unchanged build took {secs:.2} s");
+    assert_eq!(snapshot(&out), files, "an unchanged build changed bytes");
+    assert!(
+        String::from_utf8_lossy(&second.stdout).contains("0 report files rewritten"),
+        "{}",
+        String::from_utf8_lossy(&second.stdout)
+    );
+
+    // A new cache and output folder: the same bytes (the renders are deterministic).
+    let (out2, cache2) = (d.path().join("reports2"), d.path().join("cache2"));
+    assert!(build(&m, &out2, &cache2).status.success());
+    assert_eq!(snapshot(&out2), files, "a clean rebuild differs");
+
+    // Editing one file reruns that experiment only, and only its analysis (the edit
+    // does not touch what the video depends on).
+    let a = d.path().join("fabric-a.yaml");
+    let text = std::fs::read_to_string(&a).unwrap();
+    std::fs::write(&a, text.replace("notes: >-", "notes: >-\n  Edited.")).unwrap();
+    let third = build(&m, &out, &cache);
+    assert!(third.status.success());
+    let err = stderr(&third);
+    assert!(err.contains("fabric-a: analysis ran"), "{err}");
+    assert!(err.contains("fabric-b: cached"), "{err}");
+    assert!(
+        !err.contains("synth:") && !err.contains("synth,"),
+        "no render expected: {err}"
+    );
+    // A change to the twin's parameters renders it again.
+    let text = std::fs::read_to_string(&a).unwrap();
+    std::fs::write(&a, text.replace("seed: 8", "seed: 9")).unwrap();
+    let fourth = build(&m, &out, &cache);
+    let err = stderr(&fourth);
+    assert!(
+        err.contains("fabric-a: synth, detect, analysis ran"),
+        "{err}"
+    );
+    assert!(err.contains("fabric-b: cached"), "{err}");
+
+    // check passes on the summary, and fails when a value is off.
+    let summary = out.join("summary.json");
+    let ok = bin()
+        .arg("check")
+        .arg("--summary")
+        .arg(&summary)
+        .output()
+        .unwrap();
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stdout)
+    );
+    let mut s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&summary).unwrap()).unwrap();
+    let checks = &mut s["experiments"][0]["result"]["checks"][0];
+    let v = checks["value"].as_f64().unwrap();
+    checks["value"] = serde_json::json!(v * 1.5);
+    let bad = d.path().join("bad.json");
+    std::fs::write(&bad, serde_json::to_vec(&s).unwrap()).unwrap();
+    let miss = bin()
+        .arg("check")
+        .arg("--summary")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(miss.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&miss.stdout).contains("MISS"));
+}
+
+#[test]
+fn a_missing_video_fails_only_its_experiment() {
+    let d = tempfile::tempdir().unwrap();
+    let m = setup(d.path(), true);
+    let (out, cache) = (d.path().join("reports"), d.path().join("cache"));
+    let o = build(&m, &out, &cache);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "a failed experiment must fail the build"
+    );
+    let err = stderr(&o);
+    assert!(
+        err.contains("lab-run: FAILED") && err.contains("videos/lab-run.mp4"),
+        "{err}"
+    );
+    assert!(out.join("fabric-a.html").exists() && out.join("fabric-b.html").exists());
+    let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(index.contains("Failed experiments") && index.contains("lab-run"));
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let lab = summary["experiments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["name"] == "lab-run")
+        .unwrap();
+    assert_eq!(lab["status"], "failed");
+    let c = bin()
+        .arg("check")
+        .arg("--summary")
+        .arg(out.join("summary.json"))
+        .output()
+        .unwrap();
+    assert_eq!(c.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&c.stdout).contains("lab-run"));
+}
+
+#[test]
+fn a_killed_build_leaves_whole_files_and_the_next_build_completes() {
+    let d = tempfile::tempdir().unwrap();
+    let m = setup(d.path(), false);
+    // Reference: an uninterrupted build.
+    let (ref_out, ref_cache) = (d.path().join("ref"), d.path().join("ref-cache"));
+    assert!(build(&m, &ref_out, &ref_cache).status.success());
+    let reference = snapshot(&ref_out);
+    let (out, cache) = (d.path().join("reports"), d.path().join("cache"));
+    for delay_ms in [300u64, 1500, 3500] {
+        let mut child = bin()
+            .args(["build", "-q", "--manifest"])
+            .arg(&m)
+            .arg("--out")
+            .arg(&out)
+            .arg("--cache")
+            .arg(&cache)
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let _ = child.kill();
+        let _ = child.wait();
+        // Whatever is there is whole: every page file is one the build would write.
+        if out.exists() {
+            for (name, bytes) in snapshot(&out) {
+                if name.starts_with('.') || name.contains("/.") {
+                    continue; // a temporary file of the killed writer
+                }
+                if let Some(want) = reference.get(&name) {
+                    // Pages of a finished experiment are final; the index may list
+                    // fewer experiments, but must be a whole document.
+                    if name.ends_with(".svg") || name.ends_with(".png") {
+                        assert_eq!(&bytes, want, "{name} torn after a kill at {delay_ms} ms");
+                    } else if name.ends_with(".html") {
+                        assert!(
+                            String::from_utf8_lossy(&bytes)
+                                .trim_end()
+                                .ends_with("</html>"),
+                            "{name} torn"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    let o = build(&m, &out, &cache);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The same files as the uninterrupted build, byte for byte, and no temporaries left.
+    assert_eq!(snapshot(&out), reference, "the build after kills differs");
+}

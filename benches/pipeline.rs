@@ -63,9 +63,47 @@ fn main() {
             ms(sim)
         );
     }
+    if std::env::var_os("ROLLFRIC_BENCH_NO_REPORTS").is_none() {
+        reports_bench(root);
+    }
     if std::env::var_os("ROLLFRIC_BENCH_NO_VIDEO").is_none() {
         video_bench(root);
     }
+}
+
+/// `make reports` from scratch, compile excluded: `rollfric build` of the whole manifest
+/// with an empty cache and output folder (every twin rendered, detected, fitted and
+/// drawn), then the same build again with nothing changed.
+fn reports_bench(root: &Path) {
+    use std::process::Command;
+    let dir = root.join("target/bench");
+    let (out, cache) = (dir.join("reports"), dir.join("reports-cache"));
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&cache);
+    let run = || {
+        let t = Instant::now();
+        let o = Command::new(env!("CARGO_BIN_EXE_rollfric"))
+            .current_dir(root)
+            .args(["build", "-q", "--out"])
+            .arg(&out)
+            .arg("--cache")
+            .arg(&cache)
+            .output()
+            .unwrap();
+        let secs = t.elapsed().as_secs_f64();
+        assert!(
+            o.status.success(),
+            "rollfric build failed: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        (secs, String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let (cold, line) = run();
+    let (warm, _) = run();
+    println!(
+        "make reports from scratch (compile excluded): {cold:.1} s (target <= 60 s) on {} cores; unchanged rebuild {warm:.2} s (target < 1 s)\n  {line}",
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    );
 }
 
 /// Video figures on one 1280x720 H.264 file, side by side in one run: decode only

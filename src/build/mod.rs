@@ -73,6 +73,9 @@ const ANALYSIS_SOURCE: &[&str] = &[
     include_str!("../report/mod.rs"),
     include_str!("../report/figures.rs"),
     include_str!("../report/plot.rs"),
+    include_str!("../../templates/experiment.html.tera"),
+    include_str!("../../templates/experiment.md.tera"),
+    include_str!("../../templates/style.css"),
 ];
 
 fn with_source(mut k: Key, src: &[&str]) -> Key {

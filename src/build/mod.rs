@@ -106,6 +106,7 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
     let cost: Vec<f64> = files.iter().map(|f| estimated_cost(f)).collect();
     order.sort_by(|&a, &b| cost[b].total_cmp(&cost[a]).then(a.cmp(&b)));
     let queue = Mutex::new(order.into_iter());
+    let written = std::sync::atomic::AtomicUsize::new(0);
     let outcomes: Mutex<Vec<Option<Outcome>>> = Mutex::new(vec![None; files.len()]);
     std::thread::scope(|s| {
         for _ in 0..jobs {
@@ -121,6 +122,7 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
                     cache: &opts.cache,
                     progress: &progress,
                     label: label.clone(),
+                    written: &written,
                 };
                 let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     run_experiment(file, &ctx)
@@ -153,7 +155,8 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         .into_iter()
         .map(|o| o.expect("every experiment ran"))
         .collect();
-    let (summary, written) = report::write_index(&opts.out, &manifest, &root, outcomes)?;
+    let (summary, index_written) = report::write_index(&opts.out, &manifest, &root, outcomes)?;
+    let written = written.into_inner() + index_written;
     let failed = summary.experiments.iter().filter(|e| e.failed()).count();
     let missed = summary
         .experiments
@@ -195,6 +198,8 @@ struct Ctx<'a> {
     cache: &'a Path,
     progress: &'a Arc<Progress>,
     label: String,
+    /// Report files rewritten so far.
+    written: &'a std::sync::atomic::AtomicUsize,
 }
 
 fn display_name(file: &Path) -> String {
@@ -302,7 +307,10 @@ fn run_experiment(file: &Path, ctx: &Ctx) -> Result<(ExperimentResult, String)> 
         experiment_sha256: cache::sha256(&yaml),
         angles_sha256: cache::sha256_file(&angles_csv)?,
     };
-    let result = report::analyze_and_write(&exp, &angles_csv, detection, inputs, &dir, ctx.out)?;
+    let (result, written) =
+        report::analyze_and_write(&exp, &angles_csv, detection, inputs, &dir, ctx.out)?;
+    ctx.written
+        .fetch_add(written, std::sync::atomic::Ordering::Relaxed);
     fsutil::write_atomic(&result_file, &serde_json::to_vec_pretty(&result)?)?;
     cache::record(&key_file, &key)?;
     ran.push("analysis");

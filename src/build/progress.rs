@@ -38,6 +38,7 @@ impl Progress {
             .progress_chars("=> "),
         );
         overall.set_prefix("build");
+        overall.enable_steady_tick(std::time::Duration::from_millis(250));
         Self::Bars {
             multi,
             overall,

@@ -404,7 +404,8 @@ fn fmt_pct(v: f64) -> String {
 }
 
 /// Fit, check, draw and write one experiment's pages. `cache_dir` holds the detection's
-/// Figure 11; `out` is the reports folder.
+/// Figure 11; `out` is the reports folder. Returns the result and how many files were
+/// rewritten (unchanged ones are left alone).
 pub fn analyze_and_write(
     exp: &Experiment,
     angles_csv: &Path,
@@ -412,7 +413,7 @@ pub fn analyze_and_write(
     inputs: Inputs,
     cache_dir: &Path,
     out: &Path,
-) -> Result<ExperimentResult> {
+) -> Result<(ExperimentResult, usize)> {
     let rows = read_rows(angles_csv)?;
     let (t, a): (Vec<f64>, Vec<f64>) = rows
         .iter()
@@ -571,14 +572,15 @@ pub fn analyze_and_write(
         format!("{}.md", exp.name),
         tera.render("experiment.md", &ctx)?.into_bytes(),
     ));
+    let mut written = 0;
     for (rel, bytes) in &files {
-        fsutil::write_if_changed(&out.join(rel), bytes)?;
+        written += usize::from(fsutil::write_if_changed(&out.join(rel), bytes)?);
         result.pages.push(PageFile {
             path: rel.clone(),
             sha256: cache::sha256(bytes),
         });
     }
-    Ok(result)
+    Ok((result, written))
 }
 
 /// Whether every page file of a cached result is in `out` with its recorded bytes.

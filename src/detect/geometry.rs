@@ -228,14 +228,12 @@ fn ransac_pivot(lines: &[Seen], center: Pt, base_tol: f64) -> Option<Pt> {
 pub fn threshold_map(init: &InitFrames, sigmas: f64) -> Result<Mat> {
     let n = init.w * init.h;
     let mut med = vec![0u8; n];
+    // A running median: one grey level towards each new value (branch-free, so that
+    // it vectorises).
     for pair in init.data.windows(2) {
         for ((m, a), b) in med.iter_mut().zip(&pair[0]).zip(&pair[1]) {
             let d = a.abs_diff(*b);
-            if d > *m {
-                *m += 1;
-            } else if d < *m {
-                *m -= 1;
-            }
+            *m = *m + u8::from(d > *m) - u8::from(d < *m);
         }
     }
     // median |I_t - I_t-1| = 0.95 sigma for Gaussian noise; the running-extreme

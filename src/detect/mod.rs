@@ -407,6 +407,13 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         }
     }
     drop(src);
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        eprintln!(
+            "timing: first look decoded at {:.2} s ({} frames)",
+            started.elapsed().as_secs_f64(),
+            init.data.len()
+        );
+    }
     if init.data.is_empty() {
         bail!("{}: no frame could be decoded", path.display());
     }

@@ -181,10 +181,7 @@ impl FfmpegSource {
         });
         // `exact`: without it a subsampled (4:2:0) video is cropped at even x and y,
         // one pixel off the region the caller maps coordinates with.
-        let mut filters = format!(
-            "crop={}:{}:{}:{}:exact=1",
-            roi.w, roi.h, roi.x, roi.y
-        );
+        let mut filters = format!("crop={}:{}:{}:{}:exact=1", roi.w, roi.h, roi.x, roi.y);
         let (mut width, mut height) = (roi.w as usize, roi.h as usize);
         if shrink > 1 {
             width /= shrink as usize;

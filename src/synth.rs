@@ -17,9 +17,11 @@
 //!   hand passing (1 to 3 consecutive frames, each tagged `hand`), a flash (one frame,
 //!   near white) and a duplicated frame (the recorder repeats the previous frame), one
 //!   per equal slot of the video, at least 2 s (a fifth of a short video) from its ends.
-//! * Writing: H.264 through OpenCV's FFmpeg back-end (x264 at its default preset, about
-//!   100 frames/s at 640x360 on two cores) or MJPG in `.avi` (about 300 frames/s), on a
-//!   second thread while the next frame renders.
+//! * Writing: MJPG in `.avi`, or H.264 (x264, `veryfast`) for other extensions, by the
+//!   `ffmpeg` program: each frame is converted here to planar Y'CbCr 4:2:0 (BT.601, full
+//!   range for JPEG, limited for H.264) on a second thread while the next frame
+//!   renders, and piped to ffmpeg, which encodes in its own process. OpenCV's
+//!   `VideoWriter` is the fallback (no ffmpeg, or an odd width or height).
 //!
 //! Every random choice comes from [`Rng`] streams derived from `synthetic.seed`, and
 //! each frame's own randomness is seeded from its index, so a frame renders the same
@@ -33,7 +35,9 @@ use opencv::core::{self, Mat, Point, Rect, Scalar, Size};
 use opencv::prelude::*;
 use opencv::{imgcodecs, imgproc, videoio};
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
 
 /// One frame's truth.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,7 +56,8 @@ pub struct TruthRow {
 pub struct SynthReport {
     /// The file actually written (`.avi` if H.264 was not available).
     pub path: PathBuf,
-    /// `H.264 (mp4)` or `MJPG (avi)` (the container is the file's extension).
+    /// The codec, the container (the file's extension) and the writer, as in
+    /// `MJPG (avi, ffmpeg)` or `H.264 (mp4, OpenCV)`.
     pub codec: String,
     pub frames: usize,
     pub width: u32,
@@ -78,9 +83,10 @@ pub struct SynthReport {
 /// Render the experiment's `synthetic:` twin to `out`.
 ///
 /// The extension decides the container: `.avi` is MJPG; anything else (`.mp4`) is
-/// H.264, and if this OpenCV cannot write H.264 the video goes to the same name with
-/// `.avi` in MJPG instead (said on stderr; the returned path is the file written). The
-/// file is written under a temporary name in the same folder and renamed when
+/// H.264, and if neither ffmpeg (with x264) nor this OpenCV can write H.264 the video
+/// goes to the same name with `.avi` in MJPG instead (said on stderr; the returned path
+/// is the file written). The same frames give the same bytes (for a given FFmpeg).
+/// The file is written under a temporary name in the same folder and renamed when
 /// complete. `duration_s` overrides the block's duration; `progress` is called with
 /// `(frames_done, frames_total)` every 100 frames and at the end.
 pub fn render(
@@ -1567,6 +1573,288 @@ fn temp_name(path: &Path) -> PathBuf {
     dir.join(format!(".{stem}.tmp{}.{ext}", std::process::id()))
 }
 
+/// BT.601 Y'CbCr: full range (JPEG's, `yuvj420p`) or limited range (video's, `yuv420p`:
+/// luma 16..235, chroma 16..240).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum YuvRange {
+    Full,
+    Limited,
+}
+
+/// Fixed-point weights of the BGR to Y'CbCr conversion.
+#[derive(Clone, Debug)]
+struct YuvWeights {
+    /// Luma weights of B, G and R, units of 2^-15, times every byte value (a table
+    /// lookup costs less than a multiplication here).
+    y: [[u32; 256]; 3],
+    /// The sum of the weights (2^15 for full range).
+    sum: i64,
+    /// Luma offset plus one half, units of 2^-15.
+    y_bias: u32,
+    /// `Cb = 128 + cb (B - Y)` and `Cr = 128 + cr (R - Y)` with `Y` the unscaled luma,
+    /// turned into factors on a 2x2 block's sums `sum * (B1 + .. + B4) - (L1 + .. + L4)`
+    /// (`L` the luma before the shift), units of 2^-32.
+    cb: i64,
+    cr: i64,
+}
+
+impl YuvWeights {
+    fn new(range: YuvRange) -> Self {
+        let (ky, kc, y0) = match range {
+            YuvRange::Full => (1.0, 1.0, 0.0),
+            YuvRange::Limited => (219.0 / 255.0, 224.0 / 255.0, 16.0),
+        };
+        let (wb, wr) = (0.114, 0.299);
+        let k = [wb, 1.0 - wb - wr, wr].map(|w: f64| (w * ky * 32768.0).round() as u32);
+        let sum = k.iter().map(|&k| k as i64).sum::<i64>();
+        let chroma = |w: f64| (kc * 0.5 / (1.0 - w) / (4.0 * sum as f64) * 2f64.powi(32)).round();
+        Self {
+            y: k.map(|k| std::array::from_fn(|v| k * v as u32)),
+            sum,
+            y_bias: ((y0 + 0.5) * 32768.0) as u32,
+            cb: chroma(wb) as i64,
+            cr: chroma(wr) as i64,
+        }
+    }
+}
+
+/// Convert a BGR frame (`w` x `h`, both even) to planar Y'CbCr 4:2:0 in `out`: the luma
+/// plane, then Cb, then Cr (`w h 3 / 2` bytes, the layout of FFmpeg's `yuv420p`).
+/// BT.601 in integer fixed point (within one grey level of the exact conversion); the
+/// chroma of each 2x2 block is that of its mean colour. One pass over 2x2 blocks, with
+/// the luma sums reused for the chroma.
+fn bgr_to_yuv420(bgr: &[u8], w: usize, h: usize, range: YuvRange, out: &mut Vec<u8>) {
+    debug_assert!(w.is_multiple_of(2) && h.is_multiple_of(2) && bgr.len() == 3 * w * h);
+    out.resize(w * h * 3 / 2, 0);
+    let k = YuvWeights::new(range);
+    let (luma, chroma) = out.split_at_mut(w * h);
+    let (cb_plane, cr_plane) = chroma.split_at_mut(w * h / 4);
+    let [yb, yg, yr] = &k.y;
+    let weigh = |p: &[u8]| yb[p[0] as usize] + yg[p[1] as usize] + yr[p[2] as usize];
+    let bias = (128i64 << 32) + (1 << 31);
+    let rows = bgr.chunks_exact(6 * w).zip(luma.chunks_exact_mut(2 * w));
+    let planes = cb_plane
+        .chunks_exact_mut(w / 2)
+        .zip(cr_plane.chunks_exact_mut(w / 2));
+    for ((two, lum), (cbs, crs)) in rows.zip(planes) {
+        let (top, bottom) = two.split_at(3 * w);
+        let (y_top, y_bottom) = lum.split_at_mut(w);
+        let blocks = top.chunks_exact(6).zip(bottom.chunks_exact(6));
+        let outs = y_top.chunks_exact_mut(2).zip(y_bottom.chunks_exact_mut(2));
+        for (((a, b), (ya, yb)), (cb, cr)) in blocks.zip(outs).zip(cbs.iter_mut().zip(crs)) {
+            let l = [
+                weigh(&a[..3]),
+                weigh(&a[3..]),
+                weigh(&b[..3]),
+                weigh(&b[3..]),
+            ];
+            ya[0] = ((l[0] + k.y_bias) >> 15) as u8;
+            ya[1] = ((l[1] + k.y_bias) >> 15) as u8;
+            yb[0] = ((l[2] + k.y_bias) >> 15) as u8;
+            yb[1] = ((l[3] + k.y_bias) >> 15) as u8;
+            let sl = (l[0] + l[1] + l[2] + l[3]) as i64;
+            let sb = (a[0] as u32 + a[3] as u32 + b[0] as u32 + b[3] as u32) as i64;
+            let sr = (a[2] as u32 + a[5] as u32 + b[2] as u32 + b[5] as u32) as i64;
+            *cb = (((sb * k.sum - sl) * k.cb + bias) >> 32).clamp(0, 255) as u8;
+            *cr = (((sr * k.sum - sl) * k.cr + bias) >> 32).clamp(0, 255) as u8;
+        }
+    }
+}
+
+/// Whether the `ffmpeg` program has the encoder `name` (asked once per process).
+fn ffmpeg_has_encoder(name: &str) -> bool {
+    static LIST: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    let list = LIST.get_or_init(|| {
+        Command::new("ffmpeg")
+            .args(["-hide_banner", "-nostdin", "-encoders"])
+            .stdin(Stdio::null())
+            .stderr(Stdio::null())
+            .output()
+            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+            .unwrap_or_default()
+    });
+    list.lines()
+        .any(|l| l.split_whitespace().nth(1) == Some(name))
+}
+
+/// `fps` as FFmpeg reads a frame rate: an integer when it is one, else the decimal.
+fn rate_arg(fps: f64) -> String {
+    if fps.fract() == 0.0 {
+        format!("{}", fps as u64)
+    } else {
+        format!("{fps}")
+    }
+}
+
+/// The codecs the `ffmpeg` program writes here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FfmpegCodec {
+    /// MJPEG at `-q:v 3` (about the quality of OpenCV's MJPG; lossy like a camera's),
+    /// with the standard Huffman tables (optimal ones cost the encoder a quarter more
+    /// time for files a sixth smaller), on one thread (frame threads cost it a third
+    /// more time, and the renderer keeps the other core busy), in `.avi`.
+    Mjpeg,
+    /// H.264 by x264 (`veryfast`, CRF 18) in the container of the file's extension.
+    H264,
+}
+
+impl FfmpegCodec {
+    fn range(self) -> YuvRange {
+        match self {
+            FfmpegCodec::Mjpeg => YuvRange::Full,
+            FfmpegCodec::H264 => YuvRange::Limited,
+        }
+    }
+}
+
+/// Frames piped to the `ffmpeg` program as raw planar Y'CbCr 4:2:0, one after another at
+/// a constant rate (every frame kept: `-fps_mode passthrough`). The output carries no
+/// version strings or metadata (`bitexact`), and x264 runs a fixed number of threads,
+/// so that the same frames give the same bytes on any machine with the same FFmpeg.
+struct FfmpegPipe {
+    child: Child,
+    stdin: Option<ChildStdin>,
+    /// The last lines ffmpeg wrote to stderr, gathered by a thread.
+    stderr: Option<std::thread::JoinHandle<Vec<String>>>,
+    range: YuvRange,
+}
+
+impl FfmpegPipe {
+    /// Start ffmpeg writing `path` and hand it the first frame. `Ok(None)` when ffmpeg
+    /// cannot be started or exits before taking that frame (said on stderr): the caller
+    /// writes with OpenCV instead.
+    fn start(
+        path: &Path,
+        codec: FfmpegCodec,
+        (w, h): (usize, usize),
+        fps: f64,
+        first: &Mat,
+    ) -> Result<Option<Self>> {
+        let range = codec.range();
+        let mut cmd = Command::new("ffmpeg");
+        cmd.args(["-nostdin", "-hide_banner", "-loglevel", "error"])
+            .args(["-f", "rawvideo", "-pix_fmt"])
+            .arg(match range {
+                YuvRange::Full => "yuvj420p",
+                YuvRange::Limited => "yuv420p",
+            })
+            .args(["-s", &format!("{w}x{h}"), "-r", &rate_arg(fps), "-i", "-"])
+            .args(["-map", "0:v", "-an", "-fps_mode", "passthrough"]);
+        match codec {
+            FfmpegCodec::Mjpeg => cmd
+                .args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"])
+                .args(["-threads", "1", "-f", "avi"]),
+            FfmpegCodec::H264 => cmd
+                .args(["-c:v", "libx264", "-preset", "veryfast", "-crf", "18"])
+                .args(["-pix_fmt", "yuv420p", "-threads", "4"])
+                .args(["-color_range", "tv", "-colorspace", "smpte170m"]),
+        };
+        cmd.args(["-fflags", "+bitexact", "-flags:v", "+bitexact"])
+            .args(["-map_metadata", "-1", "-y"])
+            .arg(path)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped());
+        let mut child = match cmd.spawn() {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!(
+                    "{}: cannot start ffmpeg ({e}); writing with OpenCV instead",
+                    path.display()
+                );
+                return Ok(None);
+            }
+        };
+        let stdin = child.stdin.take();
+        let err = child.stderr.take().expect("piped");
+        let stderr = std::thread::spawn(move || {
+            let mut tail = std::collections::VecDeque::new();
+            for line in BufReader::new(err).lines() {
+                let Ok(line) = line else { break };
+                if tail.len() == 8 {
+                    tail.pop_front();
+                }
+                tail.push_back(line);
+            }
+            tail.into()
+        });
+        let mut pipe = Self {
+            child,
+            stdin,
+            stderr: Some(stderr),
+            range,
+        };
+        let mut yuv = Vec::new();
+        bgr_to_yuv420(first.data_bytes()?, w, h, range, &mut yuv);
+        if let Err(e) = pipe.write(&yuv) {
+            let why = pipe.abort();
+            eprintln!(
+                "{}: ffmpeg did not take the first frame ({}); writing with OpenCV instead",
+                path.display(),
+                if why.is_empty() { e.to_string() } else { why }
+            );
+            return Ok(None);
+        }
+        Ok(Some(pipe))
+    }
+
+    fn write(&mut self, yuv: &[u8]) -> std::io::Result<()> {
+        match &mut self.stdin {
+            Some(s) => s.write_all(yuv),
+            None => Err(std::io::ErrorKind::BrokenPipe.into()),
+        }
+    }
+
+    /// ffmpeg's last words on stderr, one line.
+    fn stderr_tail(&mut self) -> String {
+        self.stderr
+            .take()
+            .and_then(|t| t.join().ok())
+            .unwrap_or_default()
+            .join(" | ")
+    }
+
+    /// Stop ffmpeg (the file is incomplete) and return its last words.
+    fn abort(&mut self) -> String {
+        self.stdin = None;
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        self.stderr_tail()
+    }
+
+    /// Close the pipe and wait for ffmpeg to finish the file.
+    fn finish(&mut self, path: &Path) -> Result<()> {
+        self.stdin = None;
+        let status = self
+            .child
+            .wait()
+            .with_context(|| format!("{}: waiting for ffmpeg", path.display()))?;
+        let tail = self.stderr_tail();
+        ensure!(
+            status.success(),
+            "{}: ffmpeg failed ({status}): {}",
+            path.display(),
+            if tail.is_empty() { "no message" } else { &tail }
+        );
+        Ok(())
+    }
+}
+
+impl Drop for FfmpegPipe {
+    fn drop(&mut self) {
+        if self.stdin.is_some() {
+            self.abort();
+        }
+    }
+}
+
+/// Where the frames go.
+enum Sink {
+    /// The `ffmpeg` program, which already has frame 0.
+    Ffmpeg(FfmpegPipe),
+    OpenCv(videoio::VideoWriter),
+}
+
 /// Try to open a writer with one back-end and codec.
 fn try_writer(
     path: &Path,
@@ -1585,23 +1873,47 @@ fn try_writer(
     }
 }
 
-/// Open a writer: H.264 (FFmpeg back-end, fourcc `avc1`, else `H264`) into `out`
-/// unless it ends in `.avi`; else MJPG into `out` with `.avi` (FFmpeg's encoder, else
-/// OpenCV's own at quality 75; for odd sizes OpenCV's own first). Returns the writer,
-/// the temporary and final paths and the codec's name.
+/// Start the `ffmpeg` program writing `codec` into a temporary name for `fin`, if it is
+/// installed (with x264 for H.264; its MJPEG encoder is always built in) and the size is
+/// even (4:2:0).
+fn try_ffmpeg(
+    fin: &Path,
+    codec: FfmpegCodec,
+    (w, h): (usize, usize),
+    fps: f64,
+    first: &Mat,
+) -> Result<Option<(Sink, TempFile)>> {
+    let usable = crate::video::have_ffmpeg()
+        && (codec == FfmpegCodec::Mjpeg || ffmpeg_has_encoder("libx264"));
+    if w % 2 == 1 || h % 2 == 1 || !usable {
+        return Ok(None);
+    }
+    let tmp = TempFile(Some(temp_name(fin)));
+    Ok(FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, first)?.map(|p| (Sink::Ffmpeg(p), tmp)))
+}
+
+/// Open a writer and give it the rendered frame 0 when it is the `ffmpeg` program.
+/// Unless `out` ends in `.avi`: H.264 into `out`, by ffmpeg's x264, else by OpenCV's
+/// FFmpeg back-end (fourcc `avc1`, else `H264`). Otherwise, or failing that: MJPG into
+/// `out` with `.avi`, by ffmpeg, else by OpenCV (FFmpeg's encoder, else OpenCV's own at
+/// quality 75; for odd sizes OpenCV's own first). ffmpeg is not used for odd sizes
+/// (4:2:0). Returns the writer, the temporary and final paths and the codec's name
+/// with the container and who wrote it.
 ///
 /// OpenCV 4.6 leaves x264 at its default preset (`medium`, the slowest part of a
 /// render: its `OPENCV_FFMPEG_WRITER_OPTIONS` do not reach the encoder in this
-/// version). MJPG is preferred from FFmpeg because OpenCV 4.6's own MJPEG encoder
-/// writes an invalid DC coefficient in bright frames at some sizes (a uniform frame
-/// brighter than 200 at 640x360: FFmpeg then reports `error dc` when reading it).
+/// version), and converts BGR to Y'CbCr without a fast path: hence ffmpeg first, fed
+/// frames converted here. OpenCV's MJPG is preferred from FFmpeg because OpenCV 4.6's
+/// own MJPEG encoder writes an invalid DC coefficient in bright frames at some sizes (a
+/// uniform frame brighter than 200 at 640x360: FFmpeg then reports `error dc` when
+/// reading it).
 fn open_writer(
     out: &Path,
-    w: i32,
-    h: i32,
+    (w, h): (usize, usize),
     fps: f64,
-) -> Result<(videoio::VideoWriter, TempFile, PathBuf, String)> {
-    let size = Size::new(w, h);
+    first: &Mat,
+) -> Result<(Sink, TempFile, PathBuf, String)> {
+    let size = Size::new(w as i32, h as i32);
     let ext = out
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -1610,14 +1922,23 @@ fn open_writer(
         let why = if w % 2 == 1 || h % 2 == 1 {
             "H.264 needs an even width and height"
         } else {
+            if let Some((sink, tmp)) = try_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, first)? {
+                return Ok((
+                    sink,
+                    tmp,
+                    out.to_path_buf(),
+                    format!("H.264 ({ext}, ffmpeg)"),
+                ));
+            }
             for cc in [['a', 'v', 'c', '1'], ['H', '2', '6', '4']] {
                 let tmp = TempFile(Some(temp_name(out)));
                 let path = tmp.path();
                 if let Some(wr) = try_writer(&path, videoio::CAP_FFMPEG, cc, fps, size)? {
-                    return Ok((wr, tmp, out.to_path_buf(), format!("H.264 ({ext})")));
+                    let codec = format!("H.264 ({ext}, OpenCV)");
+                    return Ok((Sink::OpenCv(wr), tmp, out.to_path_buf(), codec));
                 }
             }
-            "this OpenCV cannot write H.264"
+            "neither ffmpeg nor this OpenCV can write H.264"
         };
         eprintln!(
             "{}: {why}; writing MJPG to {} instead",
@@ -1626,6 +1947,9 @@ fn open_writer(
         );
     }
     let fin = out.with_extension("avi");
+    if let Some((sink, tmp)) = try_ffmpeg(&fin, FfmpegCodec::Mjpeg, (w, h), fps, first)? {
+        return Ok((sink, tmp, fin, "MJPG (avi, ffmpeg)".into()));
+    }
     // FFmpeg's MJPG (4:2:0) drops the last row or column of an odd size.
     let apis = if w % 2 == 1 || h % 2 == 1 {
         [videoio::CAP_OPENCV_MJPEG, videoio::CAP_FFMPEG]
@@ -1638,10 +1962,84 @@ fn open_writer(
         if let Some(mut wr) = try_writer(&path, api, ['M', 'J', 'P', 'G'], fps, size)? {
             // Honoured by OpenCV's own encoder only (FFmpeg's keeps its default).
             let _ = wr.set(videoio::VIDEOWRITER_PROP_QUALITY, 75.0);
-            return Ok((wr, tmp, fin, "MJPG (avi)".into()));
+            return Ok((Sink::OpenCv(wr), tmp, fin, "MJPG (avi, OpenCV)".into()));
         }
     }
-    bail!("OpenCV can write neither H.264 nor MJPG")
+    bail!("neither ffmpeg nor OpenCV can write H.264 or MJPG")
+}
+
+/// What the encoder thread is handed.
+enum Job {
+    /// A rendered frame (its buffer comes back for reuse once the next frame is in).
+    Frame(Mat),
+    /// Repeat the last frame: a duplicated frame.
+    Repeat,
+}
+
+/// Render frames `first..` (frame 0 is already in `twin.frame`) and hand each to `write`
+/// on a second thread, which runs behind the renderer and does the conversion and
+/// encoding work. Rendered frames travel in a few recycled buffers swapped with
+/// `twin.frame` (a render overwrites the whole frame), so no frame is copied; a
+/// duplicated frame is written again from the encoder's last frame.
+fn pump(
+    twin: &mut Twin,
+    first: usize,
+    progress: &mut dyn FnMut(usize, usize),
+    mut write: impl FnMut(&Mat) -> Result<()> + Send,
+) -> Result<()> {
+    let total = twin.plan.truth.len();
+    let mut last = if first > 0 {
+        Some(twin.frame.try_clone()?)
+    } else {
+        None
+    };
+    let (to_encoder, jobs) = std::sync::mpsc::sync_channel::<Job>(2);
+    let (recycle, buffers) = std::sync::mpsc::channel::<Mat>();
+    std::thread::scope(|scope| -> Result<()> {
+        let encoder = scope.spawn(move || -> Result<()> {
+            for job in jobs {
+                if let Job::Frame(m) = job {
+                    if let Some(old) = last.replace(m) {
+                        let _ = recycle.send(old);
+                    }
+                }
+                let m = last.as_ref().context("a repeated frame before any frame")?;
+                write(m)?;
+            }
+            Ok(())
+        });
+        let rendered = (|| -> Result<()> {
+            for i in first..total {
+                let job = if i > 0 && twin.plan.spoils[i] == Spoil::Duplicate {
+                    Job::Repeat
+                } else {
+                    if i > 0 {
+                        twin.render_frame(i)?;
+                    }
+                    let spare = match buffers.try_recv() {
+                        Ok(m) => m,
+                        Err(_) => twin.frame.try_clone()?,
+                    };
+                    Job::Frame(std::mem::replace(&mut twin.frame, spare))
+                };
+                if to_encoder.send(job).is_err() {
+                    break; // the encoder stopped: its error is reported below
+                }
+                if (i + 1) % 100 == 0 || i + 1 == total {
+                    progress(i + 1, total);
+                }
+            }
+            if first >= total {
+                progress(total, total);
+            }
+            Ok(())
+        })();
+        drop(to_encoder);
+        let encoded = encoder
+            .join()
+            .unwrap_or_else(|_| Err(anyhow::anyhow!("the video encoder panicked")));
+        rendered.and(encoded)
+    })
 }
 
 fn render_inner(
@@ -1656,48 +2054,35 @@ fn render_inner(
             .with_context(|| format!("{}: cannot create folder", dir.display()))?;
     }
     let mut twin = Twin::new(plan)?;
-    let (w, h) = (twin.plan.geo.w as i32, twin.plan.geo.h as i32);
-    let (writer, mut tmp, path, codec) = open_writer(out, w, h, twin.plan.fps)?;
-    let total = twin.plan.truth.len();
-    // The encoder runs on its own thread, one frame behind the renderer; frames travel
-    // in a few recycled buffers.
-    let (to_encoder, frames_in) = std::sync::mpsc::sync_channel::<Mat>(2);
-    let (recycle, buffers) = std::sync::mpsc::channel::<Mat>();
-    std::thread::scope(|scope| -> Result<()> {
-        let encoder = scope.spawn(move || -> Result<()> {
-            let mut writer = writer;
-            for m in frames_in {
-                writer.write(&m)?;
-                let _ = recycle.send(m);
-            }
-            writer.release()?;
-            Ok(())
-        });
-        let rendered = (|| -> Result<()> {
-            for i in 0..total {
-                // A duplicated frame: the recorder repeats the last frame, still in
-                // `frame`.
-                if twin.plan.spoils[i] != Spoil::Duplicate || i == 0 {
-                    twin.render_frame(i)?;
-                }
-                let mut buf = buffers.try_recv().unwrap_or_default();
-                twin.frame.copy_to(&mut buf)?;
-                if to_encoder.send(buf).is_err() {
-                    break; // the encoder stopped: its error is reported below
-                }
-                if (i + 1) % 100 == 0 || i + 1 == total {
-                    progress(i + 1, total);
-                }
-            }
-            Ok(())
-        })();
-        drop(to_encoder);
-        let encoded = encoder
-            .join()
-            .unwrap_or_else(|_| Err(anyhow::anyhow!("the video encoder panicked")));
-        rendered.and(encoded)
-    })?;
+    let (w, h) = (twin.plan.geo.w, twin.plan.geo.h);
+    twin.render_frame(0)?;
+    let (sink, mut tmp, path, codec) = open_writer(out, (w, h), twin.plan.fps, &twin.frame)?;
     let tmp_path = tmp.path();
+    match sink {
+        Sink::Ffmpeg(mut pipe) => {
+            let range = pipe.range;
+            let pumped = {
+                let stdin = pipe.stdin.as_mut().expect("open until finished");
+                let mut yuv = Vec::new();
+                pump(&mut twin, 1, progress, |m: &Mat| {
+                    bgr_to_yuv420(m.data_bytes()?, w, h, range, &mut yuv);
+                    Ok(stdin.write_all(&yuv)?)
+                })
+            };
+            if let Err(e) = pumped {
+                let tail = pipe.abort();
+                if tail.is_empty() {
+                    return Err(e);
+                }
+                return Err(e.context(format!("{}: ffmpeg stopped: {tail}", tmp_path.display())));
+            }
+            pipe.finish(&tmp_path)?;
+        }
+        Sink::OpenCv(mut writer) => {
+            pump(&mut twin, 0, progress, |m: &Mat| Ok(writer.write(m)?))?;
+            writer.release()?;
+        }
+    }
     let len = std::fs::metadata(&tmp_path).map(|m| m.len()).unwrap_or(0);
     ensure!(
         len > 0,
@@ -1716,7 +2101,7 @@ fn render_inner(
     Ok(SynthReport {
         path,
         codec,
-        frames: total,
+        frames: twin.plan.truth.len(),
         width: g.w as u32,
         height: g.h as u32,
         fps: twin.plan.fps,
@@ -1790,7 +2175,7 @@ synthetic: {{ s_r_m: 4.445e-6, fps: 30, seed: 3{size}{extra} }}
         let e = exp(", width: 322, height: 241");
         let rep = render(&e, &dir.path().join("odd.mp4"), Some(1.0), &mut |_, _| {}).unwrap();
         assert_eq!(rep.path, dir.path().join("odd.avi"));
-        assert_eq!(rep.codec, "MJPG (avi)");
+        assert_eq!(rep.codec, "MJPG (avi, OpenCV)");
         let frames = read_back(&rep.path, 322, 241);
         assert_eq!(frames.len(), rep.truth.len());
         for (i, row) in rep.truth.iter().enumerate().skip(1) {
@@ -1922,5 +2307,132 @@ synthetic: {{ s_r_m: 4.445e-6, fps: 30, seed: 3{size}{extra} }}
                 best.1
             );
         }
+    }
+
+    /// BT.601 as floating point, chroma of the 2x2 block's mean colour.
+    fn yuv_reference(bgr: &[u8], w: usize, h: usize, range: YuvRange) -> Vec<f64> {
+        let (ky, kc, y0) = match range {
+            YuvRange::Full => (1.0, 1.0, 0.0),
+            YuvRange::Limited => (219.0 / 255.0, 224.0 / 255.0, 16.0),
+        };
+        let luma = |p: [f64; 3]| 0.114 * p[0] + 0.587 * p[1] + 0.299 * p[2];
+        let px = |x: usize, y: usize| {
+            let j = 3 * (y * w + x);
+            [bgr[j] as f64, bgr[j + 1] as f64, bgr[j + 2] as f64]
+        };
+        let mut out = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                out.push(y0 + ky * luma(px(x, y)));
+            }
+        }
+        let mut cb = Vec::new();
+        let mut cr = Vec::new();
+        for y in (0..h).step_by(2) {
+            for x in (0..w).step_by(2) {
+                let mut m = [0.0; 3];
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let p = px(x + dx, y + dy);
+                    (0..3).for_each(|c| m[c] += p[c] / 4.0);
+                }
+                let l = luma(m);
+                cb.push(128.0 + kc * 0.5 / 0.886 * (m[0] - l));
+                cr.push(128.0 + kc * 0.5 / 0.701 * (m[2] - l));
+            }
+        }
+        out.extend(cb);
+        out.extend(cr);
+        out
+    }
+
+    #[test]
+    fn yuv_conversion_is_bt601_within_one_level() {
+        let (w, h) = (38, 6);
+        let mut rng = Rng::new(7);
+        let mut bgr: Vec<u8> = (0..3 * w * h)
+            .map(|_| (rng.uniform() * 256.0) as u8)
+            .collect();
+        // Extremes: black, white, pure B, G, R, as uniform 2x2 blocks in the top rows.
+        for (k, c) in [
+            [0, 0, 0],
+            [255, 255, 255],
+            [255, 0, 0],
+            [0, 255, 0],
+            [0, 0, 255],
+        ]
+        .iter()
+        .enumerate()
+        {
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let j = 3 * (dy * w + 2 * k + dx);
+                bgr[j..j + 3].copy_from_slice(c);
+            }
+        }
+        for range in [YuvRange::Full, YuvRange::Limited] {
+            let mut got = vec![9; 3];
+            bgr_to_yuv420(&bgr, w, h, range, &mut got);
+            let want = yuv_reference(&bgr, w, h, range);
+            assert_eq!(got.len(), want.len());
+            for (i, (&g, &e)) in got.iter().zip(&want).enumerate() {
+                assert!(
+                    (g as f64 - e).abs() <= 1.0,
+                    "{range:?} byte {i}: {g} vs {e:.2}"
+                );
+            }
+            // White and black exactly, and grey without colour.
+            let (y, c) = match range {
+                YuvRange::Full => ([0, 255], 128),
+                YuvRange::Limited => ([16, 235], 128),
+            };
+            assert_eq!([got[0], got[2]], y, "{range:?}");
+            let (cb, cr) = (w * h, w * h + w * h / 4);
+            assert_eq!([got[cb], got[cr], got[cb + 1], got[cr + 1]], [c; 4]);
+        }
+    }
+
+    #[test]
+    fn ffmpeg_writes_every_frame_the_same_way_twice() {
+        if !crate::video::have_ffmpeg() {
+            eprintln!("SKIPPED: ffmpeg is not installed");
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let e = exp(", spoiled_frames: 3");
+        let mut files = Vec::new();
+        for k in 0..2 {
+            let out = dir.path().join(format!("twin{k}.avi"));
+            let rep = render(&e, &out, Some(1.0), &mut |_, _| {}).unwrap();
+            assert_eq!(rep.codec, "MJPG (avi, ffmpeg)");
+            assert_eq!(rep.path, out);
+            files.push(std::fs::read(&out).unwrap());
+        }
+        assert!(files[0] == files[1], "two renders differ");
+        // Every frame, as rendered (up to the codec's loss), duplicates included.
+        let path = dir.path().join("twin0.avi");
+        let frames = read_back(&path, 320, 240);
+        let mut twin = Twin::new(Plan::new(&e, Some(1.0)).unwrap()).unwrap();
+        assert_eq!(frames.len(), twin.plan.truth.len());
+        for (i, f) in frames.iter().enumerate() {
+            let src = match twin.plan.spoils[i] {
+                Spoil::Duplicate => i - 1,
+                _ => i,
+            };
+            twin.render_frame(src).unwrap();
+            let d = diff(f, &twin.frame);
+            assert!(d < 2.5, "frame {i}: {d}");
+        }
+        // Constant rate: ffprobe counts every frame at exactly 30 frames/s.
+        let out = Command::new("ffprobe")
+            .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+            .args([
+                "-show_entries",
+                "stream=nb_read_frames,r_frame_rate,avg_frame_rate",
+            ])
+            .args(["-of", "csv=p=0"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(text.trim(), format!("30/1,30/1,{}", frames.len()));
     }
 }

@@ -223,7 +223,7 @@ fn glass_with(dir: &Path, from: &str, to: &str) -> PathBuf {
 #[test]
 fn fails_on_unknown_key() {
     let dir = tmpdir();
-    let f = glass_with(dir.path(), "  fps: 30", "  fps: 30\n  fsp: 30");
+    let f = glass_with(dir.path(), "  fps: 25", "  fps: 25\n  fsp: 25");
     let out = rollfric(&["fit", f.to_str().unwrap()]);
     assert_fails_with(&out, "bad.yaml", "unknown field `fsp`");
 }
@@ -254,7 +254,7 @@ fn fails_on_negative_or_zero_values() {
             "radius_m: 0",
             "`geometry.ball.radius_m` = 0",
         ),
-        ("  fps: 30", "  fps: 0", "`synthetic.fps` = 0"),
+        ("  fps: 25", "  fps: 0", "`synthetic.fps` = 0"),
         ("period_s: 205.3", "period_s: -5", "`torsion.period_s` = -5"),
     ] {
         let f = glass_with(dir.path(), from, to);

@@ -307,11 +307,10 @@ pub fn torsion_cmd(exp_path: &Path, s_r: Option<f64>, json: bool) -> Result<Stri
     Ok(torsion_table(&exp.name, &c, from))
 }
 
-/// The Appendix A table as text.
-pub fn torsion_table(name: &str, c: &TorsionCheck, s_r_from: &str) -> String {
-    let mut o = String::new();
-    let _ = writeln!(o, "wire torsion, {name} (Appendix A)");
-    let rows = [
+/// The Appendix A table's rows, label and formatted value (the text table and the
+/// report pages both show these).
+pub fn torsion_rows(c: &TorsionCheck, s_r_from: &str) -> Vec<(&'static str, String)> {
+    vec![
         ("torsion period T", format!("{:.1} s", c.period_s)),
         ("wire length", format!("{:.3} m", c.wire_length_m)),
         (
@@ -337,8 +336,14 @@ pub fn torsion_table(name: &str, c: &TorsionCheck, s_r_from: &str) -> String {
             format!("{:.3e} N m", c.m_r_model_n_m),
         ),
         ("100 M_t,max / M_r", format!("{:.2} %", c.ratio_pct)),
-    ];
-    for (k, v) in rows {
+    ]
+}
+
+/// The Appendix A table as text.
+pub fn torsion_table(name: &str, c: &TorsionCheck, s_r_from: &str) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "wire torsion, {name} (Appendix A)");
+    for (k, v) in torsion_rows(c, s_r_from) {
         let _ = writeln!(o, "  {k:<38} {v}");
     }
     o
@@ -445,25 +450,12 @@ pub fn synth_cmd(
 }
 
 /// The video of an experiment: its `video.path`, or for a digital twin the rendered
-/// file under `build/<name>/` (rendered now when missing or older than the YAML).
+/// file under `build/<name>/` (rendered now when its render key is stale).
 pub fn video_for(exp: &Experiment) -> Result<std::path::PathBuf> {
-    if let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) {
-        let path = exp.resolve(p);
-        if !path.exists() {
-            bail!(
-                "{}: `video.path` = {}: the video does not exist",
-                exp.path.display(),
-                path.display()
-            );
-        }
+    if let Some(path) = crate::build::lab_video(exp)? {
         return Ok(path);
     }
-    if exp.file.synthetic.is_none() {
-        bail!(
-            "{}: no video: set `video.path`, or `angles:` for a measured angle CSV",
-            exp.path.display()
-        );
-    }
+    crate::build::no_video_unless_twin(exp)?;
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let started = std::time::Instant::now();
     let (video, _, rendered) =

@@ -249,7 +249,7 @@ pub struct BetaCandidate {
 }
 
 /// The reactions along the fitted motion (Eq. 30, 31, 34).
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize, PartialEq)]
 pub struct Reactions {
     pub n_min_n: f64,
     pub n_max_n: f64,
@@ -261,7 +261,7 @@ pub struct Reactions {
 }
 
 /// The complete result of one fit.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct FitResult {
     pub s_r_m: f64,
     pub s_r_se_m: f64,

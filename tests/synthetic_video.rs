@@ -132,18 +132,13 @@ fn every_experiment_measures_back_its_s_r_from_video() {
         eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
         return;
     }
-    // Renders (or reuses) the twins under build/, as `make reports` does.
-    for exp in [
-        "steel",
-        "glass",
-        "aluminum",
-        "copper",
-        "polycarbonate",
-        "carbon-fiber",
-        "glass-fiber-fabric",
-        "glass-d140",
-    ] {
-        let out = rollfric(&["fit", exp, "--json"], &root());
+    // Every experiment of the manifest. Renders (or reuses) the twins under build/, as
+    // `make reports` does.
+    let (_, files) =
+        rollfric::config::Manifest::load(&root().join("experiments/manifest.yaml")).unwrap();
+    for file in files {
+        let exp = file.display().to_string();
+        let out = rollfric(&["fit", &exp, "--json"], &root());
         let j: serde_json::Value = serde_json::from_str(&out).unwrap();
         assert!(
             j["angles"]["kind"]

@@ -155,7 +155,7 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         .into_iter()
         .map(|o| o.expect("every experiment ran"))
         .collect();
-    let (summary, index_written) = report::write_index(&opts.out, &manifest, &root, outcomes)?;
+    let (summary, index_written) = report::write_index(&opts.out, &manifest, outcomes)?;
     let written = written.into_inner() + index_written;
     let failed = summary.experiments.iter().filter(|e| e.failed()).count();
     let missed = summary
@@ -247,11 +247,17 @@ fn estimated_cost(file: &Path) -> f64 {
     };
     match &exp.file.synthetic {
         Some(s) => {
+            // Until the ball stops: the release amplitude over the closed-form
+            // envelope slope (ERRATA §2).
             let secs = s.duration_s.unwrap_or_else(|| {
-                crate::simulate::camera_of(&exp)
-                    .and_then(|cam| crate::simulate::record(&exp, &cam))
-                    .map(|r| r.series.t.last().copied().unwrap_or(60.0))
-                    .unwrap_or(60.0)
+                let a = exp
+                    .synthetic_law()
+                    .map_or(0.0, |l| exp.pendulum.envelope_slope(&l));
+                if a > 0.0 {
+                    (s.psi0_deg.to_radians() / a).min(120.0)
+                } else {
+                    120.0
+                }
             });
             secs * s.fps * s.width as f64 * s.height as f64
         }
@@ -324,26 +330,12 @@ fn video_stage(
     ctx: &Ctx,
     ran: &mut Vec<&'static str>,
 ) -> Result<(PathBuf, String, bool)> {
-    if let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) {
-        let path = exp.resolve(p);
-        if !path.is_file() {
-            bail!(
-                "{}: `video.path` = {p}: the video does not exist ({})",
-                exp.path.display(),
-                path.display()
-            );
-        }
+    if let Some(path) = lab_video(exp)? {
         ctx.progress.stage(&ctx.label, "video", "hashing");
         let id = cache::sha256_file(&path)?;
         return Ok((path, id, false));
     }
-    let Some(syn) = &exp.file.synthetic else {
-        bail!(
-            "{}: no video: set `video.path`, or `angles:` for a measured angle CSV",
-            exp.path.display()
-        );
-    };
-    let _ = syn;
+    no_video_unless_twin(exp)?;
     let label = ctx.label.clone();
     let progress = ctx.progress.clone();
     let (video, key, rendered) = twin(exp, ctx.cache, &mut |stage, done, total| {
@@ -356,6 +348,34 @@ fn video_stage(
         ran.push("synth");
     }
     Ok((video, key, true))
+}
+
+/// The experiment's recording (`video.path`), if it names one; an error when the file
+/// is not there.
+pub fn lab_video(exp: &Experiment) -> Result<Option<PathBuf>> {
+    let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) else {
+        return Ok(None);
+    };
+    let path = exp.resolve(p);
+    if !path.is_file() {
+        bail!(
+            "{}: `video.path` = {p}: the video does not exist ({})",
+            exp.path.display(),
+            path.display()
+        );
+    }
+    Ok(Some(path))
+}
+
+/// Without a recording, an experiment needs a `synthetic:` block to have a video.
+pub fn no_video_unless_twin(exp: &Experiment) -> Result<()> {
+    if exp.file.synthetic.is_none() {
+        bail!(
+            "{}: no video: set `video.path`, or `angles:` for a measured angle CSV",
+            exp.path.display()
+        );
+    }
+    Ok(())
 }
 
 /// The digital twin's video of `exp` under `cache/<name>/twin.avi`, rendered when its
@@ -445,14 +465,7 @@ fn detect_stage(
             frame: r.frame,
             t_s: r.t_s,
             status: r.status.as_str().to_string(),
-            flag: r
-                .flag
-                .and_then(|f| {
-                    serde_json::to_value(f)
-                        .ok()
-                        .and_then(|v| v.as_str().map(String::from))
-                })
-                .unwrap_or_else(|| "-".into()),
+            flag: r.flag.map_or("-", |f| f.as_str()).to_string(),
         })
         .collect();
     let fig_frame = report::figure11_frame(&d);

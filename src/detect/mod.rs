@@ -139,6 +139,19 @@ pub enum Flag {
     Disturbed,
 }
 
+impl Flag {
+    /// The name the reports use (as serialised).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Flag::Gate => "gate",
+            Flag::Weak => "weak",
+            Flag::Flash => "flash",
+            Flag::Duplicate => "duplicate",
+            Flag::Disturbed => "disturbed",
+        }
+    }
+}
+
 /// One frame's result.
 #[derive(Clone, Debug, Serialize)]
 pub struct AngleRow {

@@ -196,64 +196,56 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
         )),
     )?);
 
-    // Figure 15: the fitted model's signal over the measured turning points.
+    // Figure 15: the fitted model's signal over the measured turning points; Figure
+    // 16a/b: the same with s_r changed by +/- delta.
     let model = model_motion(x.p, &x.law, t0, x.a_start, t1);
     let [up, down] = envelope_lines(eq, m.equilibrium.a0, m.equilibrium.a, t0, t1);
     let points: Vec<(f64, f64)> = ex.iter().map(|e| (e.t, deg(e.angle))).collect();
-    out.push(fig(
-        "fig15.svg",
-        &Chart::new(
-            &format!(
-                "Fig. 15 - {}: model signal, s_r = {:.3e} m, beta = {}",
-                x.name,
-                x.law.s_r,
-                trim(x.law.beta)
-            ),
-            "t (s)",
-            "angle (deg)",
-        )
-        .with(Series::line(
-            "model (Eq. 33, fitted)",
-            Rgb::BLUE,
-            signal(&model, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
-        ))
-        .with(Series::markers(
-            "measured extremes",
-            Rgb::RED,
-            points.clone(),
-        ))
-        .with(Series::dashed("envelope fit", Rgb::BLACK, up.clone()))
-        .with(Series::dashed("", Rgb::BLACK, down.clone())),
-    )?);
-
-    // Figure 16a/b: the same with s_r changed by +/- delta.
-    for (file, sign, tag) in [("fig16a.svg", 1.0, "a"), ("fig16b.svg", -1.0, "b")] {
-        let law = FrictionLaw::new(x.law.s_r * (1.0 + sign * x.delta_rel), x.law.beta);
-        let tr = model_motion(x.p, &law, t0, x.a_start, t1);
-        out.push(fig(
-            file,
-            &Chart::new(
-                &format!(
-                    "Fig. 16{tag} - {}: s_r = {:.3e} m ({:+.0} %)",
-                    x.name,
-                    law.s_r,
-                    100.0 * sign * x.delta_rel
-                ),
-                "t (s)",
-                "angle (deg)",
-            )
+    let over_extremes = |title: String, label: &str, envelope: &str, tr: &Trajectory| {
+        Chart::new(&title, "t (s)", "angle (deg)")
             .with(Series::line(
-                "model with changed s_r",
+                label,
                 Rgb::BLUE,
-                signal(&tr, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
+                signal(tr, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
             ))
             .with(Series::markers(
                 "measured extremes",
                 Rgb::RED,
                 points.clone(),
             ))
-            .with(Series::dashed("measured envelope", Rgb::BLACK, up.clone()))
-            .with(Series::dashed("", Rgb::BLACK, down.clone())),
+            .with(Series::dashed(envelope, Rgb::BLACK, up.clone()))
+            .with(Series::dashed("", Rgb::BLACK, down.clone()))
+    };
+    out.push(fig(
+        "fig15.svg",
+        &over_extremes(
+            format!(
+                "Fig. 15 - {}: model signal, s_r = {:.3e} m, beta = {}",
+                x.name,
+                x.law.s_r,
+                trim(x.law.beta)
+            ),
+            "model (Eq. 33, fitted)",
+            "envelope fit",
+            &model,
+        ),
+    )?);
+    for (file, sign, tag) in [("fig16a.svg", 1.0, "a"), ("fig16b.svg", -1.0, "b")] {
+        let law = FrictionLaw::new(x.law.s_r * (1.0 + sign * x.delta_rel), x.law.beta);
+        let tr = model_motion(x.p, &law, t0, x.a_start, t1);
+        out.push(fig(
+            file,
+            &over_extremes(
+                format!(
+                    "Fig. 16{tag} - {}: s_r = {:.3e} m ({:+.0} %)",
+                    x.name,
+                    law.s_r,
+                    100.0 * sign * x.delta_rel
+                ),
+                "model with changed s_r",
+                "measured envelope",
+                &tr,
+            ),
         )?);
     }
 

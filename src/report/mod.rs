@@ -97,32 +97,6 @@ pub struct GeometryView {
     pub period_small_angle_s: f64,
 }
 
-/// The fitted values.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Results {
-    pub s_r_m: f64,
-    pub s_r_ci95_m: [f64; 2],
-    pub beta: f64,
-    pub mu_r: f64,
-    pub a_rad_s: f64,
-    pub a_model_rad_s: f64,
-    pub psi_eq_rad: f64,
-    pub psi_eq_paper_rad: f64,
-    pub n_extremes: usize,
-    pub period_s: f64,
-    pub d_from_period_m: f64,
-    pub residual_rms_rad: f64,
-    pub iterations: usize,
-    pub n_min_n: f64,
-    pub n_max_n: f64,
-    pub n_mean_n: f64,
-    pub n_variation_pct: f64,
-    pub max_t_over_n: f64,
-    /// The model's `mu_r / a` for this geometry (Fig. 19's analytic line), s.
-    pub model_mu_r_per_a_s: f64,
-    pub beta_comparison: Vec<fit::BetaCandidate>,
-}
-
 /// One comparison of a reproduced value with an expected one.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Check {
@@ -176,7 +150,9 @@ pub struct ExperimentResult {
     pub synthetic: bool,
     pub angles: String,
     pub geometry: GeometryView,
-    pub results: Results,
+    pub results: fit::FitResult,
+    /// The model's `mu_r / a` for this geometry (Fig. 19's analytic line), s.
+    pub model_mu_r_per_a_s: f64,
     pub truth_s_r_m: Option<f64>,
     pub reference: Option<Reference>,
     pub tolerances: Tolerances,
@@ -471,7 +447,6 @@ pub fn analyze_and_write(
         )
     });
     let mu = exp.file.sliding.as_ref().map(|s| s.mu);
-    let unit_law = FrictionLaw::new(p.r, 1.0);
     let inc = &exp.file.geometry.incline;
     let geometry = GeometryView {
         alpha_deg: p.alpha.to_degrees(),
@@ -486,29 +461,6 @@ pub fn analyze_and_write(
         n0_n: p.rest_normal_force(),
         g_m_s2: p.g,
         period_small_angle_s: p.small_angle_period(),
-    };
-    let results = Results {
-        s_r_m: f.s_r_m,
-        s_r_ci95_m: f.s_r_ci95_m,
-        beta: f.beta,
-        mu_r: f.mu_r,
-        a_rad_s: f.a_rad_s,
-        a_model_rad_s: f.a_model_rad_s,
-        psi_eq_rad: f.psi_eq_rad,
-        psi_eq_paper_rad: f.psi_eq_paper_rad,
-        n_extremes: f.n_extremes,
-        period_s: f.period_s,
-        d_from_period_m: f.d_from_period_m,
-        residual_rms_rad: f.residual_rms_rad,
-        iterations: f.iterations,
-        n_min_n: f.reactions.n_min_n,
-        n_max_n: f.reactions.n_max_n,
-        n_mean_n: f.reactions.n_mean_n,
-        n_variation_pct: f.reactions.n_variation_pct,
-        max_t_over_n: f.max_t_over_n,
-        // mu_r = s_r / r with s_r = r: the analytic a of mu_r = 1.
-        model_mu_r_per_a_s: 1.0 / p.envelope_slope(&unit_law),
-        beta_comparison: f.beta_comparison.clone(),
     };
     // Figure 16 shows s_r changed by the larger of 15 % and three times the CI.
     let ci_rel = (f.s_r_ci95_m[1] - f.s_r_m) / f.s_r_m;
@@ -540,7 +492,9 @@ pub fn analyze_and_write(
             ),
         },
         geometry,
-        results,
+        // mu_r = s_r / r with s_r = r: the analytic a of mu_r = 1.
+        model_mu_r_per_a_s: 1.0 / p.envelope_slope(&FrictionLaw::new(p.r, 1.0)),
+        results: f.clone(),
         truth_s_r_m: truth,
         reference: exp.file.reference.clone(),
         tolerances: tol,
@@ -561,7 +515,7 @@ pub fn analyze_and_write(
     if has_fig11 {
         files.push((format!("{}/fig11.png", exp.name), std::fs::read(&fig11)?));
     }
-    let view = experiment_view(&result, &m, &f.residuals_rad, has_fig11);
+    let view = experiment_view(&result, &m, has_fig11);
     let tera = templates()?;
     let ctx = tera::Context::from_serialize(&view)?;
     files.push((
@@ -665,12 +619,7 @@ fn check_view(c: &Check) -> CheckView {
     }
 }
 
-fn experiment_view(
-    r: &ExperimentResult,
-    m: &fit::Measurement,
-    residuals: &[f64],
-    has_fig11: bool,
-) -> ExperimentView {
+fn experiment_view(r: &ExperimentResult, m: &fit::Measurement, has_fig11: bool) -> ExperimentView {
     let g = &r.geometry;
     let f = &r.results;
     let mut geometry = Vec::new();
@@ -787,7 +736,10 @@ fn experiment_view(
             "normal force min / mean / max (Eq. 30)",
             format!(
                 "{:.5} / {:.5} / {:.5} N ({:.4} %)",
-                f.n_min_n, f.n_mean_n, f.n_max_n, f.n_variation_pct
+                f.reactions.n_min_n,
+                f.reactions.n_mean_n,
+                f.reactions.n_max_n,
+                f.reactions.n_variation_pct
             ),
         ),
         kv("max |T|/N (Eq. 31, 34)", format!("{:.3e}", f.max_t_over_n)),
@@ -816,7 +768,8 @@ fn experiment_view(
             t: format!("{:.3}", e.t),
             angle: format!("{:.4}", e.angle.to_degrees()),
             amplitude: format!("{:.4}", m.amplitudes[k].to_degrees()),
-            residual: residuals
+            residual: f
+                .residuals_rad
                 .get(k)
                 .map_or("-".into(), |v| format!("{:+.4}", v.to_degrees())),
         })
@@ -862,32 +815,10 @@ fn experiment_view(
 }
 
 fn torsion_rows(c: TorsionCheck) -> Vec<Kv> {
-    vec![
-        kv("torsion period T", format!("{:.1} s", c.period_s)),
-        kv("wire length", format!("{:.3} m", c.wire_length_m)),
-        kv(
-            "k_t = 4 pi^2 J_z / T^2 (A5)",
-            format!("{:.3e} N m/rad", c.k_t_n_m_per_rad),
-        ),
-        kv(
-            "psi_0 -> phi_0 = psi_0 / sin(delta)",
-            format!(
-                "{:.1} deg -> {:.3} rad",
-                c.psi0_rad.to_degrees(),
-                c.phi0_rad
-            ),
-        ),
-        kv("M_t,max = k_t phi_0", format!("{:.3e} N m", c.m_t_max_n_m)),
-        kv(
-            "M_r = s_r m g (fitted s_r)",
-            format!("{:.3e} N m", c.m_r_n_m),
-        ),
-        kv(
-            "M_r = s_r N_0^beta (model)",
-            format!("{:.3e} N m", c.m_r_model_n_m),
-        ),
-        kv("100 M_t,max / M_r", format!("{:.2} %", c.ratio_pct)),
-    ]
+    crate::commands::torsion_rows(&c, "the fit")
+        .into_iter()
+        .map(|(k, v)| kv(k, v))
+        .collect()
 }
 
 #[derive(Serialize)]
@@ -940,10 +871,8 @@ struct TorsionRow {
 pub fn write_index(
     out: &Path,
     manifest: &Manifest,
-    root: &Path,
     outcomes: Vec<Outcome>,
 ) -> Result<(Summary, usize)> {
-    let _ = root;
     let manifest_sha256 = cache::sha256(
         serde_json::to_string(manifest)
             .unwrap_or_default()
@@ -1038,7 +967,7 @@ pub fn write_index(
             label: r.material.clone(),
             a_rad_s: f.a_rad_s,
             mu_r: f.mu_r,
-            model_ratio: f.model_mu_r_per_a_s,
+            model_ratio: r.model_mu_r_per_a_s,
             d_m: r.geometry.d_m,
         });
     }

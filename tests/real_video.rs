@@ -142,9 +142,6 @@ fn splitscreen_clip_one_panel_at_a_time_ignores_the_fan_lines() {
 }
 
 #[test]
-#[ignore = "known gap: on this faint, low-bitrate string the pivot search can lock on the \
-            bob's edges instead, and even with the right pivot about 3-5 % of frames stay \
-            missing (2 % allowed)"]
 fn off_screen_pivot_clip_ignores_the_dark_stripe() {
     let Some(v) = fixture("bartekpacia_film1_fhd.mp4") else {
         return;

@@ -83,8 +83,15 @@ fn fails_when_video_is_empty_corrupt_or_truncated() {
         &["cannot open as a video"],
     );
 
-    // A moving bar: decodable, then cut in the middle of its data.
-    let clip = make_clip(d, "clip.mp4", "testsrc2=size=320x240:rate=30:duration=6");
+    // A swinging dark line (a pendulum's wire from (160, 0), 0.3 rad at 1 Hz):
+    // decodable, its wire found in the first seconds, then cut in the middle of its data.
+    let clip = make_clip(
+        d,
+        "clip.mp4",
+        "color=c=gray:size=320x240:rate=30:duration=6,format=gray,\
+         geq=lum='if(lt(abs((X-160)*cos(0.3*sin(2*PI*T))-Y*sin(0.3*sin(2*PI*T))),1.5)\
+         *lt(Y,200),40,200)'",
+    );
     let full = std::fs::read(&clip).unwrap();
     let cut = d.join("cut.mp4");
     std::fs::write(&cut, &full[..full.len() * 6 / 10]).unwrap();
@@ -110,4 +117,16 @@ fn fails_when_no_wire_can_be_found() {
     );
     let csv = dir.path().join("angles.csv");
     assert_fails(&detect(&still, &csv), &csv, "still.mp4", &["no wire found"]);
+    // Plenty of moving straight edges, none of them swinging about a pivot.
+    let busy = make_clip(
+        dir.path(),
+        "busy.mp4",
+        "testsrc2=size=320x240:rate=30:duration=3",
+    );
+    assert_fails(
+        &detect(&busy, &csv),
+        &csv,
+        "busy.mp4",
+        &["no wire found", "more than a pendulum's wire"],
+    );
 }

@@ -10,6 +10,12 @@
 //! longest straight segment of each frame (probabilistic Hough, then an orthogonal
 //! least-squares fit, ERRATA §6) is the wire. All those lines pass through the pivot:
 //! it is their robust least-squares intersection, which may lie outside the frame.
+//!
+//! The extremes also keep the trail of everything that passed: a bob's bright rim or
+//! glints leave long arcs whose edges make straight lines of their own, and when those
+//! outnumber a faint wire the lines meet in a point that no pendulum swings about (their
+//! directions fan out over more than [`MAX_SWEEP_DEG`]). The look is then repeated
+//! against each pixel's median, which forgets whatever passes briefly.
 
 use super::{fit_line_weighted, Line, Pt};
 use crate::config::Polarity;
@@ -248,7 +254,58 @@ pub fn threshold_map(init: &InitFrames, sigmas: f64) -> Result<Mat> {
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
 }
 
-/// Find polarity, pivot, band and ROI from the first seconds' frames.
+/// Each pixel's maximum (`dark`) or minimum over the frames.
+fn extreme_frame(init: &InitFrames, dark: bool) -> Vec<u8> {
+    let mut out = init.data[0].clone();
+    for d in &init.data[1..] {
+        for (o, &v) in out.iter_mut().zip(d) {
+            *o = if dark { (*o).max(v) } else { (*o).min(v) };
+        }
+    }
+    out
+}
+
+/// Each pixel's median over the frames (the upper median for an even count).
+pub fn median_frame(init: &InitFrames) -> Vec<u8> {
+    let n = init.w * init.h;
+    let k = init.data.len() / 2;
+    let mut out = vec![0u8; n];
+    // Work in runs of pixels so that each frame's bytes are read in order.
+    const RUN: usize = 256;
+    let mut col = vec![0u8; RUN * init.data.len()];
+    for start in (0..n).step_by(RUN) {
+        let len = RUN.min(n - start);
+        for (f, d) in init.data.iter().enumerate() {
+            for (i, &v) in d[start..start + len].iter().enumerate() {
+                col[i * init.data.len() + f] = v;
+            }
+        }
+        for (i, o) in out[start..start + len].iter_mut().enumerate() {
+            let c = &mut col[i * init.data.len()..(i + 1) * init.data.len()];
+            *o = *c.select_nth_unstable(k).1;
+        }
+    }
+    out
+}
+
+/// What the first look compares each frame with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Background {
+    /// Each pixel's maximum (dark wire) or minimum over the look, as the streaming pass
+    /// does: the wire stands out wherever it passes, over the bob too.
+    Extreme,
+    /// Each pixel's median: the trail of everything bright or dark that passed (a
+    /// bob's rim, its glints) is gone, at the price of the wire where the bob dwells.
+    Median,
+}
+
+/// Widest sweep of a pendulum's wire seen in the first look: lines that fan out over
+/// more than this are an outline (a bob's trail), not a wire.
+const MAX_SWEEP_DEG: f64 = 120.0;
+
+/// Find polarity, pivot, band and ROI from the first seconds' frames: against the
+/// running extreme first, which sees the most of the wire; when that finds no wire, or
+/// lines no pendulum makes (a sweep wider than [`MAX_SWEEP_DEG`]), against the median.
 pub fn find(
     init: &InitFrames,
     full_w: u32,
@@ -260,15 +317,50 @@ pub fn find(
     if init.data.len() < 5 {
         bail!("too few frames ({}) to find the wire", init.data.len());
     }
-    let (w, h) = (init.w, init.h);
-    let mut vmax = mat_of(w, h, &init.data[0])?;
-    let mut vmin = vmax.clone();
-    for d in &init.data[1..] {
-        let f = mat_of(w, h, d)?;
-        let (a, b) = (vmax.clone(), vmin.clone());
-        core::max(&a, &f, &mut vmax)?;
-        core::min(&b, &f, &mut vmin)?;
+    let look = |bg| find_against(init, bg, full_w, full_h, polarity, pivot_given, roi_given);
+    let first = look(Background::Extreme);
+    let plausible = |g: &WireGeometry| {
+        pivot_given.is_some() || (g.theta_max - g.theta_min).to_degrees() <= MAX_SWEEP_DEG
+    };
+    match first {
+        Ok(g) if plausible(&g) => Ok(g),
+        first => {
+            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                match &first {
+                    Ok(g) => eprintln!(
+                        "geometry: sweep {:.0} deg against the extreme; now against the median",
+                        (g.theta_max - g.theta_min).to_degrees()
+                    ),
+                    Err(e) => eprintln!("geometry: {e:#}; now against the median"),
+                }
+            }
+            match look(Background::Median) {
+                Ok(g) if plausible(&g) => Ok(g),
+                Ok(g) => bail!(
+                    "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
+                    (g.theta_max - g.theta_min).to_degrees()
+                ),
+                // The first look's reason is the more telling one.
+                Err(e) => first.and(Err(e)),
+            }
+        }
     }
+}
+
+fn find_against(
+    init: &InitFrames,
+    kind: Background,
+    full_w: u32,
+    full_h: u32,
+    polarity: Polarity,
+    pivot_given: Option<Pt>,
+    roi_given: Option<Roi>,
+) -> Result<WireGeometry> {
+    let (w, h) = (init.w, init.h);
+    let median = match kind {
+        Background::Median => Some(mat_of(w, h, &median_frame(init))?),
+        Background::Extreme => None,
+    };
     let tmap = threshold_map(init, 4.0)?;
     let kernel = imgproc::get_structuring_element_def(imgproc::MORPH_ELLIPSE, Size::new(7, 7))?;
     // The wire is long; the bob's edges and a hand's fingers are short.
@@ -278,11 +370,11 @@ pub fn find(
         Polarity::Light => vec![false],
         Polarity::Auto => vec![true, false],
     };
-    let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
-    for &dark in &candidates {
+    // Per frame (every `stride`-th, at most about 60 looked at closely), the longest
+    // straight thin structures darker (`dark`) or brighter than `bg`.
+    let stride = init.data.len().div_ceil(60).max(1);
+    let lines_against = |bg: &Mat, dark: bool| -> Result<Vec<Vec<FrameLine>>> {
         let mut lines = Vec::with_capacity(init.data.len());
-        // At most about 60 frames are looked at closely (every `stride`-th).
-        let stride = init.data.len().div_ceil(60).max(1);
         for (k, d) in init.data.iter().enumerate() {
             if k % stride != 0 {
                 lines.push(Vec::new());
@@ -291,9 +383,9 @@ pub fn find(
             let f = mat_of(w, h, d)?;
             let mut ev = Mat::default();
             if dark {
-                core::subtract_def(&vmax, &f, &mut ev)?;
+                core::subtract_def(bg, &f, &mut ev)?;
             } else {
-                core::subtract_def(&f, &vmin, &mut ev)?;
+                core::subtract_def(&f, bg, &mut ev)?;
             }
             let mut th = Mat::default();
             imgproc::morphology_ex_def(&ev, &mut th, imgproc::MORPH_TOPHAT, &kernel)?;
@@ -304,6 +396,14 @@ pub fn find(
             th.copy_to_masked(&mut masked, &keep)?;
             lines.push(frame_lines(&masked, 0.5, min_len)?);
         }
+        Ok(lines)
+    };
+    let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
+    for &dark in &candidates {
+        let lines = match &median {
+            Some(m) => lines_against(m, dark)?,
+            None => lines_against(&mat_of(w, h, &extreme_frame(init, dark))?, dark)?,
+        };
         // The wire moves: its lines take many directions. A ghost (the background's
         // memory of something of the other polarity lingering at a turning point) keeps
         // one. Score = directions seen (half-degree bins), then the evidence's weight.
@@ -505,6 +605,34 @@ pub fn intersect(lines: &[Line]) -> Result<Pt> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn median_background_ignores_what_passes_briefly() {
+        // 5 frames of 300 pixels (more than one run of 256): a wall at 100 + x % 7,
+        // crossed at each pixel once by something dark and once by something bright.
+        let (w, h, n) = (30usize, 10usize, 5usize);
+        let data: Vec<Vec<u8>> = (0..n)
+            .map(|f| {
+                (0..w * h)
+                    .map(|i| match (i + f) % n {
+                        0 => 10,
+                        1 => 250,
+                        _ => 100 + (i % 7) as u8,
+                    })
+                    .collect()
+            })
+            .collect();
+        let init = InitFrames {
+            w,
+            h,
+            shrink: 1.0,
+            x0: 0.0,
+            y0: 0.0,
+            data,
+        };
+        let m = median_frame(&init);
+        assert!(m.iter().enumerate().all(|(i, &v)| v == 100 + (i % 7) as u8));
+    }
 
     #[test]
     fn intersects_lines_through_an_offscreen_pivot_despite_outliers() {

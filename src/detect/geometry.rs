@@ -17,7 +17,7 @@
 //! directions fan out over more than [`MAX_SWEEP_DEG`]). The look is then repeated
 //! against each pixel's median, which forgets whatever passes briefly.
 
-use super::{fit_line_weighted, Line, Pt};
+use super::{fit_line_weighted, full_to_shrunk, shrunk_to_full, Line, Pt};
 use crate::config::Polarity;
 use crate::video::Roi;
 use anyhow::{bail, Result};
@@ -442,12 +442,13 @@ fn find_against(
             init.data.len()
         );
     }
-    let to_full = |p: Pt| Pt::new(init.x0 + p.x * init.shrink, init.y0 + p.y * init.shrink);
+    let origin = Pt::new(init.x0, init.y0);
+    let to_full = |p: Pt| shrunk_to_full(p, origin, init.shrink);
     // Pivot: the robust intersection of the lines (shrunk coordinates).
     let center = Pt::new(w as f64 / 2.0, h as f64 / 2.0);
     let base_tol = 2.0f64.max(0.005 * (w.max(h) as f64));
     let pivot_s = match pivot_given {
-        Some(p) => Pt::new((p.x - init.x0) / init.shrink, (p.y - init.y0) / init.shrink),
+        Some(p) => full_to_shrunk(p, origin, init.shrink),
         None => match ransac_pivot(&found, center, base_tol) {
             Some(p) => p,
             None => bail!("the moving lines do not meet in a pivot; give `video.pivot`"),

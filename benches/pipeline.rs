@@ -155,7 +155,7 @@ fn video_bench(root: &Path) {
         }
         n as f64
     };
-    let decode = median_of(3, || {
+    let decode = || {
         let st = Command::new("ffmpeg")
             .args(["-v", "error", "-i"])
             .arg(&long)
@@ -163,12 +163,12 @@ fn video_bench(root: &Path) {
             .status()
             .unwrap();
         assert!(st.success());
-    });
-    let cv_read = median_of(3, || {
+    };
+    let cv_read = || {
         let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
         while cap.read_only().unwrap() {}
-    });
-    let cv_gray = median_of(3, || {
+    };
+    let cv_gray = || {
         use rollfric::video::FrameSource;
         let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
         let mut f = rollfric::video::Frame {
@@ -179,7 +179,7 @@ fn video_bench(root: &Path) {
             data: Vec::new(),
         };
         while cap.next_frame(&mut f).unwrap() {}
-    });
+    };
     let csv = dir.join("angles.csv");
     let run_detect = |video: &Path| -> String {
         let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
@@ -196,27 +196,58 @@ fn video_bench(root: &Path) {
         );
         String::from_utf8_lossy(&out.stderr).to_string()
     };
-    let detect = median_of(3, || {
-        run_detect(&long);
-    });
-    let fps = |d: Duration| frames / d.as_secs_f64();
-    println!("video 1280x720 H.264, {frames:.0} frames (60 s at 60 fps), median of 3, frames/s:");
-    println!("  decode only (ffmpeg -f null)      {:>7.0}", fps(decode));
+    // Rounds of the four, back to back: the machine's load drifts, so each round's
+    // ratios compare runs seconds apart, and the figures are medians over the rounds.
+    const ROUNDS: usize = 5;
+    let time = |f: &mut dyn FnMut()| {
+        let t = Instant::now();
+        f();
+        t.elapsed().as_secs_f64()
+    };
+    // rounds[r][k]: seconds of run k (decode, read, read + grey, detector) in round r.
+    let rounds: Vec<[f64; 4]> = (0..ROUNDS)
+        .map(|_| {
+            [
+                time(&mut || decode()),
+                time(&mut || cv_read()),
+                time(&mut || cv_gray()),
+                time(&mut || {
+                    run_detect(&long);
+                }),
+            ]
+        })
+        .collect();
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let fps = |k: usize| frames / median(rounds.iter().map(|r| r[k]).collect());
+    let ratios = |k: usize| -> Vec<f64> { rounds.iter().map(|r| r[0] / r[k]).collect() };
     println!(
-        "  OpenCV read() only                {:>7.0}  ({:.2}x decode)",
-        fps(cv_read),
-        decode.as_secs_f64() / cv_read.as_secs_f64()
+        "video 1280x720 H.264, {frames:.0} frames (60 s at 60 fps), {ROUNDS} rounds of the four \
+         back to back; frames/s (median) and, per round, the ratio to that round's decode-only \
+         run (median, min-max):"
     );
-    println!(
-        "  OpenCV read() + BGR->grey         {:>7.0}  ({:.2}x decode)",
-        fps(cv_gray),
-        decode.as_secs_f64() / cv_gray.as_secs_f64()
-    );
-    println!(
-        "  detector (rollfric detect)        {:>7.0}  ({:.2}x decode)",
-        fps(detect),
-        decode.as_secs_f64() / detect.as_secs_f64()
-    );
+    let spread = |k: usize| {
+        let v = ratios(k);
+        (
+            v.iter().copied().fold(f64::MAX, f64::min),
+            v.iter().copied().fold(f64::MIN, f64::max),
+        )
+    };
+    println!("  decode only (ffmpeg -f null)      {:>7.0}", fps(0));
+    for (k, name) in [
+        (1, "OpenCV read() only          "),
+        (2, "OpenCV read() + BGR->grey   "),
+        (3, "detector (rollfric detect)  "),
+    ] {
+        let (lo, hi) = spread(k);
+        println!(
+            "  {name}      {:>7.0}  ({:.2}x decode, {lo:.2}-{hi:.2})",
+            fps(k),
+            median(ratios(k))
+        );
+    }
     let peak = |msg: &str| -> String {
         msg.split("peak memory ")
             .nth(1)

@@ -1037,29 +1037,41 @@ impl Tracker {
         Ok(Some((d.y.atan2(d.x), quality, moments(&sel))))
     }
 
-    /// The evidence pixels within `half` px of `line`, in the band, with their weights.
+    /// The evidence pixels within `half` px of `line` (a line through the pivot), in
+    /// the band, with their weights. Walks the strip row by row (or column by column
+    /// for a line closer to horizontal), so only the strip's own pixels are visited.
     fn strip_pixels(&self, line: &Line, half: f64) -> Result<Vec<(Pt, f64)>> {
         let (cols, rows) = (self.ev.cols() as usize, self.ev.rows() as usize);
         let ev = self.ev.data_bytes()?;
-        let (a, b) = (
-            self.piv + line.dir * self.r_lo,
-            self.piv + line.dir * self.r_hi,
-        );
-        let lo = |u: f64, v: f64| (u.min(v) - half - 1.0).floor().max(0.0) as usize;
-        let hi =
-            |u: f64, v: f64, n: usize| ((u.max(v) + half + 1.0).ceil().max(0.0) as usize).min(n);
-        let (x0, x1) = (lo(a.x, b.x), hi(a.x, b.x, cols));
-        let (y0, y1) = (lo(a.y, b.y), hi(a.y, b.y, rows));
+        let (piv, d) = (self.piv, line.dir);
+        let (a, b) = (piv + d * self.r_lo, piv + d * self.r_hi);
+        // Along the major axis `u` (y when the line is steep), the strip at `u` spans
+        // `v` within `half / |d_u|` of the line.
+        let steep = d.y.abs() >= d.x.abs();
+        let (pu, pv, du, dv, nu, nv) = if steep {
+            (piv.y, piv.x, d.y, d.x, rows, cols)
+        } else {
+            (piv.x, piv.y, d.x, d.y, cols, rows)
+        };
+        let (au, bu) = if steep { (a.y, b.y) } else { (a.x, b.x) };
+        let span = half / du.abs();
+        let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
+        let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
+        let (r_lo2, r_hi2) = (self.r_lo * self.r_lo, self.r_hi * self.r_hi);
         let mut out = Vec::new();
-        for y in y0..y1 {
-            for x in x0..x1 {
+        for u in u0..u1 {
+            let vc = pv + (u as f64 - pu) * dv / du;
+            let v0 = (vc - span).ceil().max(0.0) as usize;
+            let v1 = ((vc + span).floor() + 1.0).clamp(0.0, nv as f64) as usize;
+            for v in v0..v1 {
+                let (x, y) = if steep { (v, u) } else { (u, v) };
                 let w = ev[y * cols + x];
                 if w == 0 {
                     continue;
                 }
                 let q = Pt::new(x as f64, y as f64);
-                let r = (q - self.piv).norm();
-                if r >= self.r_lo && r <= self.r_hi && line.distance(q) <= half {
+                let r2 = (q - piv).norm_squared();
+                if r2 >= r_lo2 && r2 <= r_hi2 {
                     out.push((q, w as f64));
                 }
             }

@@ -9,7 +9,8 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn rollfric(args: &[&str], dir: &Path) -> String {
+/// Runs rollfric; returns its standard output and its standard error.
+fn rollfric_both(args: &[&str], dir: &Path) -> (String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
         .args(args)
         .current_dir(dir)
@@ -20,7 +21,25 @@ fn rollfric(args: &[&str], dir: &Path) -> String {
         "rollfric {args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    String::from_utf8_lossy(&out.stdout).to_string()
+    (
+        String::from_utf8_lossy(&out.stdout).to_string(),
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    )
+}
+
+fn rollfric(args: &[&str], dir: &Path) -> String {
+    rollfric_both(args, dir).0
+}
+
+/// The `pivot (x, y)` a summary line reports, px.
+fn pivot_in(summary: &str) -> (f64, f64) {
+    let s = summary
+        .rsplit("pivot (")
+        .next()
+        .and_then(|s| s.split(')').next())
+        .unwrap_or_else(|| panic!("no pivot in {summary}"));
+    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse().unwrap()).collect();
+    (v[0], v[1])
 }
 
 fn have_ffmpeg() -> bool {
@@ -83,7 +102,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
             d.join(format!("{style}-angles.csv")),
         );
         let s = |p: &Path| p.to_str().unwrap().to_string();
-        rollfric(
+        let (_, rendered) = rollfric_both(
             &["synth", &s(&exp), "-o", &s(&video), "--truth", &s(&truth)],
             d,
         );
@@ -93,7 +112,14 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
         } else {
             video.with_extension("avi")
         };
-        rollfric(&["detect", &s(&video), "-o", &s(&angles)], d);
+        let (_, detected) = rollfric_both(&["detect", &s(&video), "-o", &s(&angles)], d);
+        // The pivot found in the shrunk frames, mapped back to the full frame, is the
+        // rendered one (pixel centres at integers in both).
+        let (want, got) = (pivot_in(&rendered), pivot_in(&detected));
+        assert!(
+            (got.0 - want.0).abs() <= 0.3 && (got.1 - want.1).abs() <= 0.3,
+            "{style}: pivot {got:?} px, rendered at {want:?}"
+        );
         let t = read(&truth, "spoiled");
         let a = read(&angles, "status");
         assert_eq!(t.len(), a.len(), "{style}: one row per frame");

@@ -82,6 +82,11 @@ fn start_end(amps: &[(f64, f64)], k: usize, t_end: f64) -> (f64, f64) {
 }
 
 fn check(name: &str, d: &Detected, (start, end): (f64, f64), want: (f64, f64)) {
+    eprintln!(
+        "{name}: pivot ({:.1}, {:.1}) px, amplitude {start:.2} -> {end:.2} deg \
+         (README {:.2} -> {:.2}), {} of {} frames missing",
+        d.pivot.0, d.pivot.1, want.0, want.1, d.missing, d.frames
+    );
     assert!(
         (d.missing as f64) <= 0.02 * d.frames as f64,
         "{name}: {} of {} frames missing",

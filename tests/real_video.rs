@@ -27,6 +27,8 @@ struct Detected {
     frames: usize,
     missing: usize,
     pivot: (f64, f64),
+    /// The region of interest `[x, y, w, h]` the summary reports.
+    roi: Vec<u32>,
 }
 
 fn detect(video: &PathBuf, extra: &[&str]) -> Detected {
@@ -55,7 +57,14 @@ fn detect(video: &PathBuf, extra: &[&str]) -> Detected {
             (v[0], v[1])
         })
         .expect("pivot in the summary");
+    let roi = msg
+        .split("ROI [")
+        .nth(1)
+        .and_then(|s| s.split(']').next())
+        .map(|s| s.split(',').map(|x| x.trim().parse().unwrap()).collect())
+        .expect("ROI in the summary");
     Detected {
+        roi,
         series: AngleSeries::parse_csv(&text).unwrap(),
         frames,
         missing,
@@ -157,6 +166,13 @@ fn off_screen_pivot_clip_ignores_the_dark_stripe() {
         (d.pivot.0 - 990.0).abs() < 15.0 && (d.pivot.1 + 640.0).abs() < 40.0,
         "{:?}",
         d.pivot
+    );
+    // 1920 px wide: the detector works on frames shrunk 3 times, so its region's sizes
+    // are multiples of 3 (and of 2, for the decoder's crop).
+    assert!(
+        d.roi[2].is_multiple_of(6) && d.roi[3].is_multiple_of(6),
+        "ROI {:?} not in whole 3x3 blocks",
+        d.roi
     );
     let amps = amplitudes(&d.series);
     // README: about ±12 deg at the start (+10.7/-12.8), ±10 deg at 25 s (+9.3/-11.1).

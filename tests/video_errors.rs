@@ -123,10 +123,5 @@ fn fails_when_no_wire_can_be_found() {
         "busy.mp4",
         "testsrc2=size=320x240:rate=30:duration=3",
     );
-    assert_fails(
-        &detect(&busy, &csv),
-        &csv,
-        "busy.mp4",
-        &["no wire found", "more than a pendulum's wire"],
-    );
+    assert_fails(&detect(&busy, &csv), &csv, "busy.mp4", &["no wire found"]);
 }

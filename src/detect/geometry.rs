@@ -318,33 +318,40 @@ pub fn find(
         bail!("too few frames ({}) to find the wire", init.data.len());
     }
     let look = |bg| find_against(init, bg, full_w, full_h, polarity, pivot_given, roi_given);
-    let first = look(Background::Extreme);
-    let plausible = |g: &WireGeometry| {
-        pivot_given.is_some() || (g.theta_max - g.theta_min).to_degrees() <= MAX_SWEEP_DEG
+    let plausible = |g: &WireGeometry| pivot_given.is_some() || sweep_deg(g) <= MAX_SWEEP_DEG;
+    let first = match look(Background::Extreme) {
+        Ok(g) if plausible(&g) => return Ok(g),
+        first => first,
     };
-    match first {
-        Ok(g) if plausible(&g) => Ok(g),
-        first => {
-            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-                match &first {
-                    Ok(g) => eprintln!(
-                        "geometry: sweep {:.0} deg against the extreme; now against the median",
-                        (g.theta_max - g.theta_min).to_degrees()
-                    ),
-                    Err(e) => eprintln!("geometry: {e:#}; now against the median"),
-                }
-            }
-            match look(Background::Median) {
-                Ok(g) if plausible(&g) => Ok(g),
-                Ok(g) => bail!(
-                    "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
-                    (g.theta_max - g.theta_min).to_degrees()
-                ),
-                // The first look's reason is the more telling one.
-                Err(e) => first.and(Err(e)),
-            }
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        match &first {
+            Ok(g) => eprintln!(
+                "geometry: sweep {:.0} deg against the extreme; now against the median",
+                sweep_deg(g)
+            ),
+            Err(e) => eprintln!("geometry: {e:#}; now against the median"),
         }
     }
+    match (look(Background::Median), first) {
+        (Ok(g), _) if plausible(&g) => Ok(g),
+        (Ok(g), _) => bail!(
+            "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
+            sweep_deg(&g)
+        ),
+        // Neither look found a wire: the first one's reason, if it had one.
+        (Err(_), Err(e)) => Err(e),
+        (Err(_), Ok(g)) => bail!(
+            "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
+            sweep_deg(&g)
+        ),
+    }
+}
+
+/// The range of directions the first look's wire lines cover, deg. Directions are
+/// atan2's, in (-180, 180]: the streaming pass does not follow a wire across -x (its
+/// angles would wrap), and this range refuses one as well as a bob's outline.
+fn sweep_deg(g: &WireGeometry) -> f64 {
+    (g.theta_max - g.theta_min).to_degrees()
 }
 
 fn find_against(
@@ -527,13 +534,30 @@ fn find_against(
     if cx1 <= cx0 + 8 || cy1 <= cy0 + 8 {
         bail!("the wire's region lies outside the frame");
     }
-    // Even sizes keep every decoder's crop exact.
+    // Sizes that are multiples of 2 (every decoder crops those exactly) and of the
+    // shrink factor (so that the streaming pass's grid is exactly `shrink` times
+    // coarser along both axes, as its coordinate mapping assumes).
+    let s = init.shrink as u32;
+    let m = if s.is_multiple_of(2) { s } else { 2 * s };
+    let size = |lo: u32, hi: u32, limit: u32| {
+        let n = (hi - lo) / m * m;
+        if n > 0 {
+            n
+        } else if lo + m <= limit {
+            m
+        } else {
+            0
+        }
+    };
     let roi = Roi {
         x: cx0,
         y: cy0,
-        w: (cx1 - cx0) & !1,
-        h: (cy1 - cy0) & !1,
+        w: size(cx0, cx1, bound.x + bound.w),
+        h: size(cy0, cy1, bound.y + bound.h),
     };
+    if roi.w == 0 || roi.h == 0 {
+        bail!("the wire's region is too small at the frame's edge");
+    }
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(
             "geometry: pivot {pivot:?} band {r_lo_f:.1}..{r_hi_f:.1} theta {:.1}..{:.1} deg roi {roi:?} good lines {}",

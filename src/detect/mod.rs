@@ -16,10 +16,13 @@
 //!    wire's flanks unevenly and tilts the fit.
 //! 3. The gate: a measured angle farther from the prediction than `gate_deg`, a
 //!    frame with too little of the wire, a flash, or a frame identical to the previous
-//!    one (a dropped frame the recorder repeated) is flagged. Flagged frames are filled
-//!    from their good neighbours (status `corrected`), or left `missing` when there are
-//!    none; operator marks replace the detection (`manual`). Each flagged frame gets a
-//!    diagnostic image with the detected and predicted lines (the paper's Figure 11).
+//!    one (a dropped frame the recorder repeated) is flagged. After the pass, a repeat
+//!    that the codec did not keep identical is found from both sides (its angle stays
+//!    at the previous frame's where the neighbours say the wire moved on). Flagged
+//!    frames are filled from their good neighbours (status `corrected`), or left
+//!    `missing` when there are none; operator marks replace the detection (`manual`).
+//!    Each frame the gate flags while streaming, repeats aside, gets a diagnostic
+//!    image with the detected and predicted lines (the paper's Figure 11).
 //!
 //! Memory is flat: one frame, the background and the evidence at a time, whatever the
 //! video's length (the per-frame angles are a few bytes each).
@@ -397,6 +400,13 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         shrink
     } else {
         1
+    };
+    // The first look's region, cut to whole multiples of the shrink factor: each of
+    // its pixels averages exactly `use_shrink` x `use_shrink` full pixels.
+    let bound = Roi {
+        w: bound.w - bound.w % use_shrink,
+        h: bound.h - bound.h % use_shrink,
+        ..bound
     };
     let (mut src, _) = open_source(path, &info, Some(bound), use_shrink, opts)?;
     let mut init = InitFrames {
@@ -1022,6 +1032,9 @@ impl Tracker {
             }
             sel = px;
         }
+        if sel.len() < 5 {
+            return Ok(None);
+        }
         // Point the direction away from the pivot, towards the pixels.
         let c = sel.iter().fold(Pt::zeros(), |a, (q, w)| a + (q - piv) * *w);
         let d = if c.dot(&line.dir) >= 0.0 {
@@ -1194,7 +1207,6 @@ fn apply_marks(rows: &mut [AngleRow], marks: &BTreeMap<u64, [[f64; 2]; 2]>, pivo
     }
 }
 
-/// How far in time a flagged frame may reach for good neighbours, s.
 /// A repeated frame, found once every angle is known: the same picture measures the
 /// same, so its angle equals the previous frame's (to the codec's loss) where its
 /// neighbours on both sides say the wire moved on by several times the measurement
@@ -1234,16 +1246,30 @@ fn flag_repeats(rows: &mut [AngleRow]) {
     if cases.len() < 20 {
         return;
     }
-    // The measurement noise (robust: median absolute residual).
+    // The measurement noise (robust: median absolute residual; never zero, or exact
+    // data would make every step significant).
     let mut res: Vec<f64> = cases.iter().map(|c| c.1.abs()).collect();
     res.sort_by(f64::total_cmp);
-    let sigma = 1.4826 * res[res.len() / 2];
+    let sigma = (1.4826 * res[res.len() / 2]).max(1e-7);
+    // A wild frame (a glint taken for the wire) pulls the cubic of the frames beside
+    // it: only the frame that disagrees most with its neighbours within two frames
+    // may be a repeat.
+    let mut misfit = vec![0.0f64; rows.len()];
+    for &(i, resid, _) in &cases {
+        misfit[i] = resid.abs();
+    }
     for (i, resid, step) in cases {
+        let worst_nearby = misfit[i - 2..=i + 2].iter().all(|&m| m <= resid.abs());
         // The frame disagrees with its neighbours and lies nearer the previous frame's
         // angle than theirs, where they expect a step from the previous frame well
         // above the noise.
         let moved = (resid + step).abs();
-        if step.abs() > 4.0 * sigma && resid.abs() > 3.0 * sigma && moved < resid.abs() {
+        if rows[i].flag.is_none()
+            && worst_nearby
+            && step.abs() > 4.0 * sigma
+            && resid.abs() > 3.0 * sigma
+            && moved < resid.abs()
+        {
             rows[i].flag = Some(Flag::Duplicate);
         }
     }
@@ -1340,14 +1366,12 @@ mod tests {
         assert!((shrunk_to_full(full_to_shrunk(p, origin, 3.0), origin, 3.0) - p).norm() < 1e-12);
     }
 
-    #[test]
-    fn a_repeated_frame_is_flagged_and_a_turning_point_is_not() {
-        // 60 frames/s of a 1 s period swing of 0.2 rad, with 0.0002 rad of noise (a
-        // fixed pseudo-random sequence); frame 100 repeats frame 99's picture (and so
-        // its measurement, up to a little codec noise).
+    /// 60 frames/s of a 1 s period swing of 0.2 rad, with 0.0002 rad of noise (a
+    /// fixed pseudo-random sequence).
+    fn swing_rows() -> Vec<AngleRow> {
         let noise = |i: usize| 2e-4 * (((i * 7919) % 101) as f64 / 50.0 - 1.0);
         let angle = |t: f64| 1.5 + 0.2 * (std::f64::consts::TAU * t).sin();
-        let mut rows: Vec<AngleRow> = (0..240)
+        (0..240)
             .map(|i| {
                 let t = i as f64 / 60.0;
                 AngleRow {
@@ -1360,28 +1384,46 @@ mod tests {
                     moments: None,
                 }
             })
-            .collect();
-        let repeated = rows[99].angle_rad.unwrap() + 5e-5;
-        rows[100].angle_rad = Some(repeated);
+            .collect()
+    }
+
+    fn flagged(rows: &[AngleRow]) -> Vec<(u64, Flag)> {
+        rows.iter()
+            .filter_map(|r| r.flag.map(|f| (r.frame, f)))
+            .collect()
+    }
+
+    #[test]
+    fn a_repeated_frame_is_flagged_and_a_turning_point_is_not() {
+        // Frame 100 repeats frame 99's picture (and so its measurement, up to a little
+        // codec noise). There the wire turns at 0.63 rad/s: frame 100 lags by 0.010
+        // rad, 50 times the noise.
+        let mut rows = swing_rows();
+        rows[100].angle_rad = Some(rows[99].angle_rad.unwrap() + 5e-5);
         flag_repeats(&mut rows);
-        let flagged: Vec<u64> = rows
-            .iter()
-            .filter(|r| r.flag.is_some())
-            .map(|r| r.frame)
-            .collect();
-        // There the wire turns at 0.63 rad/s: frame 100 lags by 0.010 rad, 50 times
-        // the noise.
-        assert_eq!(flagged, vec![100]);
-        assert_eq!(rows[100].flag, Some(Flag::Duplicate));
+        assert_eq!(flagged(&rows), vec![(100, Flag::Duplicate)]);
         // A repeat at a turning point (t = 0.25 s, frame 15) moves nothing that the
         // noise does not: it is left alone, and so is every true turning point.
-        let mut rows2 = rows.clone();
-        for r in &mut rows2 {
-            r.flag = None;
+        let mut rows = swing_rows();
+        rows[15].angle_rad = rows[14].angle_rad;
+        flag_repeats(&mut rows);
+        assert_eq!(flagged(&rows), vec![]);
+    }
+
+    #[test]
+    fn a_wild_frame_does_not_make_its_neighbours_repeats() {
+        // Frames the gate refused, 0.02 rad off, at a turning point and mid-swing:
+        // they pull their neighbours' cubics, but stay what the gate called them.
+        let mut rows = swing_rows();
+        for i in [15, 45, 100] {
+            rows[i].angle_rad = Some(rows[i].angle_rad.unwrap() + 0.02);
+            rows[i].flag = Some(Flag::Gate);
         }
-        rows2[15].angle_rad = rows2[14].angle_rad;
-        flag_repeats(&mut rows2);
-        assert!(rows2.iter().all(|r| r.flag.is_none() || r.frame == 100));
+        flag_repeats(&mut rows);
+        assert_eq!(
+            flagged(&rows),
+            vec![(15, Flag::Gate), (45, Flag::Gate), (100, Flag::Gate)]
+        );
     }
 
     #[test]

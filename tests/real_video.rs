@@ -3,6 +3,8 @@
 //! hand estimates (about ±1–2°); the detector must agree within 1.5° with at most 2 %
 //! of frames missing, without being captured by the clips' distractors.
 
+mod common;
+
 use rollfric::series::AngleSeries;
 use std::path::PathBuf;
 use std::process::Command;
@@ -47,22 +49,8 @@ fn detect(video: &PathBuf, extra: &[&str]) -> Detected {
     let text = std::fs::read_to_string(&csv).unwrap();
     let frames = text.lines().count() - 1;
     let missing = text.lines().filter(|l| l.contains(",missing,")).count();
-    // "... pivot (x, y) px ..." from the summary line.
-    let piv = msg
-        .split("pivot (")
-        .nth(1)
-        .and_then(|s| s.split(')').next())
-        .map(|s| {
-            let v: Vec<f64> = s.split(',').map(|x| x.trim().parse().unwrap()).collect();
-            (v[0], v[1])
-        })
-        .expect("pivot in the summary");
-    let roi = msg
-        .split("ROI [")
-        .nth(1)
-        .and_then(|s| s.split(']').next())
-        .map(|s| s.split(',').map(|x| x.trim().parse().unwrap()).collect())
-        .expect("ROI in the summary");
+    let piv = common::pivot_in(&msg);
+    let roi = common::numbers_after(&msg, "ROI [", ']');
     Detected {
         roi,
         series: AngleSeries::parse_csv(&text).unwrap(),

@@ -2,6 +2,9 @@
 //! drift and flicker, compression, spoiled frames) measured back by the detector, and
 //! the rolling-friction coefficient of every experiment measured back from its video.
 
+mod common;
+
+use common::{have_ffmpeg, pivot_in};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -29,21 +32,6 @@ fn rollfric_both(args: &[&str], dir: &Path) -> (String, String) {
 
 fn rollfric(args: &[&str], dir: &Path) -> String {
     rollfric_both(args, dir).0
-}
-
-/// The `pivot (x, y)` a summary line reports, px.
-fn pivot_in(summary: &str) -> (f64, f64) {
-    let s = summary
-        .rsplit("pivot (")
-        .next()
-        .and_then(|s| s.split(')').next())
-        .unwrap_or_else(|| panic!("no pivot in {summary}"));
-    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse().unwrap()).collect();
-    (v[0], v[1])
-}
-
-fn have_ffmpeg() -> bool {
-    Command::new("ffmpeg").arg("-version").output().is_ok()
 }
 
 struct Row {

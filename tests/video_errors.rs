@@ -2,12 +2,11 @@
 //! the last good frame where there was one), and no CSV is written: partial angles are
 //! never passed off as complete.
 
+mod common;
+
+use common::have_ffmpeg;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn have_ffmpeg() -> bool {
-    Command::new("ffmpeg").arg("-version").output().is_ok()
-}
 
 fn detect(video: &Path, csv: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rollfric"))

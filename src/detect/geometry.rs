@@ -227,13 +227,12 @@ fn ransac_pivot(lines: &[Seen], center: Pt, base_tol: f64) -> Option<Pt> {
     intersect(&inl).ok()
 }
 
-/// Per-pixel detection threshold from the first seconds: each pixel's noise is the
-/// median of its frame-to-frame changes (a passing wire is rare at any one pixel, so it
-/// does not move the median), found by the streaming ±1 median. Flickering edges and
-/// compression noise get a higher threshold than a flat wall.
-pub fn threshold_map(init: &InitFrames, sigmas: f64) -> Result<Mat> {
-    let n = init.w * init.h;
-    let mut med = vec![0u8; n];
+/// Each pixel's noise in the first seconds: the median of its frame-to-frame changes
+/// (a passing wire is rare at any one pixel, so it does not move the median), found by
+/// the streaming ±1 median. Flickering edges and compression noise come out higher
+/// than a flat wall.
+pub fn noise_map(init: &InitFrames) -> Vec<u8> {
+    let mut med = vec![0u8; init.w * init.h];
     // A running median: one grey level towards each new value (branch-free, so that
     // it vectorises).
     for pair in init.data.windows(2) {
@@ -242,9 +241,14 @@ pub fn threshold_map(init: &InitFrames, sigmas: f64) -> Result<Mat> {
             *m = *m + u8::from(d > *m) - u8::from(d < *m);
         }
     }
+    med
+}
+
+/// Per-pixel detection threshold, `sigmas` above each pixel's noise ([`noise_map`]).
+pub fn threshold_map(init: &InitFrames, noise: &[u8], sigmas: f64) -> Result<Mat> {
     // median |I_t - I_t-1| = 0.95 sigma for Gaussian noise; the running-extreme
     // background adds about two sigma of its own.
-    let t: Vec<u8> = med
+    let t: Vec<u8> = noise
         .iter()
         .map(|&m| {
             let sigma = (m as f64 / 0.95).max(1.0);
@@ -254,15 +258,16 @@ pub fn threshold_map(init: &InitFrames, sigmas: f64) -> Result<Mat> {
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
 }
 
-/// Each pixel's maximum (`dark`) or minimum over the frames.
-fn extreme_frame(init: &InitFrames, dark: bool) -> Vec<u8> {
+/// Each pixel's maximum (`dark`) or minimum over the frames: the background of a dark
+/// or light wire, as the streaming pass starts it.
+pub fn extreme_frame(init: &InitFrames, dark: bool) -> Result<Mat> {
     let mut out = init.data[0].clone();
     for d in &init.data[1..] {
         for (o, &v) in out.iter_mut().zip(d) {
             *o = if dark { (*o).max(v) } else { (*o).min(v) };
         }
     }
-    out
+    mat_of(init.w, init.h, &out)
 }
 
 /// Each pixel's median over the frames (the upper median for an even count).
@@ -308,6 +313,7 @@ const MAX_SWEEP_DEG: f64 = 120.0;
 /// lines no pendulum makes (a sweep wider than [`MAX_SWEEP_DEG`]), against the median.
 pub fn find(
     init: &InitFrames,
+    noise: &[u8],
     full_w: u32,
     full_h: u32,
     polarity: Polarity,
@@ -317,9 +323,17 @@ pub fn find(
     if init.data.len() < 5 {
         bail!("too few frames ({}) to find the wire", init.data.len());
     }
-    let look = |bg| find_against(init, bg, full_w, full_h, polarity, pivot_given, roi_given);
+    let look = Look {
+        init,
+        tmap: threshold_map(init, noise, 4.0)?,
+        full_w,
+        full_h,
+        polarity,
+        pivot_given,
+        roi_given,
+    };
     let plausible = |g: &WireGeometry| pivot_given.is_some() || sweep_deg(g) <= MAX_SWEEP_DEG;
-    let first = match look(Background::Extreme) {
+    let first = match find_against(&look, Background::Extreme) {
         Ok(g) if plausible(&g) => return Ok(g),
         first => first,
     };
@@ -332,15 +346,11 @@ pub fn find(
             Err(e) => eprintln!("geometry: {e:#}; now against the median"),
         }
     }
-    match (look(Background::Median), first) {
+    match (find_against(&look, Background::Median), first) {
         (Ok(g), _) if plausible(&g) => Ok(g),
-        (Ok(g), _) => bail!(
-            "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
-            sweep_deg(&g)
-        ),
-        // Neither look found a wire: the first one's reason, if it had one.
+        // Neither look found a wire: the first one's reason.
         (Err(_), Err(e)) => Err(e),
-        (Err(_), Ok(g)) => bail!(
+        (Ok(g), _) | (Err(_), Ok(g)) => bail!(
             "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
             sweep_deg(&g)
         ),
@@ -354,21 +364,34 @@ fn sweep_deg(g: &WireGeometry) -> f64 {
     (g.theta_max - g.theta_min).to_degrees()
 }
 
-fn find_against(
-    init: &InitFrames,
-    kind: Background,
+/// One first look's inputs, tried against either background.
+struct Look<'a> {
+    init: &'a InitFrames,
+    /// Per-pixel detection threshold.
+    tmap: Mat,
     full_w: u32,
     full_h: u32,
     polarity: Polarity,
     pivot_given: Option<Pt>,
     roi_given: Option<Roi>,
-) -> Result<WireGeometry> {
+}
+
+/// One first look against `kind` of background.
+fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
+    let Look {
+        init,
+        ref tmap,
+        full_w,
+        full_h,
+        polarity,
+        pivot_given,
+        roi_given,
+    } = *look;
     let (w, h) = (init.w, init.h);
     let median = match kind {
         Background::Median => Some(mat_of(w, h, &median_frame(init))?),
         Background::Extreme => None,
     };
-    let tmap = threshold_map(init, 4.0)?;
     let kernel = imgproc::get_structuring_element_def(imgproc::MORPH_ELLIPSE, Size::new(7, 7))?;
     // The wire is long; the bob's edges and a hand's fingers are short.
     let min_len = 0.2 * (w.min(h) as f64);
@@ -398,7 +421,7 @@ fn find_against(
             imgproc::morphology_ex_def(&ev, &mut th, imgproc::MORPH_TOPHAT, &kernel)?;
             // Keep what exceeds each pixel's own noise threshold.
             let mut keep = Mat::default();
-            core::compare(&th, &tmap, &mut keep, core::CMP_GT)?;
+            core::compare(&th, tmap, &mut keep, core::CMP_GT)?;
             let mut masked = Mat::default();
             th.copy_to_masked(&mut masked, &keep)?;
             lines.push(frame_lines(&masked, 0.5, min_len)?);
@@ -409,7 +432,7 @@ fn find_against(
     for &dark in &candidates {
         let lines = match &median {
             Some(m) => lines_against(m, dark)?,
-            None => lines_against(&mat_of(w, h, &extreme_frame(init, dark))?, dark)?,
+            None => lines_against(&extreme_frame(init, dark)?, dark)?,
         };
         // The wire moves: its lines take many directions. A ghost (the background's
         // memory of something of the other polarity lingering at a turning point) keeps

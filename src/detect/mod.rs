@@ -454,8 +454,10 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     if init.data.is_empty() {
         bail!("{}: no frame could be decoded", path.display());
     }
+    let noise = geometry::noise_map(&init);
     let geo = geometry::find(
         &init,
+        &noise,
         info.width,
         info.height,
         opts.polarity,
@@ -470,8 +472,8 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
             started.elapsed().as_secs_f64()
         );
     }
-    let init_bg = background_from(&init, geo.dark)?;
-    let init_tmap = geometry::threshold_map(&init, 0.5 * opts.threshold_sigma)?;
+    let init_bg = geometry::extreme_frame(&init, geo.dark)?;
+    let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma)?;
     drop(init);
 
     // 2. The streaming pass over the region of interest.
@@ -554,23 +556,6 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         decoder: decoder.to_string(),
         diagnostics: tracker.diagnostics,
     })
-}
-
-/// The initial background (max for a dark wire, min for a light one) of the first
-/// seconds, at the shrunk scale.
-fn background_from(init: &InitFrames, dark: bool) -> Result<Mat> {
-    let mut bg =
-        Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &init.data[0])?.try_clone()?;
-    for d in &init.data[1..] {
-        let f = Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, d)?;
-        let prev = bg.clone();
-        if dark {
-            core::max(&prev, &f, &mut bg)?;
-        } else {
-            core::min(&prev, &f, &mut bg)?;
-        }
-    }
-    Ok(bg)
 }
 
 /// Per-frame state of the streaming pass.

@@ -9,7 +9,7 @@
 //! everything is SI with angles in radians.
 
 use crate::fsutil;
-use crate::physics::{self, FrictionLaw, Pendulum};
+use crate::physics::{self, BetaChoice, FrictionLaw, Pendulum};
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -356,7 +356,7 @@ pub struct Experiment {
     pub material: String,
     pub file: ExperimentFile,
     pub pendulum: Pendulum,
-    pub beta: crate::fit::BetaChoice,
+    pub beta: BetaChoice,
 }
 
 /// The parser's message on one line: its first line, plus the offending source line.
@@ -375,8 +375,7 @@ fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
 }
 
 /// Parse a `beta` value; `key` names it in errors.
-pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<crate::fit::BetaChoice> {
-    use crate::fit::BetaChoice;
+pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<BetaChoice> {
     let v = match b {
         BetaSpec::Number(v) => *v,
         BetaSpec::Text(t) if t.trim() == "free" => return Ok(BetaChoice::Free),
@@ -404,8 +403,23 @@ pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<crate::fit::BetaChoice> {
 impl Experiment {
     /// Read, parse and validate an experiment file. Every error names the file.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = fsutil::read_to_string(path)?;
-        Self::parse(path, &text).with_context(|| format!("{}", path.display()))
+        Ok(Self::load_with_bytes(path)?.0)
+    }
+
+    /// [`Experiment::load`], also returning the file's bytes (for cache keys and
+    /// provenance). A file that is not UTF-8 text is refused, naming the byte.
+    pub fn load_with_bytes(path: &Path) -> Result<(Self, Vec<u8>)> {
+        let bytes =
+            std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let text = std::str::from_utf8(&bytes).map_err(|e| {
+            anyhow::anyhow!(
+                "{}: not UTF-8 text (invalid byte at offset {})",
+                path.display(),
+                e.valid_up_to()
+            )
+        })?;
+        let exp = Self::parse(path, text).with_context(|| format!("{}", path.display()))?;
+        Ok((exp, bytes))
     }
 
     /// Parse and validate experiment YAML; errors name the key, its value and what was
@@ -455,7 +469,7 @@ impl Experiment {
         positive("tolerances.truth_rel", file.tolerances.truth_rel, "")?;
         if let Some(s) = &file.synthetic {
             non_negative("synthetic.s_r_m", s.s_r_m, "m")?;
-            if parse_beta(&s.beta, "synthetic.beta")? == crate::fit::BetaChoice::Free {
+            if parse_beta(&s.beta, "synthetic.beta")? == BetaChoice::Free {
                 bail!("`synthetic.beta` = free: the simulated truth needs a number");
             }
             in_range("synthetic.psi0_deg", s.psi0_deg, 0.0, 60.0, "deg")?;
@@ -492,7 +506,7 @@ impl Experiment {
     pub fn synthetic_law(&self) -> Option<FrictionLaw> {
         let s = self.file.synthetic.as_ref()?;
         match parse_beta(&s.beta, "synthetic.beta") {
-            Ok(crate::fit::BetaChoice::Fixed(b)) => Some(FrictionLaw::new(s.s_r_m, b)),
+            Ok(BetaChoice::Fixed(b)) => Some(FrictionLaw::new(s.s_r_m, b)),
             _ => None,
         }
     }
@@ -607,7 +621,7 @@ synthetic: { s_r_m: 3.2e-6 }
         let e = Experiment::parse(Path::new("x/glass.yaml"), GOOD).unwrap();
         assert_eq!(e.name, "glass");
         assert!((e.pendulum.alpha.to_degrees() - 5.432).abs() < 1e-3);
-        assert_eq!(e.beta, crate::fit::BetaChoice::Fixed(1.0));
+        assert_eq!(e.beta, BetaChoice::Fixed(1.0));
         let s = e.file.synthetic.as_ref().unwrap();
         assert_eq!((s.fps, s.psi0_deg, s.seed), (60.0, 10.0, 1));
         assert_eq!(e.file.geometry.g_m_s2, 9.81);
@@ -655,7 +669,6 @@ synthetic: { s_r_m: 3.2e-6 }
 
     #[test]
     fn beta_accepts_numbers_fractions_and_free() {
-        use crate::fit::BetaChoice;
         let b = |s: &str| parse_beta(&BetaSpec::Text(s.into()), "b").unwrap();
         assert_eq!(b("4/3"), BetaChoice::Fixed(4.0 / 3.0));
         assert_eq!(b("1.5"), BetaChoice::Fixed(1.5));

@@ -15,20 +15,13 @@
 //! 34, Fig. 18).
 
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
+pub use crate::physics::BetaChoice;
 use crate::physics::{FrictionLaw, Pendulum};
 use crate::series::AngleSeries;
 use crate::signal::{self, envelope_line, Equilibrium, Extreme, LineFit};
 use crate::stats::student_t_quantile;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
-
-/// Which exponent `beta` of `M_r = s_r N^beta` (Eq. 28) to use.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub enum BetaChoice {
-    Fixed(f64),
-    /// Fit `beta` as well (by profiling it over `[0.5, 2.0]`).
-    Free,
-}
 
 /// The measured side: turning points, equilibrium and envelope of one angle series.
 #[derive(Clone, Debug, Serialize)]

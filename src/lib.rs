@@ -1,23 +1,30 @@
 //! rollfric: rolling-friction coefficients from videos of a conical pendulum.
 //!
-//! The stages, one module each: [`config`] (experiment files) → [`physics`] (the
-//! paper's model) → [`signal`] (turning points, equilibrium) → [`fit`] (`s_r` and its
-//! uncertainty). [`simulate`] produces what a camera would record from the model,
-//! [`synth`] renders it as video, [`detect`] measures the wire in a video, [`build`] runs
-//! the stages for a manifest with a content-hash cache and [`report`] writes the pages.
+//! The stages, one module each, dependencies pointing down this list's data flow:
+//! [`config`] (experiment files) and [`physics`] (the paper's model); [`video`]
+//! (decoding) and [`detect`] (the wire angle in every frame), [`series`] (angle CSVs),
+//! [`signal`] (turning points, equilibrium) and [`fit`] (`s_r` and its uncertainty),
+//! with [`verdict`] for the checks; [`simulate`] and [`synth`] for the digital twin;
+//! [`pipeline`] takes one experiment through them; [`report`] renders pages as bytes;
+//! [`build`] runs the pipeline for a manifest with a content-hash cache ([`hash`],
+//! [`sources`]) and writes the reports; [`cli`] is the command line.
 
 pub mod build;
-pub mod commands;
+pub mod cli;
 pub mod config;
 pub mod detect;
 pub mod fit;
 pub mod fsutil;
+pub mod hash;
 pub mod physics;
+pub mod pipeline;
 pub mod report;
 pub mod rng;
 pub mod series;
 pub mod signal;
 pub mod simulate;
+pub mod sources;
 pub mod stats;
 pub mod synth;
+pub mod verdict;
 pub mod video;

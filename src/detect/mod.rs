@@ -27,7 +27,11 @@
 //! Memory is flat: one frame, the background and the evidence at a time, whatever the
 //! video's length (the per-frame angles are a few bytes each).
 
+mod figure11;
 pub mod geometry;
+pub mod summary;
+
+pub use figure11::{figure11_frame, figure11_png};
 
 use crate::config::{Polarity, Video};
 use crate::series::AngleSeries;
@@ -119,26 +123,7 @@ pub fn moments(pts: &[(Pt, f64)]) -> [f64; 6] {
     m
 }
 
-/// Per-frame status, as the CSV writes it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Status {
-    Ok,
-    Corrected,
-    Manual,
-    Missing,
-}
-
-impl Status {
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            Status::Ok => "ok",
-            Status::Corrected => "corrected",
-            Status::Manual => "manual",
-            Status::Missing => "missing",
-        }
-    }
-}
+pub use crate::series::Status;
 
 /// Why a frame was flagged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -166,6 +151,19 @@ impl Flag {
             Flag::Duplicate => "duplicate",
             Flag::Disturbed => "disturbed",
         }
+    }
+
+    /// The flag named `s` (as [`Flag::as_str`] writes it).
+    pub fn parse(s: &str) -> Option<Self> {
+        [
+            Flag::Gate,
+            Flag::Weak,
+            Flag::Flash,
+            Flag::Duplicate,
+            Flag::Disturbed,
+        ]
+        .into_iter()
+        .find(|f| f.as_str() == s)
     }
 }
 

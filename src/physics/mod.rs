@@ -20,6 +20,15 @@ pub mod ode;
 pub mod torsion;
 
 use anyhow::{ensure, Result};
+use serde::Serialize;
+
+/// Which exponent `beta` of `M_r = s_r N^beta` (Eq. 28) to use.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum BetaChoice {
+    Fixed(f64),
+    /// Fit `beta` as well (by profiling it over `[0.5, 2.0]`).
+    Free,
+}
 
 /// Standard gravity, m/s^2 (the default `g`; an experiment may set its local value).
 pub const STANDARD_GRAVITY: f64 = 9.80665;

@@ -6,15 +6,8 @@ use super::plot::{render_svg, Chart, Rgb, Series};
 use crate::fit::Measurement;
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
 use crate::physics::{FrictionLaw, Pendulum};
+use crate::series::{AngleRow, Status};
 use anyhow::Result;
-
-/// One row of an angle CSV as the report reads it.
-#[derive(Clone, Debug)]
-pub struct Row {
-    pub t_s: f64,
-    pub angle_rad: Option<f64>,
-    pub status: String,
-}
 
 /// A named figure, ready to write.
 pub struct Figure {
@@ -76,7 +69,7 @@ fn envelope_lines(psi_eq: f64, a0: f64, a: f64, t0: f64, t1: f64) -> [Vec<(f64, 
 /// Inputs of an experiment's figures.
 pub struct Inputs<'a> {
     pub name: &'a str,
-    pub rows: &'a [Row],
+    pub rows: &'a [AngleRow],
     pub m: &'a Measurement,
     pub p: &'a Pendulum,
     pub law: FrictionLaw,
@@ -106,13 +99,13 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
     let flagged: Vec<(f64, f64)> = x
         .rows
         .iter()
-        .filter(|r| r.status != "ok" && r.status != "manual")
+        .filter(|r| !matches!(r.status, Status::Ok | Status::Manual))
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, deg(a))))
         .collect();
     let manual: Vec<(f64, f64)> = x
         .rows
         .iter()
-        .filter(|r| r.status == "manual")
+        .filter(|r| r.status == Status::Manual)
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, deg(a))))
         .collect();
     let mut c = Chart::new(

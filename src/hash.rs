@@ -1,11 +1,9 @@
-//! Content-hash keys for the build's stages.
+//! Content hashes: the stages' cache keys and the reports' provenance.
 //!
-//! A stage's key is the SHA-256 of everything its output depends on: the bytes of its
-//! input files, its parameters (as canonical JSON) and the tool's version. The key is
-//! written next to the output, after the output itself, so a build killed between the
-//! two leaves a stale key and the stage simply runs again.
+//! A key is the SHA-256 of everything an output depends on: the bytes of its input
+//! files, its parameters (as canonical JSON), the tool's version and the source of the
+//! code that produces it ([`crate::sources`]).
 
-use crate::fsutil;
 use anyhow::{Context, Result};
 use sha2::{Digest, Sha256};
 use std::io::Read;
@@ -86,9 +84,10 @@ pub fn fresh(key_file: &Path, key: &str, outputs: &[&Path]) -> bool {
         && outputs.iter().all(|p| p.exists())
 }
 
-/// Record that the stage's outputs now match `key` (after the outputs are written).
+/// Record that a stage's outputs now match `key` (written after the outputs, so a
+/// process killed between the two leaves a stale key and the stage runs again).
 pub fn record(key_file: &Path, key: &str) -> Result<()> {
-    fsutil::write_atomic(key_file, format!("{key}\n").as_bytes())
+    crate::fsutil::write_atomic(key_file, format!("{key}\n").as_bytes())
 }
 
 #[cfg(test)]
@@ -118,7 +117,7 @@ mod tests {
         let out = d.path().join("out.txt");
         let key = d.path().join("out.key");
         assert!(!fresh(&key, "k1", &[&out]));
-        fsutil::write_atomic(&out, b"x").unwrap();
+        crate::fsutil::write_atomic(&out, b"x").unwrap();
         assert!(!fresh(&key, "k1", &[&out]), "no key recorded yet");
         record(&key, "k1").unwrap();
         assert!(fresh(&key, "k1", &[&out]));

@@ -1,0 +1,239 @@
+//! One experiment through the cached stages. Each stage computes its key, returns its
+//! cached outputs when the key is fresh, and otherwise calls the pipeline and records
+//! what it produced.
+
+use super::progress::Progress;
+use super::writer::{relative, Writer};
+use crate::config::Experiment;
+use crate::detect::summary::DetectionSummary;
+use crate::detect::{self, FrameProgress};
+use crate::fsutil;
+use crate::hash::{self, Key};
+use crate::pipeline::{self, Angles, ExperimentResult, Inputs, Source};
+use crate::report;
+use crate::series::AngleTable;
+use crate::sources;
+use anyhow::{Context, Result};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// What every stage of one experiment needs.
+pub(super) struct Ctx<'a> {
+    /// The manifest's folder (report paths are relative to it).
+    pub root: &'a Path,
+    pub cache: &'a Path,
+    pub progress: &'a Arc<Progress>,
+    pub label: String,
+    pub writer: &'a Writer,
+}
+
+/// The video an experiment's angles are measured in.
+struct Video {
+    path: PathBuf,
+    /// SHA-256 of a lab video; the render key of the twin.
+    id: String,
+    /// How the reports name it.
+    label: String,
+}
+
+/// Where a stage left the experiment's angles.
+struct CachedAngles {
+    source: Source,
+    csv: PathBuf,
+    /// Identifies the angles for the analysis key (the CSV's hash or the detect key).
+    id: String,
+    detection: Option<DetectionSummary>,
+    fig11: Option<PathBuf>,
+}
+
+/// The stages that ran (for the log line).
+#[derive(Default)]
+struct Ran(Vec<&'static str>);
+
+impl Ran {
+    fn how(&self) -> String {
+        if self.0.is_empty() {
+            "cached".to_string()
+        } else {
+            format!("{} ran", self.0.join(", "))
+        }
+    }
+}
+
+/// One experiment through every stage. Returns its result and how it was obtained.
+pub(super) fn run_experiment(file: &Path, ctx: &Ctx) -> Result<(ExperimentResult, String)> {
+    let mut ran = Ran::default();
+    let (exp, yaml) = Experiment::load_with_bytes(file)?;
+    let angles = match pipeline::Source::of(&exp, None)? {
+        Source::Csv(csv) => csv_stage(&exp, csv)?,
+        source => {
+            let video = video_stage(&exp, &source, ctx, &mut ran)?;
+            detect_stage(&exp, source, video, ctx, &mut ran)?
+        }
+    };
+    let result = analysis_stage(&exp, file, &yaml, angles, ctx, &mut ran)?;
+    Ok((result, ran.how()))
+}
+
+/// A measured angle CSV: nothing to compute, its hash identifies it.
+fn csv_stage(exp: &Experiment, csv: PathBuf) -> Result<CachedAngles> {
+    let id = hash::sha256_file(&csv).with_context(|| {
+        format!(
+            "{}: `angles` = {}",
+            exp.path.display(),
+            exp.file.angles.as_deref().unwrap_or_default()
+        )
+    })?;
+    Ok(CachedAngles {
+        source: Source::Csv(csv.clone()),
+        csv,
+        id,
+        detection: None,
+        fig11: None,
+    })
+}
+
+/// The video to detect: the lab's recording (hashed), or the twin (rendered when stale).
+fn video_stage(exp: &Experiment, source: &Source, ctx: &Ctx, ran: &mut Ran) -> Result<Video> {
+    if let Source::LabVideo(path) = source {
+        ctx.progress.stage(&ctx.label, "video", "hashing");
+        return Ok(Video {
+            id: hash::sha256_file(path)?,
+            label: relative(ctx.root, path),
+            path: path.clone(),
+        });
+    }
+    let (label, progress) = (ctx.label.clone(), ctx.progress.clone());
+    let (path, id, rendered) = pipeline::twin(exp, ctx.cache, &mut |done, total| {
+        if done == 0 {
+            progress.stage(&label, "synth", "rendering the digital twin's video");
+        }
+        progress.frames(&label, done, Some(total));
+    })?;
+    if rendered {
+        ran.0.push("synth");
+    }
+    Ok(Video {
+        path,
+        id,
+        label: format!("{}/twin.avi (rendered by the build)", exp.name),
+    })
+}
+
+/// Detect the angles of the video (cached): `angles.csv`, `detect.json`, `fig11.png`.
+fn detect_stage(
+    exp: &Experiment,
+    source: Source,
+    video: Video,
+    ctx: &Ctx,
+    ran: &mut Ran,
+) -> Result<CachedAngles> {
+    let key = Key::new("detect")
+        .part("source", sources::hash("detect").as_bytes())
+        .part("video", video.id.as_bytes())
+        .json("settings", &pipeline::detect_settings(exp))
+        .hex();
+    let dir = ctx.cache.join(&exp.name);
+    let csv = dir.join("angles.csv");
+    let summary_file = dir.join("detect.json");
+    let fig11 = dir.join("fig11.png");
+    let key_file = dir.join("detect.key");
+    let cached = |detection| CachedAngles {
+        source: source.clone(),
+        csv: csv.clone(),
+        id: key.clone(),
+        detection: Some(detection),
+        fig11: Some(fig11.clone()),
+    };
+    if hash::fresh(&key_file, &key, &[&csv, &summary_file, &fig11]) {
+        if let Some(s) = std::fs::read(&summary_file)
+            .ok()
+            .and_then(|b| serde_json::from_slice::<DetectionSummary>(&b).ok())
+        {
+            return Ok(cached(s));
+        }
+    }
+    ctx.progress.stage(
+        &ctx.label,
+        "detect",
+        "measuring the wire angle in every frame",
+    );
+    let mut opts = pipeline::detect_options(exp);
+    let (label, progress) = (ctx.label.clone(), ctx.progress.clone());
+    opts.progress = Some(FrameProgress(Arc::new(move |d, t| {
+        progress.frames(&label, d, t)
+    })));
+    let (angles, d) = pipeline::detect(
+        &video.path,
+        &opts,
+        video.label,
+        video.id.clone(),
+        source.clone(),
+    )?;
+    let summary = angles.detection.expect("a detection");
+    let png = detect::figure11_png(&video.path, &d, summary.figure11_frame)?;
+    fsutil::write_atomic(&fig11, &png)?;
+    fsutil::write_atomic(&csv, d.to_csv().as_bytes())?;
+    fsutil::write_atomic(&summary_file, &serde_json::to_vec_pretty(&summary)?)?;
+    hash::record(&key_file, &key)?;
+    ran.0.push("detect");
+    Ok(cached(summary))
+}
+
+/// Fit, check, draw and write the experiment's pages (cached with `result.json`).
+fn analysis_stage(
+    exp: &Experiment,
+    file: &Path,
+    yaml: &[u8],
+    cached: CachedAngles,
+    ctx: &Ctx,
+    ran: &mut Ran,
+) -> Result<ExperimentResult> {
+    let key = Key::new("analysis")
+        .part("source", sources::hash("pipeline").as_bytes())
+        .part("source", sources::hash("report").as_bytes())
+        .part("yaml", yaml)
+        .part("angles", cached.id.as_bytes())
+        .hex();
+    let dir = ctx.cache.join(&exp.name);
+    let result_file = dir.join("result.json");
+    let key_file = dir.join("analysis.key");
+    if hash::fresh(&key_file, &key, &[&result_file]) {
+        let r: Option<ExperimentResult> = std::fs::read(&result_file)
+            .ok()
+            .and_then(|b| serde_json::from_slice(&b).ok());
+        if let Some(r) = r.filter(|r| ctx.writer.intact(r)) {
+            return Ok(r);
+        }
+    }
+    ctx.progress
+        .stage(&ctx.label, "analysis", "fit, torsion, figures, pages");
+    let angles = Angles {
+        source: cached.source,
+        table: AngleTable::read_csv(&cached.csv)?,
+        detection: cached.detection,
+    };
+    let analysis = pipeline::analyze(exp, &angles, pipeline::Overrides::default())?;
+    let inputs = Inputs {
+        experiment_file: relative(ctx.root, file),
+        experiment_sha256: hash::sha256(yaml),
+        angles_sha256: hash::sha256_file(&cached.csv)?,
+    };
+    let mut result = ExperimentResult::new(exp, &angles, &analysis, inputs);
+    let fig11 = match &cached.fig11 {
+        Some(p) => Some(std::fs::read(p).with_context(|| format!("{}: cannot read", p.display()))?),
+        None => None,
+    };
+    let files = report::experiment_pages(
+        exp,
+        &analysis,
+        &result,
+        &angles.table.rows,
+        fig11.as_deref(),
+    )?;
+    result.pages = ctx.writer.write(&files)?;
+    fsutil::write_atomic(&result_file, &serde_json::to_vec_pretty(&result)?)?;
+    hash::record(&key_file, &key)?;
+    ran.0.push("analysis");
+    Ok(result)
+}

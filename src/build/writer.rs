@@ -1,0 +1,136 @@
+//! The one writer of the reports folder: every report file goes through here, written
+//! atomically and only when its bytes changed (an unchanged file keeps its time).
+
+use crate::fsutil;
+use crate::hash;
+use crate::pipeline::{ExperimentResult, PageFile};
+use crate::report::OutputFile;
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Writes report files under one folder and counts those it rewrote.
+pub struct Writer {
+    out: PathBuf,
+    written: AtomicUsize,
+}
+
+impl Writer {
+    pub fn new(out: &Path) -> Self {
+        Self {
+            out: out.to_path_buf(),
+            written: AtomicUsize::new(0),
+        }
+    }
+
+    /// Write `files`; returns each one's path and hash, for the cache's record.
+    pub fn write(&self, files: &[OutputFile]) -> Result<Vec<PageFile>> {
+        let mut pages = Vec::with_capacity(files.len());
+        for f in files {
+            if fsutil::write_if_changed(&self.out.join(&f.path), &f.bytes)? {
+                self.written.fetch_add(1, Ordering::Relaxed);
+            }
+            pages.push(PageFile {
+                path: f.path.clone(),
+                sha256: hash::sha256(&f.bytes),
+            });
+        }
+        Ok(pages)
+    }
+
+    /// Whether every page file of a cached result is there with its recorded bytes.
+    pub fn intact(&self, r: &ExperimentResult) -> bool {
+        !r.pages.is_empty()
+            && r.pages.iter().all(|f| {
+                std::fs::read(self.out.join(&f.path)).is_ok_and(|b| hash::sha256(&b) == f.sha256)
+            })
+    }
+
+    /// Report files rewritten so far.
+    pub fn written(&self) -> usize {
+        self.written.load(Ordering::Relaxed)
+    }
+}
+
+/// Remove the temporary files a killed build left (`.<name>.tmp<pid>[.<ext>]`, as
+/// [`fsutil::write_atomic`] and the renderer name them), `depth` folders deep.
+pub fn remove_stale_temporaries(dir: &Path, depth: usize) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        let name = e.file_name().to_string_lossy().into_owned();
+        if p.is_dir() {
+            if depth > 1 {
+                remove_stale_temporaries(&p, depth - 1);
+            }
+        } else if name.starts_with('.') && name.contains(".tmp") {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
+
+/// A path as the reports show it: relative to the manifest's folder when inside it,
+/// else its file name (no absolute paths in the reports).
+pub fn relative(root: &Path, p: &Path) -> String {
+    let abs = |q: &Path| std::fs::canonicalize(q).unwrap_or_else(|_| q.to_path_buf());
+    let (r, a) = (abs(root), abs(p));
+    match a.strip_prefix(&r) {
+        Ok(rel) => rel.display().to_string(),
+        Err(_) => pathdiff(&r, &a).unwrap_or_else(|| {
+            p.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        }),
+    }
+}
+
+/// `a` relative to `base` with `..` steps, when they share a first component.
+fn pathdiff(base: &Path, a: &Path) -> Option<String> {
+    let b: Vec<_> = base.components().collect();
+    let t: Vec<_> = a.components().collect();
+    let common = b.iter().zip(&t).take_while(|(x, y)| x == y).count();
+    if common <= 1 {
+        return None;
+    }
+    let mut s: Vec<String> = vec!["..".into(); b.len() - common];
+    s.extend(
+        t[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    Some(s.join("/"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn report_paths_are_relative_to_the_manifest() {
+        let d = tempfile::tempdir().unwrap();
+        let root = d.path().join("experiments");
+        std::fs::create_dir_all(root.join("videos")).unwrap();
+        std::fs::write(root.join("videos/a.mp4"), b"x").unwrap();
+        assert_eq!(relative(&root, &root.join("videos/a.mp4")), "videos/a.mp4");
+        std::fs::create_dir_all(d.path().join("other")).unwrap();
+        std::fs::write(d.path().join("other/b.mp4"), b"x").unwrap();
+        assert_eq!(
+            relative(&root, &d.path().join("other/b.mp4")),
+            "../other/b.mp4"
+        );
+    }
+
+    #[test]
+    fn rewrites_only_changed_files() {
+        let d = tempfile::tempdir().unwrap();
+        let w = Writer::new(d.path());
+        let f = OutputFile::new("a/b.txt", "x");
+        let pages = w.write(std::slice::from_ref(&f)).unwrap();
+        assert_eq!(w.written(), 1);
+        w.write(std::slice::from_ref(&f)).unwrap();
+        assert_eq!(w.written(), 1, "same bytes: not rewritten");
+        assert_eq!(pages[0].sha256, hash::sha256(b"x"));
+    }
+}

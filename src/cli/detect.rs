@@ -1,0 +1,110 @@
+//! `rollfric detect`: per-frame wire angles of a video, written as CSV.
+
+use crate::config::{locate, Experiment};
+use crate::detect::{self, DetectOptions, Status};
+use crate::fsutil;
+use crate::pipeline;
+use crate::video::Roi;
+use anyhow::{bail, Result};
+use std::path::PathBuf;
+
+/// The flags of `rollfric detect` (defined here only).
+#[derive(clap::Args)]
+pub struct DetectArgs {
+    /// The video file.
+    video: PathBuf,
+    /// Output CSV.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Experiment whose `video:` block narrows the search (ROI, pivot, frames, marks).
+    #[arg(long)]
+    experiment: Option<String>,
+    /// Write an image of each flagged frame (detected line red, predicted green).
+    #[arg(long)]
+    diagnostics: bool,
+    /// Decode with OpenCV even when the ffmpeg program is installed.
+    #[arg(long)]
+    opencv: bool,
+    /// Region of interest `x,y,width,height` (px).
+    #[arg(long, value_delimiter = ',')]
+    roi: Option<Vec<u32>>,
+    /// Frames to use, `first,last` (0-based, inclusive).
+    #[arg(long, value_delimiter = ',')]
+    frames: Option<Vec<u64>>,
+    /// Pivot `x,y` (px; may lie outside the frame).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pivot: Option<Vec<f64>>,
+}
+
+/// Exactly `N` comma-separated numbers for `--name`.
+fn exactly<T: Copy, const N: usize>(name: &str, v: Option<Vec<T>>) -> Result<Option<[T; N]>> {
+    let Some(v) = v else { return Ok(None) };
+    match <[T; N]>::try_from(v.as_slice()) {
+        Ok(a) => Ok(Some(a)),
+        Err(_) => bail!(
+            "--{name}: expected {N} comma-separated numbers, got {}",
+            v.len()
+        ),
+    }
+}
+
+/// The detector's options: the experiment's `video:` block, then the flags over it.
+fn options(a: &DetectArgs) -> Result<DetectOptions> {
+    let roi = exactly::<u32, 4>("roi", a.roi.clone())?;
+    let frames = exactly::<u64, 2>("frames", a.frames.clone())?;
+    let pivot = exactly::<f64, 2>("pivot", a.pivot.clone())?;
+    let mut opts = match &a.experiment {
+        Some(e) => pipeline::detect_options(&Experiment::load(&locate(e))?),
+        None => DetectOptions::default(),
+    };
+    opts.force_opencv = a.opencv;
+    if let Some([x, y, w, h]) = roi {
+        opts.roi = Some(Roi { x, y, w, h });
+    }
+    opts.frames = frames.or(opts.frames);
+    opts.pivot = pivot.or(opts.pivot);
+    if a.diagnostics {
+        opts.diag_dir = Some(a.output.with_extension("diag"));
+    }
+    Ok(opts)
+}
+
+pub fn detect(a: DetectArgs) -> Result<String> {
+    let opts = options(&a)?;
+    let started = std::time::Instant::now();
+    let d = detect::detect(&a.video, &opts)?;
+    let secs = started.elapsed().as_secs_f64();
+    fsutil::write_atomic(&a.output, d.to_csv().as_bytes())?;
+    let n = d.rows.len();
+    eprintln!(
+        "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, peak memory {}): {} ok, {} corrected, \
+         {} manual, {} missing; pivot ({:.1}, {:.1}) px, {} wire, ROI {:?} -> {}",
+        a.video.display(),
+        n as f64 / secs,
+        d.decoder,
+        peak_memory().map_or("?".to_string(), |m| format!("{m:.0} MiB")),
+        d.count(Status::Ok),
+        d.count(Status::Corrected),
+        d.count(Status::Manual),
+        d.count(Status::Missing),
+        d.pivot_px[0],
+        d.pivot_px[1],
+        if d.dark_wire { "dark" } else { "light" },
+        d.roi,
+        a.output.display()
+    );
+    Ok(String::new())
+}
+
+/// This process's peak resident memory (Linux `VmHWM`), MiB.
+pub fn peak_memory() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: f64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    Some(kb / 1024.0)
+}

@@ -1,0 +1,245 @@
+//! `rollfric fit`: one experiment through the pipeline, as text or JSON.
+
+use crate::config::{self, locate, Experiment};
+use crate::detect::DetectOptions;
+use crate::fit::FitResult;
+use crate::pipeline::{self, Angles, Overrides, Source};
+use anyhow::Result;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct FitArgs {
+    /// Experiment file, or its name in experiments/.
+    experiment: String,
+    /// Angle CSV with `t_s` and `angle_rad` columns (default: the experiment's).
+    #[arg(long)]
+    angles: Option<PathBuf>,
+    /// Exponent of M_r = s_r N^beta: a number, 4/3, 3/2 or `free`.
+    #[arg(long)]
+    beta: Option<String>,
+    /// Also fit beta = 1, 4/3, 3/2 and print their figures of merit.
+    #[arg(long)]
+    compare_beta: bool,
+    /// Print one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Where the angles of a fit came from.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnglesSource {
+    /// `csv`, `video` or `synthetic-video`.
+    pub kind: String,
+    pub description: String,
+}
+
+/// Everything `rollfric fit --json` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct FitReport {
+    pub experiment: String,
+    pub material: String,
+    pub angles: AnglesSource,
+    /// The synthetic truth, when the angles are the twin's.
+    pub truth_s_r_m: Option<f64>,
+    /// Sliding coefficient of Eq. 34 and whether pure rolling held.
+    pub sliding_mu: Option<f64>,
+    pub pure_rolling: Option<bool>,
+    #[serde(flatten)]
+    pub fit: FitResult,
+}
+
+/// The experiment's angles: a CSV, or its video (the lab's, or the twin's rendered
+/// under `build/<name>/`), detected now.
+fn angles(exp: &Experiment, source: Source) -> Result<(Angles, AnglesSource)> {
+    let video = match &source {
+        Source::Csv(path) => {
+            let a = Angles::from_csv(path)?;
+            let description = format!("measured angles from {}", path.display());
+            return Ok((
+                a,
+                AnglesSource {
+                    kind: "csv".into(),
+                    description,
+                },
+            ));
+        }
+        Source::LabVideo(path) => path.clone(),
+        Source::Twin => twin_video(exp)?,
+    };
+    let opts: DetectOptions = pipeline::detect_options(exp);
+    let (a, _) = pipeline::detect(
+        &video,
+        &opts,
+        video.display().to_string(),
+        String::new(),
+        source.clone(),
+    )?;
+    let d = a.detection.as_ref().expect("a detection");
+    let synthetic = source.is_synthetic();
+    let description = format!(
+        "{}angles detected in {} ({} frames: {} corrected, {} missing)",
+        if synthetic {
+            "SYNTHETIC: the digital twin's video; "
+        } else {
+            ""
+        },
+        video.display(),
+        d.frames,
+        d.corrected,
+        d.missing
+    );
+    let kind = if synthetic {
+        "synthetic-video"
+    } else {
+        "video"
+    };
+    Ok((
+        a,
+        AnglesSource {
+            kind: kind.into(),
+            description,
+        },
+    ))
+}
+
+/// The twin's video under `build/<name>/`, rendered now when its key is stale.
+fn twin_video(exp: &Experiment) -> Result<PathBuf> {
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let started = std::time::Instant::now();
+    let (video, _, rendered) = pipeline::twin(exp, Path::new("build"), &mut |done, total| {
+        if tty && total > 0 {
+            eprint!("\rsynth: frame {done}/{total}");
+        }
+    })?;
+    if rendered {
+        if tty {
+            eprintln!();
+        }
+        eprintln!(
+            "{}: rendered the digital twin's video in {:.1} s -> {}",
+            exp.name,
+            started.elapsed().as_secs_f64(),
+            video.display()
+        );
+    }
+    Ok(video)
+}
+
+/// Fit one experiment through the pipeline.
+pub fn fit_report(exp: &Experiment, a: &FitArgs) -> Result<FitReport> {
+    let source = Source::of(exp, a.angles.as_deref())?;
+    let (angles, described) = angles(exp, source)?;
+    let beta = match &a.beta {
+        Some(b) => Some(config::parse_beta(
+            &config::BetaSpec::Text(b.clone()),
+            "--beta",
+        )?),
+        None => None,
+    };
+    let r = pipeline::analyze(
+        exp,
+        &angles,
+        Overrides {
+            beta,
+            compare_betas: a.compare_beta,
+        },
+    )?;
+    Ok(FitReport {
+        experiment: exp.name.clone(),
+        material: exp.material.clone(),
+        truth_s_r_m: r.truth_s_r_m,
+        pure_rolling: r.pure_rolling,
+        sliding_mu: r.sliding_mu,
+        angles: described,
+        fit: r.fit,
+    })
+}
+
+/// `rollfric fit`: human-readable or JSON.
+pub fn fit(a: FitArgs) -> Result<String> {
+    let exp = Experiment::load(&locate(&a.experiment))?;
+    let r = fit_report(&exp, &a)?;
+    if a.json {
+        return Ok(serde_json::to_string_pretty(&r)? + "\n");
+    }
+    Ok(text(&exp, &r))
+}
+
+fn text(exp: &Experiment, r: &FitReport) -> String {
+    let f = &r.fit;
+    let p = &exp.pendulum;
+    let mut o = String::new();
+    let _ = writeln!(o, "experiment       {} ({})", exp.name, exp.path.display());
+    let _ = writeln!(o, "angles           {}", r.angles.description);
+    let _ = writeln!(o, "turning points   {}", f.n_extremes);
+    let _ = writeln!(
+        o,
+        "equilibrium      {:.4} deg (envelope fit); {:.4} deg (Eq. 38-39, mean of extremes)",
+        f.psi_eq_rad.to_degrees(),
+        f.psi_eq_paper_rad.to_degrees()
+    );
+    let _ = writeln!(o, "envelope slope a {:.4e} rad/s", f.a_rad_s);
+    let _ = writeln!(
+        o,
+        "s_r              {:.4e} m  (95 % CI {:.4e} .. {:.4e}; beta = {:.4})",
+        f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1], f.beta
+    );
+    if let Some(t) = r.truth_s_r_m {
+        let _ = writeln!(
+            o,
+            "synthetic truth  {:.4e} m  ({:+.3} %)",
+            t,
+            100.0 * (f.s_r_m - t) / t
+        );
+    }
+    let _ = writeln!(o, "mu_r             {:.4e}", f.mu_r);
+    let _ = writeln!(
+        o,
+        "period           {:.4} s -> d = {:.4} m (geometry says {:.4} m)",
+        f.period_s, f.d_from_period_m, p.d
+    );
+    let _ = writeln!(
+        o,
+        "normal force     {:.4} N mean, varies {:.4} %",
+        f.reactions.n_mean_n, f.reactions.n_variation_pct
+    );
+    let _ = write!(o, "max |T|/N        {:.3e}", f.max_t_over_n);
+    match (r.sliding_mu, r.pure_rolling) {
+        (Some(mu), Some(ok)) => {
+            let _ = writeln!(
+                o,
+                "  (mu = {mu}: pure rolling {})",
+                if ok { "holds" } else { "FAILS" }
+            );
+        }
+        _ => {
+            let _ = writeln!(o, "  (no `sliding.mu` given for Eq. 34)");
+        }
+    }
+    let _ = writeln!(
+        o,
+        "fit              {} iterations, residual RMS {:.3e} deg",
+        f.iterations,
+        f.residual_rms_rad.to_degrees()
+    );
+    for c in &f.beta_comparison {
+        let _ = writeln!(
+            o,
+            "  beta {:.4}: s_r {:.4e}, RSS {:.3e} rad^2, AICc {:.2}",
+            c.beta, c.s_r, c.rss, c.aicc
+        );
+    }
+    let aicc = f.beta_comparison.iter().map(|c| c.aicc);
+    let spread = aicc.clone().fold(f64::MIN, f64::max) - aicc.fold(f64::MAX, f64::min);
+    if !f.beta_comparison.is_empty() && spread < 2.0 {
+        let _ = writeln!(
+            o,
+            "  the exponents fit equally well (AICc within {spread:.2}): N varies only {:.3} %, \
+             so this recording cannot determine beta; s_r N_0^beta is what it measures",
+            f.reactions.n_variation_pct
+        );
+    }
+    o
+}

@@ -1,0 +1,88 @@
+//! The command line: each verb's arguments and text output, over the library. `main.rs`
+//! only calls [`main`]; every verb parses its flags here (once) and prints what the
+//! library returns.
+
+mod build;
+mod detect;
+mod fit;
+mod model;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "rollfric",
+    version,
+    about = "Rolling-friction coefficients from a conical pendulum"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Build every experiment of the manifest (synth, detect, fit, torsion, figures,
+    /// pages; cached stages are skipped) and write the reports.
+    Build(build::BuildArgs),
+    /// Compare the reproduced values of a build's summary with their expected values and
+    /// tolerances; exit 1 on a miss.
+    Check(build::CheckArgs),
+    /// Write what a camera would record of an experiment's digital twin (t_s,angle_rad).
+    Simulate(model::SimulateArgs),
+    /// Render the digital twin's video of an experiment (H.264 .mp4, or MJPG .avi).
+    Synth(model::SynthArgs),
+    /// Measure turning points and fit s_r for one experiment.
+    Fit(fit::FitArgs),
+    /// The wire-torsion table of Appendix A for one experiment.
+    Torsion(model::TorsionArgs),
+    /// Measure the wire angle in every frame of a video (CSV: t_s,angle_rad,status,quality).
+    Detect(detect::DetectArgs),
+    /// Versions and the video back-ends of the system OpenCV.
+    Info,
+}
+
+/// A verb's result: its text for standard output, and whether it succeeded (a build or
+/// check that misses a tolerance prints its output and exits 1).
+struct Done {
+    out: String,
+    ok: bool,
+}
+
+impl Done {
+    fn ok(out: String) -> Self {
+        Self { out, ok: true }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<Done> {
+    match cli.cmd {
+        Cmd::Build(a) => build::build(a),
+        Cmd::Check(a) => build::check(a),
+        Cmd::Simulate(a) => model::simulate(a).map(Done::ok),
+        Cmd::Synth(a) => model::synth(a).map(Done::ok),
+        Cmd::Fit(a) => fit::fit(a).map(Done::ok),
+        Cmd::Torsion(a) => model::torsion(a).map(Done::ok),
+        Cmd::Detect(a) => detect::detect(a).map(Done::ok),
+        Cmd::Info => crate::video::info().map(Done::ok),
+    }
+}
+
+/// Parse the command line, run the verb, print its output or one line of error.
+pub fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(d) => {
+            print!("{}", d.out);
+            if d.ok {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

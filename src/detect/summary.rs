@@ -1,0 +1,95 @@
+//! What the detector did on one video, as the build caches it and the reports show it.
+
+use super::{Detection, Flag};
+use crate::series::Status;
+use serde::{Deserialize, Serialize};
+
+/// One flagged frame of a detection.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FlaggedFrame {
+    pub frame: u64,
+    pub t_s: f64,
+    pub status: Status,
+    /// Why, when the gate or a check flagged it (`-` in the JSON otherwise).
+    #[serde(with = "flag_or_dash")]
+    pub flag: Option<Flag>,
+}
+
+/// A summary of a detection.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct DetectionSummary {
+    /// The video as the reports name it (relative to the manifest).
+    pub video: String,
+    /// SHA-256 of a lab video; the twin's render key for a synthetic one.
+    pub video_id: String,
+    pub synthetic: bool,
+    pub decoder: String,
+    pub frames: usize,
+    pub ok: usize,
+    pub corrected: usize,
+    pub manual: usize,
+    pub missing: usize,
+    pub pivot_px: [f64; 2],
+    pub roi: [u32; 4],
+    pub dark_wire: bool,
+    pub flagged: Vec<FlaggedFrame>,
+    pub figure11_frame: u64,
+}
+
+impl DetectionSummary {
+    /// Summarise `d`, a detection of the video named `video` with content id `video_id`.
+    pub fn of(
+        d: &Detection,
+        video: String,
+        video_id: String,
+        synthetic: bool,
+        figure11_frame: u64,
+    ) -> Self {
+        let flagged = d
+            .rows
+            .iter()
+            .filter(|r| r.flag.is_some() || r.status != Status::Ok)
+            .map(|r| FlaggedFrame {
+                frame: r.frame,
+                t_s: r.t_s,
+                status: r.status,
+                flag: r.flag,
+            })
+            .collect();
+        Self {
+            video,
+            video_id,
+            synthetic,
+            decoder: d.decoder.clone(),
+            frames: d.rows.len(),
+            ok: d.count(Status::Ok),
+            corrected: d.count(Status::Corrected),
+            manual: d.count(Status::Manual),
+            missing: d.count(Status::Missing),
+            pivot_px: d.pivot_px,
+            roi: d.roi,
+            dark_wire: d.dark_wire,
+            flagged,
+            figure11_frame,
+        }
+    }
+}
+
+mod flag_or_dash {
+    use super::Flag;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(f: &Option<Flag>, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(f.map_or("-", |f| f.as_str()))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Flag>, D::Error> {
+        let s = String::deserialize(d)?;
+        if s == "-" {
+            return Ok(None);
+        }
+        Flag::parse(&s)
+            .map(Some)
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown flag `{s}`")))
+    }
+}

@@ -1,0 +1,263 @@
+//! One experiment through the stages: acquire its angles (a measured CSV, a lab video or
+//! the digital twin's video) -> extremes -> equilibrium -> fit -> checks -> torsion.
+//!
+//! Every function here returns typed values and writes no report file; `rollfric fit`,
+//! `rollfric build` and the tests all go through them, so they cannot disagree. The
+//! build wraps each stage in its cache; the twin's video is the one file written here
+//! (under the cache folder, keyed like every cached stage).
+
+mod result;
+
+pub use result::{ExperimentResult, GeometryView, Inputs, PageFile};
+
+use crate::config::Experiment;
+use crate::detect::{self, summary::DetectionSummary, DetectOptions, Detection};
+use crate::fit::{self, FitOptions, FitResult, Measurement};
+use crate::hash::{self, Key};
+use crate::physics::torsion::{torsion_check, TorsionCheck};
+use crate::physics::{BetaChoice, FrictionLaw};
+use crate::series::AngleTable;
+use crate::verdict::{Against, Check, Quantity};
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+
+/// Where an experiment's angles come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    /// A measured angle CSV (`angles:` in the experiment, or given on the command line).
+    Csv(PathBuf),
+    /// The lab's recording (`video.path`).
+    LabVideo(PathBuf),
+    /// The digital twin's video, rendered from the `synthetic:` block.
+    Twin,
+}
+
+impl Source {
+    /// The experiment's source: `explicit` (a CSV given on the command line), else its
+    /// `angles:`, else its `video.path` (which must exist), else its twin.
+    pub fn of(exp: &Experiment, explicit: Option<&Path>) -> Result<Self> {
+        if let Some(p) = explicit {
+            return Ok(Source::Csv(p.to_path_buf()));
+        }
+        if let Some(a) = &exp.file.angles {
+            return Ok(Source::Csv(exp.resolve(a)));
+        }
+        if let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) {
+            let path = exp.resolve(p);
+            if !path.is_file() {
+                bail!(
+                    "{}: `video.path` = {p}: the video does not exist ({})",
+                    exp.path.display(),
+                    path.display()
+                );
+            }
+            return Ok(Source::LabVideo(path));
+        }
+        if exp.file.synthetic.is_none() {
+            bail!(
+                "{}: no video: set `video.path`, or `angles:` for a measured angle CSV",
+                exp.path.display()
+            );
+        }
+        Ok(Source::Twin)
+    }
+
+    /// Whether the angles are synthetic: only then is a result measured against the
+    /// twin's `s_r` (the one rule for "synthetic truth").
+    pub fn is_synthetic(&self) -> bool {
+        matches!(self, Source::Twin)
+    }
+}
+
+/// An experiment's angles and where they came from.
+#[derive(Clone, Debug)]
+pub struct Angles {
+    pub source: Source,
+    /// Every row, missing frames included.
+    pub table: AngleTable,
+    /// What the detector did, for angles measured in a video.
+    pub detection: Option<DetectionSummary>,
+}
+
+impl Angles {
+    /// Read a measured angle CSV.
+    pub fn from_csv(path: &Path) -> Result<Self> {
+        Ok(Self {
+            source: Source::Csv(path.to_path_buf()),
+            table: AngleTable::read_csv(path)?,
+            detection: None,
+        })
+    }
+}
+
+/// The digital twin's video of `exp` under `cache/<name>/twin.avi`, rendered when its
+/// key is stale. Returns the path, the render key and whether it was rendered now.
+/// `progress` hears `(frames done, frames)`, first with `(0, 0)`.
+pub fn twin(
+    exp: &Experiment,
+    cache: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(PathBuf, String, bool)> {
+    let Some(syn) = &exp.file.synthetic else {
+        bail!("{}: no `synthetic:` block", exp.path.display());
+    };
+    let key = Key::new("synth")
+        .part("source", crate::sources::hash("synth").as_bytes())
+        .json("geometry", &exp.file.geometry)
+        .json("model", &exp.file.model)
+        .json("synthetic", syn)
+        .hex();
+    let dir = cache.join(&exp.name);
+    let video = dir.join("twin.avi");
+    let key_file = dir.join("twin.key");
+    if hash::fresh(&key_file, &key, &[&video]) {
+        return Ok((video, key, false));
+    }
+    progress(0, 0);
+    let mut cb = |done: usize, total: usize| progress(done as u64, total as u64);
+    crate::synth::render(exp, &video, None, &mut cb)
+        .with_context(|| format!("{}: rendering the twin", exp.path.display()))?;
+    hash::record(&key_file, &key)?;
+    Ok((video, key, true))
+}
+
+/// The detector's settings for `exp` (its `video:` block; defaults without one).
+pub fn detect_options(exp: &Experiment) -> DetectOptions {
+    exp.file
+        .video
+        .as_ref()
+        .map(DetectOptions::from_video)
+        .unwrap_or_default()
+}
+
+/// The part of `exp`'s `video:` block that changes a detection (everything but the
+/// path, which the video's content id stands for).
+pub fn detect_settings(exp: &Experiment) -> Option<crate::config::Video> {
+    exp.file.video.clone().map(|mut v| {
+        v.path = None;
+        v
+    })
+}
+
+/// Measure the angles of `video` and summarise the detection. `label` is how the
+/// reports name the video, `video_id` its content id.
+pub fn detect(
+    video: &Path,
+    opts: &DetectOptions,
+    label: String,
+    video_id: String,
+    source: Source,
+) -> Result<(Angles, Detection)> {
+    let d = detect::detect(video, opts)?;
+    let fig = detect::figure11_frame(&d);
+    let summary = DetectionSummary::of(&d, label, video_id, source.is_synthetic(), fig);
+    let table = AngleTable::parse_csv(&d.to_csv())
+        .with_context(|| format!("{}: the detector's angles", video.display()))?;
+    Ok((
+        Angles {
+            source,
+            table,
+            detection: Some(summary),
+        },
+        d,
+    ))
+}
+
+/// Overrides of the experiment's model choices (from the command line).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Overrides {
+    pub beta: Option<BetaChoice>,
+    pub compare_betas: bool,
+}
+
+/// Everything the analysis of one experiment's angles produced.
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    pub measurement: Measurement,
+    pub fit: FitResult,
+    /// The fitted friction law.
+    pub law: FrictionLaw,
+    /// The twin's `s_r`, when the angles are synthetic.
+    pub truth_s_r_m: Option<f64>,
+    pub checks: Vec<Check>,
+    pub torsion: Option<TorsionCheck>,
+    /// The sliding coefficient of Eq. 34, and whether pure rolling held.
+    pub sliding_mu: Option<f64>,
+    pub pure_rolling: Option<bool>,
+}
+
+impl Analysis {
+    /// Every check within its tolerance.
+    pub fn passed(&self) -> bool {
+        self.checks.iter().all(Check::verdict)
+    }
+}
+
+/// Extremes, equilibrium, fit, checks and torsion of an experiment's angles.
+pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analysis> {
+    let series = angles.table.series();
+    let p = &exp.pendulum;
+    let beta = o.beta.unwrap_or(exp.beta);
+    let what = || format!("{}: fitting", exp.path.display());
+    let m = fit::analyze(p, &series, beta).with_context(what)?;
+    let opts = FitOptions {
+        beta,
+        compare_betas: o.compare_betas || exp.file.model.compare_betas,
+        ..FitOptions::default()
+    };
+    let f = fit::fit(p, &m, &opts).with_context(what)?;
+    let law = FrictionLaw::new(f.s_r_m, f.beta);
+    let truth = angles
+        .source
+        .is_synthetic()
+        .then(|| exp.synthetic_law().map(|l| l.s_r))
+        .flatten();
+    let tol = &exp.file.tolerances;
+    let mut checks = Vec::new();
+    if let Some(r) = &exp.file.reference {
+        let src = if r.source.is_empty() {
+            "reference"
+        } else {
+            &r.source
+        };
+        let against = || Against::Reference(src.to_string());
+        for (q, value, expected) in [
+            (Quantity::SR, f.s_r_m, r.s_r_m),
+            (Quantity::MuR, f.mu_r, r.mu_r),
+            (Quantity::A, f.a_rad_s, r.a_rad_s),
+        ] {
+            if let Some(v) = expected {
+                checks.push(Check::new(q, against(), value, v, tol.reference_rel));
+            }
+        }
+    }
+    if let Some(v) = truth {
+        checks.push(Check::new(
+            Quantity::SR,
+            Against::SyntheticTruth,
+            f.s_r_m,
+            v,
+            tol.truth_rel,
+        ));
+    }
+    let torsion = exp.file.torsion.as_ref().map(|t| {
+        torsion_check(
+            p,
+            &law,
+            t.period_s,
+            t.wire_length_m,
+            t.psi0_max_deg.to_radians(),
+        )
+    });
+    let mu = exp.file.sliding.as_ref().map(|s| s.mu);
+    Ok(Analysis {
+        pure_rolling: mu.map(|mu| f.max_t_over_n < mu),
+        sliding_mu: mu,
+        measurement: m,
+        fit: f,
+        law,
+        truth_s_r_m: truth,
+        checks,
+        torsion,
+    })
+}

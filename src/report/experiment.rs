@@ -1,0 +1,340 @@
+//! One experiment's page (HTML and Markdown) and its figures.
+
+use super::{figures, fmt_pct, fmt_sci, kv, render_pair, Kv, OutputFile};
+use crate::config::Experiment;
+use crate::fit::Measurement;
+use crate::physics::torsion::TorsionCheck;
+use crate::pipeline::{Analysis, ExperimentResult};
+use crate::series::AngleRow;
+use crate::verdict::Check;
+use anyhow::Result;
+use serde::Serialize;
+
+/// The files of one experiment's report: its figures under `<name>/`, Figure 11 (the
+/// detector's PNG, when given), then `<name>.html` and `<name>.md`.
+pub fn experiment_pages(
+    exp: &Experiment,
+    a: &Analysis,
+    r: &ExperimentResult,
+    rows: &[AngleRow],
+    fig11_png: Option<&[u8]>,
+) -> Result<Vec<OutputFile>> {
+    let f = &a.fit;
+    // Figure 16 shows s_r changed by the larger of 15 % and three times the CI.
+    let ci_rel = (f.s_r_ci95_m[1] - f.s_r_m) / f.s_r_m;
+    let figs = figures::experiment_figures(&figures::Inputs {
+        name: &exp.name,
+        rows,
+        m: &a.measurement,
+        p: &exp.pendulum,
+        law: a.law,
+        a_start: f.a_start_rad,
+        delta_rel: (3.0 * ci_rel).max(0.15),
+        mu: a.sliding_mu,
+    })?;
+    let mut files: Vec<OutputFile> = figs
+        .into_iter()
+        .map(|fg| OutputFile::new(format!("{}/{}", exp.name, fg.file), fg.svg))
+        .collect();
+    let has_fig11 = r.detection.is_some() && fig11_png.is_some();
+    if let (true, Some(png)) = (has_fig11, fig11_png) {
+        files.push(OutputFile::new(format!("{}/fig11.png", exp.name), png));
+    }
+    let view = experiment_view(r, &a.measurement, has_fig11);
+    files.extend(render_pair("experiment", &exp.name, &view)?);
+    Ok(files)
+}
+
+/// The Appendix A table's rows, label and formatted value (the text table and the
+/// report pages both show these).
+pub fn torsion_rows(c: &TorsionCheck, s_r_from: &str) -> Vec<(&'static str, String)> {
+    vec![
+        ("torsion period T", format!("{:.1} s", c.period_s)),
+        ("wire length", format!("{:.3} m", c.wire_length_m)),
+        (
+            "k_t = 4 pi^2 J_z / T^2 (A5)",
+            format!("{:.3e} N m/rad", c.k_t_n_m_per_rad),
+        ),
+        (
+            "psi_0 -> phi_0 = psi_0 / sin(delta)",
+            format!(
+                "{:.1} deg -> {:.3} rad ({:.1} deg)",
+                c.psi0_rad.to_degrees(),
+                c.phi0_rad,
+                c.phi0_rad.to_degrees()
+            ),
+        ),
+        ("M_t,max = k_t phi_0", format!("{:.3e} N m", c.m_t_max_n_m)),
+        (
+            "M_r = s_r m g",
+            format!("{:.3e} N m (s_r from {s_r_from})", c.m_r_n_m),
+        ),
+        (
+            "M_r = s_r N_0^beta (model)",
+            format!("{:.3e} N m", c.m_r_model_n_m),
+        ),
+        ("100 M_t,max / M_r", format!("{:.2} %", c.ratio_pct)),
+    ]
+}
+
+#[derive(Serialize)]
+struct ExperimentView {
+    name: String,
+    material: String,
+    notes: String,
+    synthetic: bool,
+    angles: String,
+    tool: &'static str,
+    inputs: Vec<Kv>,
+    geometry: Vec<Kv>,
+    detection: Vec<Kv>,
+    flagged: Vec<Kv>,
+    flagged_more: usize,
+    has_detection: bool,
+    has_fig11: bool,
+    fit: Vec<Kv>,
+    checks: Vec<CheckView>,
+    extremes: Vec<ExtremeView>,
+    torsion: Vec<Kv>,
+    rolling: String,
+    pass: bool,
+}
+
+#[derive(Serialize)]
+struct CheckView {
+    quantity: String,
+    against: String,
+    value: String,
+    expected: String,
+    deviation: String,
+    tolerance: String,
+    pass: bool,
+}
+
+#[derive(Serialize)]
+struct ExtremeView {
+    k: usize,
+    t: String,
+    angle: String,
+    amplitude: String,
+    residual: String,
+}
+
+fn check_view(c: &Check) -> CheckView {
+    CheckView {
+        quantity: c.quantity.as_str().to_string(),
+        against: c.against.as_str().to_string(),
+        value: fmt_sci(c.value, 4),
+        expected: fmt_sci(c.expected, 4),
+        deviation: fmt_pct(c.deviation_rel),
+        tolerance: format!("{:.1} %", 100.0 * c.tolerance_rel),
+        pass: c.verdict(),
+    }
+}
+
+fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> ExperimentView {
+    let g = &r.geometry;
+    let f = &r.results;
+    let mut geometry = Vec::new();
+    if let (Some(h), Some(l)) = (g.h_m, g.l_m) {
+        geometry.push(kv(
+            "inclination alpha = asin(h / l) (Eq. 36)",
+            format!("asin({h} / {l}) = {:.4} deg", g.alpha_deg),
+        ));
+    } else {
+        geometry.push(kv("inclination alpha", format!("{:.4} deg", g.alpha_deg)));
+    }
+    geometry.extend([
+        kv(
+            "pendulum length d (fulcrum to ball centre)",
+            format!("{:.4} m", g.d_m),
+        ),
+        kv(
+            "L = sqrt(d^2 - r^2), fulcrum to contact (Eq. 37)",
+            format!("{:.4} m", g.contact_length_m),
+        ),
+        kv("delta = asin(r / d)", format!("{:.3} deg", g.delta_deg)),
+        kv("ball radius r", format!("{:.5} m", g.r_m)),
+        kv("ball mass m", format!("{:.4} kg", g.m_kg)),
+        kv("J_z = 2/5 m r^2", format!("{:.4e} kg m^2", g.j_z_kg_m2)),
+        kv(
+            "normal force at rest N_0 = m g cos(alpha)",
+            format!("{:.4} N", g.n0_n),
+        ),
+        kv(
+            "small-angle period (model)",
+            format!("{:.4} s", g.period_small_angle_s),
+        ),
+    ]);
+    let mut detection = Vec::new();
+    let mut flagged = Vec::new();
+    let mut flagged_more = 0;
+    if let Some(d) = &r.detection {
+        detection.extend([
+            kv("video", d.video.clone()),
+            kv("decoder", d.decoder.clone()),
+            kv("frames", d.frames.to_string()),
+            kv(
+                "ok / corrected / manual / missing",
+                format!("{} / {} / {} / {}", d.ok, d.corrected, d.manual, d.missing),
+            ),
+            kv(
+                "pivot",
+                format!("({:.1}, {:.1}) px", d.pivot_px[0], d.pivot_px[1]),
+            ),
+            kv("region of interest [x, y, w, h]", format!("{:?} px", d.roi)),
+            kv(
+                "wire",
+                if d.dark_wire {
+                    "darker than the background"
+                } else {
+                    "lighter than the background"
+                }
+                .into(),
+            ),
+            kv("Figure 11 frame", d.figure11_frame.to_string()),
+        ]);
+        const SHOW: usize = 40;
+        for fl in d.flagged.iter().take(SHOW) {
+            flagged.push(kv(
+                &format!("frame {} (t = {:.3} s)", fl.frame, fl.t_s),
+                format!(
+                    "{}: {}",
+                    fl.status.as_str(),
+                    fl.flag.map_or("-", |f| f.as_str())
+                ),
+            ));
+        }
+        flagged_more = d.flagged.len().saturating_sub(SHOW);
+    }
+    let mut fit = vec![
+        kv("turning points", f.n_extremes.to_string()),
+        kv(
+            "equilibrium, envelope fit / Eq. 38-39",
+            format!(
+                "{:.4} deg / {:.4} deg",
+                f.psi_eq_rad.to_degrees(),
+                f.psi_eq_paper_rad.to_degrees()
+            ),
+        ),
+        kv(
+            "envelope slope a (measured)",
+            format!("{:.4e} rad/s", f.a_rad_s),
+        ),
+        kv(
+            "envelope slope of the fitted model",
+            format!("{:.4e} rad/s", f.a_model_rad_s),
+        ),
+        kv(
+            "s_r (95 % CI)",
+            format!(
+                "{:.4e} m ({:.4e} .. {:.4e})",
+                f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1]
+            ),
+        ),
+        kv("beta", figures::trim(f.beta)),
+        kv("mu_r = s_r N_0^(beta-1) / r", format!("{:.4e}", f.mu_r)),
+        kv(
+            "residual RMS of the amplitudes",
+            format!("{:.4} deg", f.residual_rms_rad.to_degrees()),
+        ),
+        kv("Gauss-Newton iterations", f.iterations.to_string()),
+        kv(
+            "period measured -> d (cross-check)",
+            format!(
+                "{:.4} s -> {:.4} m (geometry: {:.4} m, {:+.2} %)",
+                f.period_s,
+                f.d_from_period_m,
+                g.d_m,
+                100.0 * (f.d_from_period_m - g.d_m) / g.d_m
+            ),
+        ),
+        kv(
+            "normal force min / mean / max (Eq. 30)",
+            format!(
+                "{:.5} / {:.5} / {:.5} N ({:.4} %)",
+                f.reactions.n_min_n,
+                f.reactions.n_mean_n,
+                f.reactions.n_max_n,
+                f.reactions.n_variation_pct
+            ),
+        ),
+        kv("max |T|/N (Eq. 31, 34)", format!("{:.3e}", f.max_t_over_n)),
+    ];
+    if let Some(t) = r.truth_s_r_m {
+        fit.push(kv(
+            "synthetic truth s_r",
+            format!("{t:.4e} m ({})", fmt_pct((f.s_r_m - t) / t)),
+        ));
+    }
+    for c in &f.beta_comparison {
+        fit.push(kv(
+            &format!("beta = {}", figures::trim(c.beta)),
+            format!(
+                "s_r {:.4e}, RSS {:.3e} rad^2, AICc {:.2}",
+                c.s_r, c.rss, c.aicc
+            ),
+        ));
+    }
+    let extremes = m
+        .extremes
+        .iter()
+        .enumerate()
+        .map(|(k, e)| ExtremeView {
+            k,
+            t: format!("{:.3}", e.t),
+            angle: format!("{:.4}", e.angle.to_degrees()),
+            amplitude: format!("{:.4}", m.amplitudes[k].to_degrees()),
+            residual: f
+                .residuals_rad
+                .get(k)
+                .map_or("-".into(), |v| format!("{:+.4}", v.to_degrees())),
+        })
+        .collect();
+    let torsion = r
+        .torsion
+        .map(|c| {
+            torsion_rows(&c, "the fit")
+                .into_iter()
+                .map(|(k, v)| kv(k, v))
+                .collect()
+        })
+        .unwrap_or_default();
+    let rolling = match (r.sliding_mu, r.pure_rolling) {
+        (Some(mu), Some(true)) => format!(
+            "Pure rolling holds: max |T|/N = {:.3e} < mu = {mu} (Eq. 34), {:.0} times smaller.",
+            f.max_t_over_n,
+            mu / f.max_t_over_n
+        ),
+        (Some(mu), _) => format!(
+            "Pure rolling FAILS: max |T|/N = {:.3e} >= mu = {mu} (Eq. 34).",
+            f.max_t_over_n
+        ),
+        _ => "No sliding coefficient given: Eq. 34 not checked.".into(),
+    };
+    ExperimentView {
+        name: r.name.clone(),
+        material: r.material.clone(),
+        notes: r.notes.clone(),
+        synthetic: r.synthetic,
+        angles: r.angles.clone(),
+        tool: crate::hash::TOOL,
+        inputs: vec![
+            kv("experiment file", r.inputs.experiment_file.clone()),
+            kv("experiment SHA-256", r.inputs.experiment_sha256.clone()),
+            kv("angles SHA-256", r.inputs.angles_sha256.clone()),
+        ],
+        geometry,
+        has_detection: r.detection.is_some(),
+        detection,
+        flagged,
+        flagged_more,
+        has_fig11,
+        fit,
+        checks: r.checks.iter().map(check_view).collect(),
+        extremes,
+        torsion,
+        rolling,
+        pass: r.passed(),
+    }
+}

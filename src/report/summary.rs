@@ -1,0 +1,137 @@
+//! `summary.json` (every result, check and input hash of a build) and `rollfric check`.
+
+use super::{fmt_pct, fmt_sci};
+use crate::fsutil;
+use crate::pipeline::ExperimentResult;
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// An experiment's outcome in a build.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    Built(Box<ExperimentResult>),
+    Failed {
+        name: String,
+        file: String,
+        error: String,
+    },
+}
+
+/// Whether an experiment was built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EntryStatus {
+    Ok,
+    Failed,
+}
+
+/// One experiment in `summary.json`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Entry {
+    pub name: String,
+    pub file: String,
+    pub status: EntryStatus,
+    pub error: Option<String>,
+    pub result: Option<ExperimentResult>,
+}
+
+impl Entry {
+    pub fn new(o: Outcome) -> Self {
+        match o {
+            Outcome::Built(r) => Entry {
+                name: r.name.clone(),
+                file: r.inputs.experiment_file.clone(),
+                status: EntryStatus::Ok,
+                error: None,
+                result: Some(*r),
+            },
+            Outcome::Failed { name, file, error } => Entry {
+                name,
+                file,
+                status: EntryStatus::Failed,
+                error: Some(error),
+                result: None,
+            },
+        }
+    }
+
+    pub fn failed(&self) -> bool {
+        self.result.is_none()
+    }
+
+    /// Built and every check within tolerance.
+    pub fn passed(&self) -> bool {
+        self.result.as_ref().is_some_and(ExperimentResult::passed)
+    }
+}
+
+/// `reports/summary.json`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Summary {
+    pub title: String,
+    pub tool: String,
+    pub manifest_sha256: String,
+    pub experiments: Vec<Entry>,
+}
+
+impl Summary {
+    /// Read a build's summary; errors name the file.
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = fsutil::read_to_string(path)?;
+        let s: Summary = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a rollfric summary", path.display()))?;
+        if s.experiments.is_empty() {
+            bail!("{}: the summary lists no experiment", path.display());
+        }
+        Ok(s)
+    }
+}
+
+/// `rollfric check`: the reproduced values of a summary against their expected values
+/// and tolerances (recomputed from the numbers). Returns the table and whether all pass.
+pub fn check(s: &Summary) -> (String, bool) {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "{:<22} {:<6} {:<16} {:>11} {:>11} {:>9} {:>7}  verdict",
+        "experiment", "value", "against", "reproduced", "expected", "dev", "tol"
+    );
+    let mut ok = true;
+    for e in &s.experiments {
+        let Some(r) = &e.result else {
+            ok = false;
+            let _ = writeln!(
+                o,
+                "{:<22} FAILED: {}",
+                e.name,
+                e.error.as_deref().unwrap_or("no result")
+            );
+            continue;
+        };
+        if r.checks.is_empty() {
+            let _ = writeln!(o, "{:<22} (no expected values)", e.name);
+        }
+        for c in &r.checks {
+            let pass = c.verdict();
+            ok &= pass;
+            let _ = writeln!(
+                o,
+                "{:<22} {:<6} {:<16} {:>11} {:>11} {:>9} {:>6.1}%  {}",
+                e.name,
+                c.quantity.as_str(),
+                c.against.as_str(),
+                fmt_sci(c.value, 4),
+                fmt_sci(c.expected, 4),
+                fmt_pct((c.value - c.expected) / c.expected),
+                100.0 * c.tolerance_rel,
+                if pass { "pass" } else { "MISS" }
+            );
+        }
+    }
+    let n = s.experiments.len();
+    let good = s.experiments.iter().filter(|e| e.passed()).count();
+    let _ = writeln!(o, "{good}/{n} experiments within their tolerances");
+    (o, ok)
+}

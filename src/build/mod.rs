@@ -113,7 +113,7 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
                         Outcome::Failed {
                             name: label.clone(),
                             file: relative(&root, file),
-                            error: msg,
+                            error: writer::unrooted(&root, &msg),
                         }
                     }
                 };

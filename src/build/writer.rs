@@ -86,6 +86,23 @@ pub fn relative(root: &Path, p: &Path) -> String {
     }
 }
 
+/// `text` (an error message) with the manifest folder `root` taken off the paths it
+/// names, as given and as an absolute path: the reports name files relative to it.
+pub fn unrooted(root: &Path, text: &str) -> String {
+    let mut out = text.to_string();
+    let mut prefixes = vec![root.to_path_buf()];
+    if let Ok(abs) = std::fs::canonicalize(root) {
+        prefixes.push(abs);
+    }
+    for p in prefixes {
+        let p = p.display().to_string();
+        if !p.is_empty() {
+            out = out.replace(&format!("{p}/"), "");
+        }
+    }
+    out
+}
+
 /// `a` relative to `base` with `..` steps, when they share a first component.
 fn pathdiff(base: &Path, a: &Path) -> Option<String> {
     let b: Vec<_> = base.components().collect();
@@ -120,6 +137,21 @@ mod tests {
             relative(&root, &d.path().join("other/b.mp4")),
             "../other/b.mp4"
         );
+    }
+
+    #[test]
+    fn error_messages_name_files_relative_to_the_manifest() {
+        let d = tempfile::tempdir().unwrap();
+        let root = d.path().join("exp");
+        std::fs::create_dir_all(&root).unwrap();
+        let abs = std::fs::canonicalize(&root).unwrap();
+        let msg = format!(
+            "{}/a.csv: line 4; {}/b.yaml: bad",
+            root.display(),
+            abs.display()
+        );
+        assert_eq!(unrooted(&root, &msg), "a.csv: line 4; b.yaml: bad");
+        assert_eq!(unrooted(Path::new(""), "x/a.csv"), "x/a.csv");
     }
 
     #[test]

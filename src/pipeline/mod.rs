@@ -198,7 +198,14 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
     let series = angles.table.series();
     let p = &exp.pendulum;
     let beta = o.beta.unwrap_or(exp.beta);
-    let what = || format!("{}: fitting", exp.path.display());
+    let what = || match &angles.source {
+        Source::Csv(csv) => format!(
+            "{}: fitting the angles of {}",
+            exp.path.display(),
+            csv.display()
+        ),
+        _ => format!("{}: fitting", exp.path.display()),
+    };
     let m = fit::analyze(p, &series, beta).with_context(what)?;
     let opts = FitOptions {
         beta,

@@ -105,4 +105,50 @@ mod tests {
         let c: Vec<_> = scan::closure(&mods, "a").into_iter().collect();
         assert_eq!(c, ["a", "b", "c", "d"]);
     }
+
+    /// The module graph of the live tree, as `build.rs` reads it.
+    fn live() -> std::collections::BTreeMap<String, scan::Module> {
+        scan::modules(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src")).unwrap()
+    }
+
+    #[test]
+    fn dependencies_point_one_way() {
+        let mods = live();
+        // A module in its own closure only through one of its dependencies is a cycle.
+        for (name, m) in &mods {
+            for dep in m
+                .uses
+                .iter()
+                .filter(|d| *d != name && mods.contains_key(*d))
+            {
+                assert!(
+                    !scan::closure(&mods, dep).contains(name),
+                    "import cycle: {name} -> {dep} -> ... -> {name}"
+                );
+            }
+        }
+        let uses = |a: &str, b: &str| scan::closure(&mods, a).contains(b);
+        assert!(!uses("config", "fit"), "config knows nothing of fit");
+        for low in ["build", "cli"] {
+            assert!(!uses("report", low), "report never calls {low}");
+            assert!(!uses("pipeline", low), "pipeline never calls {low}");
+        }
+        assert!(!uses("pipeline", "report"), "the pipeline writes no page");
+        assert!(
+            !uses("build", "cli"),
+            "the build knows nothing of the command line"
+        );
+    }
+
+    #[test]
+    fn the_cycle_check_can_fail() {
+        let d = tempfile::tempdir().unwrap();
+        let src = d.path().join("src");
+        std::fs::create_dir_all(&src).unwrap();
+        std::fs::write(src.join("a.rs"), "use crate::b::f;\n").unwrap();
+        std::fs::write(src.join("b.rs"), "use crate::a::g;\n").unwrap();
+        let mods = scan::modules(&src).unwrap();
+        assert!(scan::closure(&mods, "b").contains("a"));
+        assert!(scan::closure(&mods, "a").contains("b"));
+    }
 }

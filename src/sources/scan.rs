@@ -2,11 +2,12 @@
 //!
 //! A top-level module is `src/<m>.rs` or the folder `src/<m>/`. Its files depend on the
 //! modules they name as `crate::<m>` (also inside `use crate::{a, b::c}`), and on the
-//! files they embed with `include_str!` / `include_bytes!` (the templates). A module's
-//! closure is itself plus, transitively, every module it names; its hash covers every
-//! file of the closure (path and bytes, in path order) and `Cargo.lock` (dependency
-//! versions). The build script hashes each module this way, so a stage's cache key
-//! covers every source file that can change its output and no list is kept by hand.
+//! files they embed with `include_str!` / `include_bytes!` (the templates); unit tests
+//! (after a file's `#[cfg(test)]`) name no dependency. A module's closure is itself
+//! plus, transitively, every module it names; its hash covers every file of the
+//! closure (path and bytes, in path order) and `Cargo.lock` (dependency versions). The
+//! build script hashes each module this way, so a stage's cache key covers every
+//! source file that can change its output and no list is kept by hand.
 //!
 //! This file is compiled twice: by `build.rs` (with `#[path]`) and as
 //! `rollfric::sources::scan`, so that tests can run it on an edited copy of the tree.
@@ -48,7 +49,10 @@ pub fn modules(src: &Path) -> std::io::Result<BTreeMap<String, Module>> {
     for m in out.values_mut() {
         for f in m.files.clone() {
             let text = std::fs::read_to_string(&f)?;
-            let code = strip_comments(&text);
+            // The unit tests (this code base keeps them last, after `#[cfg(test)]`)
+            // change no output: what they name is not a dependency.
+            let text = text.split("\n#[cfg(test)]").next().unwrap_or("");
+            let code = strip_comments(text);
             m.uses.extend(crate_paths(&code));
             for rel in embeds(&code) {
                 let dir = f.parent().unwrap_or(Path::new("."));

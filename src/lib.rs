@@ -12,6 +12,7 @@ pub mod config;
 pub mod detect;
 pub mod fit;
 pub mod fsutil;
+pub mod numerics;
 pub mod physics;
 pub mod report;
 pub mod rng;

@@ -65,6 +65,7 @@ const DETECT_SOURCE: &[&str] = &[
 const ANALYSIS_SOURCE: &[&str] = &[
     include_str!("../fit.rs"),
     include_str!("../signal.rs"),
+    include_str!("../numerics.rs"),
     include_str!("../physics/mod.rs"),
     include_str!("../physics/ode.rs"),
     include_str!("../physics/torsion.rs"),

@@ -16,6 +16,7 @@ use crate::config::{Experiment, Manifest, Reference, Tolerances};
 use crate::detect::Detection;
 use crate::fit::{self, FitOptions};
 use crate::fsutil;
+use crate::numerics::upper_median;
 use crate::physics::torsion::{torsion_check, TorsionCheck};
 use crate::physics::FrictionLaw;
 use crate::series::AngleSeries;
@@ -289,8 +290,7 @@ pub fn figure11_frame(d: &Detection) -> u64 {
     let t0 = ok[0].t_s;
     let early: Vec<_> = ok.iter().filter(|r| r.t_s - t0 <= 4.0).collect();
     let mut angles: Vec<f64> = early.iter().filter_map(|r| r.angle_rad).collect();
-    angles.sort_by(f64::total_cmp);
-    let median = angles[angles.len() / 2];
+    let median = upper_median(&mut angles);
     early
         .iter()
         .max_by(|a, b| {

@@ -118,11 +118,6 @@ impl Trajectory {
     pub fn step_bounds(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.steps.iter().map(|s| (s.t0, s.t0 + s.h))
     }
-
-    /// Half-swing amplitudes `|psi|` at the turning points.
-    pub fn amplitudes(&self) -> Vec<f64> {
-        self.turns.iter().map(|tp| tp.psi.abs()).collect()
-    }
 }
 
 // Dormand–Prince 5(4) tableau (the system is autonomous, so the nodes c_i are unused).

@@ -14,11 +14,12 @@
 //! reactions along the fitted motion: `N(t)` (Eq. 30, Fig. 17) and `|T| / N` (Eq. 31,
 //! 34, Fig. 18).
 
+use crate::numerics::{golden_section_min, linear_fit, upper_median, LineFit};
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
 pub use crate::physics::BetaChoice;
 use crate::physics::{FrictionLaw, Pendulum};
 use crate::series::AngleSeries;
-use crate::signal::{self, envelope_line, Equilibrium, Extreme, LineFit};
+use crate::signal::{self, envelope_line, Equilibrium, Extreme};
 use crate::stats::student_t_quantile;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
@@ -58,8 +59,7 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
     let equilibrium = signal::equilibrium(&extremes)?;
     let (amplitudes, envelope) = envelope_line(&extremes, equilibrium.envelope);
     let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
-    gaps.sort_by(f64::total_cmp);
-    let half = gaps[gaps.len() / 2];
+    let half = upper_median(&mut gaps);
     let t0 = extremes[0].t;
     let index: Vec<usize> = extremes
         .iter()
@@ -70,7 +70,7 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
     }
     let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();
     let ts: Vec<f64> = extremes.iter().map(|e| e.t).collect();
-    let period_s = 2.0 * signal::linear_fit(&idx, &ts).slope;
+    let period_s = 2.0 * linear_fit(&idx, &ts).slope;
     Ok(Measurement {
         extremes,
         equilibrium,
@@ -182,7 +182,7 @@ pub fn refine(
     }
     let mut refined = from_extremes(out)?;
     // The amplitudes about each turning point's own equilibrium.
-    refined.envelope = signal::linear_fit(
+    refined.envelope = linear_fit(
         &refined.extremes.iter().map(|e| e.t).collect::<Vec<_>>(),
         &amps,
     );
@@ -442,26 +442,7 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
         BetaChoice::Free => {
             // Golden-section search of the profiled residual over beta.
             let f = |b: f64| fit_core(p, m, b, opts.rtol).map(|c| c.rss);
-            let gr = 0.5 * (5f64.sqrt() - 1.0);
-            let (mut lo, mut hi) = (0.5, 2.0);
-            let (mut x1, mut x2) = (hi - gr * (hi - lo), lo + gr * (hi - lo));
-            let (mut f1, mut f2) = (f(x1)?, f(x2)?);
-            while hi - lo > 1e-3 {
-                if f1 < f2 {
-                    hi = x2;
-                    x2 = x1;
-                    f2 = f1;
-                    x1 = hi - gr * (hi - lo);
-                    f1 = f(x1)?;
-                } else {
-                    lo = x1;
-                    x1 = x2;
-                    f1 = f2;
-                    x2 = lo + gr * (hi - lo);
-                    f2 = f(x2)?;
-                }
-            }
-            0.5 * (lo + hi)
+            golden_section_min(f, (0.5, 2.0), 1e-3)?
         }
     };
     let core = fit_core(p, m, beta, opts.rtol).context("fitting s_r")?;
@@ -508,7 +489,7 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
         .chain(model.turns.iter().map(|tp| (tp.t, tp.psi.abs())))
         .unzip();
     let a_model = if mt.len() >= 2 {
-        -signal::linear_fit(&mt, &ma).slope
+        -linear_fit(&mt, &ma).slope
     } else {
         f64::NAN
     };

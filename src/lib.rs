@@ -3,7 +3,7 @@
 //! The stages, one module each, dependencies pointing down this list's data flow:
 //! [`config`] (experiment files) and [`physics`] (the paper's model); [`video`]
 //! (decoding) and [`detect`] (the wire angle in every frame), [`series`] (angle CSVs),
-//! [`signal`] (turning points, equilibrium) and [`fit`] (`s_r` and its uncertainty),
+//! [`signal`] (turning points, equilibrium) and [`fit`] (over [`numerics`]) (`s_r` and its uncertainty),
 //! with [`verdict`] for the checks; [`simulate`] and [`synth`] for the digital twin;
 //! [`pipeline`] takes one experiment through them; [`report`] renders pages as bytes;
 //! [`build`] runs the pipeline for a manifest with a content-hash cache ([`hash`],
@@ -16,6 +16,7 @@ pub mod detect;
 pub mod fit;
 pub mod fsutil;
 pub mod hash;
+pub mod numerics;
 pub mod physics;
 pub mod pipeline;
 pub mod report;

@@ -15,6 +15,7 @@
 //!   from the decay.
 //! * Envelope slope `a` from the regression of `|psi_k - psi_eq|` on `t_k`.
 
+use crate::numerics::{golden_section_min, linear_fit, median, LineFit};
 use crate::series::AngleSeries;
 use anyhow::{bail, Result};
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
@@ -33,48 +34,6 @@ pub struct Extreme {
     pub fit_rms: f64,
     /// Samples used by the local fit.
     pub samples: usize,
-}
-
-/// Straight line `y = intercept + slope x` by least squares, with standard errors.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
-pub struct LineFit {
-    pub slope: f64,
-    pub intercept: f64,
-    pub slope_se: f64,
-    pub rms: f64,
-}
-
-/// Least-squares line through `(x, y)`; `x` must have at least two distinct values.
-pub fn linear_fit(x: &[f64], y: &[f64]) -> LineFit {
-    let n = x.len() as f64;
-    let mx = x.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
-    let sxx: f64 = x.iter().map(|v| (v - mx).powi(2)).sum();
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let slope = sxy / sxx;
-    let intercept = my - slope * mx;
-    let rss: f64 = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| (b - intercept - slope * a).powi(2))
-        .sum();
-    let dof = (x.len() as f64 - 2.0).max(1.0);
-    LineFit {
-        slope,
-        intercept,
-        slope_se: (rss / dof / sxx).sqrt(),
-        rms: (rss / n).sqrt(),
-    }
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// Per-sample noise of a smooth signal, from the median absolute second difference
@@ -213,31 +172,12 @@ fn refine(t: &[f64], y: &[f64], t_c: f64, side: f64, all_t: &[f64]) -> Option<Ex
             }
         }
     }
-    let (mut a, mut b) = (
+    let bracket = (
         best_t - 4.0 * dt / grid as f64,
         best_t + 4.0 * dt / grid as f64,
     );
-    let gr = 0.5 * (5f64.sqrt() - 1.0);
-    let mut x1 = b - gr * (b - a);
-    let mut x2 = a + gr * (b - a);
-    let mut f1 = rss(x1)?.0;
-    let mut f2 = rss(x2)?.0;
-    while b - a > 1e-6 * dt.max(1e-12) {
-        if f1 < f2 {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - gr * (b - a);
-            f1 = rss(x1)?.0;
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + gr * (b - a);
-            f2 = rss(x2)?.0;
-        }
-    }
-    let tk = 0.5 * (a + b);
+    let tol = 1e-6 * dt.max(1e-12);
+    let tk = golden_section_min(|x| rss(x).map(|r| r.0).ok_or(()), bracket, tol).ok()?;
     let (r, p) = rss(tk)?;
     Some(Extreme {
         t: tk,

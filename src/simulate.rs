@@ -28,7 +28,6 @@ pub struct Camera {
 /// The true motion and the camera's angle series of a synthetic experiment.
 pub struct Recording {
     pub law: FrictionLaw,
-    pub psi0: f64,
     pub trajectory: Trajectory,
     pub series: AngleSeries,
 }
@@ -92,7 +91,6 @@ pub fn record(exp: &Experiment, cam: &Camera) -> Result<Recording> {
     }
     Ok(Recording {
         law,
-        psi0,
         trajectory,
         series,
     })

@@ -1,6 +1,8 @@
 //! Student's t quantiles for confidence intervals, from the regularised incomplete beta
 //! function (continued fraction, modified Lentz; Numerical Recipes §6.4).
 
+use crate::numerics::bisect;
+
 /// `ln Gamma(x)` for `x > 0` (Lanczos, g = 7, n = 9; ~1e-15 relative).
 fn ln_gamma(x: f64) -> f64 {
     const C: [f64; 9] = [
@@ -91,16 +93,7 @@ pub fn student_t_cdf(t: f64, nu: f64) -> f64 {
 
 /// Quantile of Student's t: the `t` with `P(T <= t) = p`, for `0.5 <= p < 1`.
 pub fn student_t_quantile(p: f64, nu: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 1e6);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if student_t_cdf(mid, nu) < p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+    bisect(|t| student_t_cdf(t, nu) < p, (0.0, 1e6), 200, 0.0)
 }
 
 #[cfg(test)]

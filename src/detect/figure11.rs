@@ -18,8 +18,7 @@ pub fn figure11_frame(d: &Detection) -> u64 {
     let t0 = ok[0].t_s;
     let early: Vec<_> = ok.iter().filter(|r| r.t_s - t0 <= 4.0).collect();
     let mut angles: Vec<f64> = early.iter().filter_map(|r| r.angle_rad).collect();
-    angles.sort_by(f64::total_cmp);
-    let median = angles[angles.len() / 2];
+    let median = crate::numerics::upper_median(&mut angles);
     early
         .iter()
         .max_by(|a, b| {

@@ -30,9 +30,6 @@ pub enum BetaChoice {
     Free,
 }
 
-/// Standard gravity, m/s^2 (the default `g`; an experiment may set its local value).
-pub const STANDARD_GRAVITY: f64 = 9.80665;
-
 /// Rolling-resistance law `M_r = s_r N^beta` (Eq. 28).
 ///
 /// `s_r` is in m·N^(1-beta): metres for the paper's `beta = 1`.
@@ -87,11 +84,6 @@ pub struct Pendulum {
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Cached {
-    /// `m g cos(alpha)` and `m g sin(alpha) tan(delta)` of Eq. 30, N.
-    n_flat: f64,
-    n_psi: f64,
-    /// `J_C / r` of Eq. 30, kg·m.
-    n_spin: f64,
     /// `m g r^2 sin(alpha) / (J_C L)` and `r / (J_C L)` of Eq. 33.
     k_grav: f64,
     k_fric: f64,
@@ -132,9 +124,6 @@ impl Pendulum {
             l,
             j_c,
             c: Cached {
-                n_flat: m * g * alpha.cos(),
-                n_psi: m * g * alpha.sin() * delta.tan(),
-                n_spin: j_c / r,
                 k_grav: m * g * r * r * alpha.sin() / (j_c * l),
                 k_fric: r / (j_c * l),
             },

@@ -10,6 +10,7 @@
 //! resistance at rest ([`Pendulum::can_restart`]); otherwise it stays there for good.
 
 use super::{sign, FrictionLaw, Pendulum};
+use crate::numerics::bisect;
 
 /// Tolerances and limits of one integration.
 #[derive(Clone, Copy, Debug)]
@@ -116,11 +117,6 @@ impl Trajectory {
     /// Step boundaries (for quadrature that must not straddle a turning point).
     pub fn step_bounds(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.steps.iter().map(|s| (s.t0, s.t0 + s.h))
-    }
-
-    /// Half-swing amplitudes `|psi|` at the turning points.
-    pub fn amplitudes(&self) -> Vec<f64> {
-        self.turns.iter().map(|tp| tp.psi.abs()).collect()
     }
 }
 
@@ -308,19 +304,13 @@ pub fn integrate(
                 h: h_try,
                 rc: dense(y, &out, h_try),
             };
-            let (mut lo, mut hi) = (0.0f64, 1.0f64);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if step.eval(t + mid * h_try)[1] * dir > 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-                if hi - lo < 1e-15 {
-                    break;
-                }
-            }
-            let h_turn = 0.5 * (lo + hi) * h_try;
+            let theta = bisect(
+                |s| step.eval(t + s * h_try)[1] * dir > 0.0,
+                (0.0, 1.0),
+                200,
+                1e-15,
+            );
+            let h_turn = theta * h_try;
             if h_turn > 0.0 {
                 let out2 = rhs.step(y, k1, h_turn, opts);
                 let rc = dense(y, &out2, h_turn);
@@ -456,7 +446,7 @@ mod tests {
             assert!(n >= 6);
             let (ts, amps): (Vec<f64>, Vec<f64>) =
                 tr.turns[..n].iter().map(|tp| (tp.t, tp.psi.abs())).unzip();
-            let slope = -crate::signal::linear_fit(&ts, &amps).slope;
+            let slope = -crate::numerics::linear_fit(&ts, &amps).slope;
             let want = p.envelope_slope(&law);
             assert!(
                 ((slope - want) / want).abs() < 0.02,

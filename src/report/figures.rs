@@ -4,6 +4,7 @@
 
 use super::plot::{render_svg, Chart, Rgb, Series};
 use crate::fit::Measurement;
+use crate::numerics::slope_through_origin;
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
 use crate::physics::{FrictionLaw, Pendulum};
 use crate::series::{AngleRow, Status};
@@ -331,9 +332,8 @@ pub fn figure19(points: &[Fig19Point]) -> Result<Figure> {
         .map(|p| (p.a_rad_s * 1e3, p.mu_r * 1e3))
         .collect();
     let amax = points.iter().map(|p| p.a_rad_s).fold(0.0f64, f64::max) * 1.1;
-    let sxy: f64 = points.iter().map(|p| p.a_rad_s * p.mu_r).sum();
-    let sxx: f64 = points.iter().map(|p| p.a_rad_s * p.a_rad_s).sum();
-    let k = if sxx > 0.0 { sxy / sxx } else { f64::NAN };
+    let (a, mu): (Vec<f64>, Vec<f64>) = points.iter().map(|p| (p.a_rad_s, p.mu_r)).unzip();
+    let k = slope_through_origin(&a, &mu);
     let mut c = Chart::new(
         "Fig. 19 - coefficient of rolling friction against envelope slope",
         "a (1e-3 rad/s)",

@@ -33,7 +33,7 @@ use crate::simulate;
 use anyhow::{bail, ensure, Context, Result};
 use opencv::core::{self, Mat, Point, Rect, Scalar, Size};
 use opencv::prelude::*;
-use opencv::{imgcodecs, imgproc, videoio};
+use opencv::{imgproc, videoio};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -114,43 +114,6 @@ pub fn truth(exp: &Experiment, duration_s: Option<f64>) -> Result<Vec<TruthRow>>
     Ok(Plan::new(exp, duration_s)?.truth)
 }
 
-/// Render single frames (0-based indices) to PNG files `<name>_<style>_<frame>.png` in
-/// `dir`, exactly as they appear in the video before compression. Returns the paths.
-pub fn stills(
-    exp: &Experiment,
-    duration_s: Option<f64>,
-    frames: &[usize],
-    dir: &Path,
-) -> Result<Vec<PathBuf>> {
-    let plan = Plan::new(exp, duration_s)?;
-    let mut twin = Twin::new(plan)?;
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("{}: cannot create folder", dir.display()))?;
-    let mut paths = Vec::new();
-    for &i in frames {
-        ensure!(
-            i < twin.plan.truth.len(),
-            "frame {i}: the video has {} frames",
-            twin.plan.truth.len()
-        );
-        let src = match twin.plan.spoils[i] {
-            Spoil::Duplicate => i - 1,
-            _ => i,
-        };
-        twin.render_frame(src)?;
-        let path = dir.join(format!(
-            "{}_{}_{i:05}.png",
-            exp.name,
-            style_name(twin.plan.s.style)
-        ));
-        let ok = imgcodecs::imwrite(&path, &twin.frame, &core::Vector::new())
-            .with_context(|| format!("{}: cannot write", path.display()))?;
-        ensure!(ok, "{}: cannot write", path.display());
-        paths.push(path);
-    }
-    Ok(paths)
-}
-
 // ---------------------------------------------------------------------------------------
 // Plan: the motion, the geometry and the spoiled frames (no pixels).
 
@@ -182,14 +145,6 @@ impl Spoil {
             Spoil::Flash => "flash",
             Spoil::Duplicate => "duplicate",
         }
-    }
-}
-
-fn style_name(s: Style) -> &'static str {
-    match s {
-        Style::DarkWire => "dark-wire",
-        Style::LightWire => "light-wire",
-        Style::Oblique => "oblique",
     }
 }
 

@@ -1,0 +1,215 @@
+//! The plan: the motion, the geometry and the spoiled frames (no pixels).
+
+use super::look::Look;
+use super::TruthRow;
+use crate::config::{Experiment, Synthetic};
+use crate::rng::Rng;
+use crate::simulate;
+use anyhow::{ensure, Context, Result};
+
+/// Sub-times of the exposure averaged for motion blur.
+pub(super) const SUBSAMPLES: usize = 7;
+/// Exposure as a fraction of the frame interval.
+pub(super) const EXPOSURE: f64 = 0.5;
+/// Kept clear of spoiled frames at each end of the video, s.
+const SPOIL_MARGIN_S: f64 = 2.0;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Spoil {
+    None,
+    /// Frame `k` of `n` of a hand passing.
+    Hand {
+        k: u8,
+        n: u8,
+        event: u16,
+    },
+    Flash,
+    Duplicate,
+}
+
+impl Spoil {
+    fn tag(self) -> &'static str {
+        match self {
+            Spoil::None => "none",
+            Spoil::Hand { .. } => "hand",
+            Spoil::Flash => "flash",
+            Spoil::Duplicate => "duplicate",
+        }
+    }
+}
+
+/// Independent, decorrelated seeds for the render's random streams.
+pub(super) fn stream(seed: u64, k: u64) -> u64 {
+    Rng::new(seed ^ k.wrapping_mul(0xD1B5_4A32_D192_ED03)).next_u64()
+}
+
+pub(super) struct Plan {
+    pub(super) s: Synthetic,
+    pub(super) look: Look,
+    pub(super) geo: Geometry,
+    pub(super) fps: f64,
+    trajectory: crate::physics::ode::Trajectory,
+    pub(super) truth: Vec<TruthRow>,
+    pub(super) spoils: Vec<Spoil>,
+}
+
+impl Plan {
+    pub(super) fn new(exp: &Experiment, duration_s: Option<f64>) -> Result<Self> {
+        let s =
+            exp.file.synthetic.clone().with_context(|| {
+                format!("{}: no `synthetic:` block to render", exp.path.display())
+            })?;
+        if let Some(d) = duration_s {
+            ensure!(
+                d.is_finite() && d > 0.0,
+                "duration {d} s: expected a positive number"
+            );
+        }
+        let mut cam = simulate::camera_of(exp)?;
+        cam.duration_s = duration_s.or(cam.duration_s);
+        cam.noise_rad = 0.0;
+        let rec = simulate::record(exp, &cam)?;
+        let look = Look::of(s.style);
+        let theta_rest = (s.rest_angle_deg + look.turn_deg).to_radians();
+        let geo = Geometry::new(
+            s.width as usize,
+            s.height as usize,
+            theta_rest,
+            s.psi0_deg.to_radians(),
+            exp.pendulum.r / exp.pendulum.d,
+        );
+        let n = rec.series.t.len();
+        let spoils = if s.clean {
+            vec![Spoil::None; n]
+        } else {
+            plan_spoils(
+                s.spoiled_frames as usize,
+                n,
+                s.fps,
+                &mut Rng::new(stream(s.seed, 2)),
+            )
+        };
+        let truth = rec
+            .series
+            .t
+            .iter()
+            .zip(&spoils)
+            .map(|(&t, sp)| TruthRow {
+                t_s: t,
+                angle_rad: theta_rest - rec.trajectory.state(t)[0],
+                spoiled: sp.tag(),
+            })
+            .collect();
+        Ok(Self {
+            fps: s.fps,
+            s,
+            look,
+            geo,
+            trajectory: rec.trajectory,
+            truth,
+            spoils,
+        })
+    }
+
+    /// Image angle of the wire at time `t`.
+    pub(super) fn theta(&self, t: f64) -> f64 {
+        self.geo.theta_rest - self.trajectory.state(t)[0]
+    }
+}
+
+/// `n` spoiling events (hand, flash, duplicate, in turn) at pseudo-random frames, one
+/// per equal slot of the video between margins of 2 s (less for short videos), away
+/// from the slot's edges so that events stay apart. A hand covers 1 to 3 frames.
+fn plan_spoils(n: usize, frames: usize, fps: f64, rng: &mut Rng) -> Vec<Spoil> {
+    let mut out = vec![Spoil::None; frames];
+    if n == 0 {
+        return out;
+    }
+    let margin = ((SPOIL_MARGIN_S * fps).round() as usize)
+        .min(frames / 5)
+        .max(1);
+    let usable = frames.saturating_sub(2 * margin);
+    let fit = n.min(usable / 5);
+    if fit < n {
+        eprintln!("synth: only {fit} of {n} spoiling events fit in a video of {frames} frames");
+    }
+    if fit == 0 {
+        return out;
+    }
+    let slot = usable as f64 / fit as f64;
+    for (k, kind) in (0..fit).map(|k| (k, k % 3)) {
+        let len = if kind == 0 {
+            1 + (rng.uniform() * 3.0) as usize
+        } else {
+            1
+        };
+        let lo = margin as f64 + (k as f64 + 0.25) * slot;
+        let hi = margin as f64 + (k as f64 + 0.75) * slot - len as f64;
+        let start = (lo + rng.uniform() * (hi - lo).max(0.0)).round() as usize;
+        for j in 0..len {
+            out[start + j] = match kind {
+                0 => Spoil::Hand {
+                    k: j as u8,
+                    n: len as u8,
+                    event: k as u16,
+                },
+                1 => Spoil::Flash,
+                _ => Spoil::Duplicate,
+            };
+        }
+    }
+    out
+}
+
+/// Where things are in the image, px.
+#[derive(Clone, Debug)]
+pub(super) struct Geometry {
+    pub(super) w: usize,
+    pub(super) h: usize,
+    pub(super) pivot: [f64; 2],
+    /// Pivot to the wire's end (the ball's centre).
+    pub(super) d_px: f64,
+    pub(super) ball_r: f64,
+    /// Protractor radius.
+    pub(super) rp: f64,
+    pub(super) screw_r: f64,
+    pub(super) wire_w: f64,
+    pub(super) theta_rest: f64,
+}
+
+impl Geometry {
+    /// Wire length 60 % of the frame height when the swing (plus 3 degrees) with the
+    /// ball fits, shorter otherwise; the swing's bounding box is centred in the frame.
+    fn new(w: usize, h: usize, theta_rest: f64, psi0: f64, ball_ratio: f64) -> Self {
+        let amp = psi0 + 3f64.to_radians();
+        let reach = ball_ratio * 1.3;
+        let (mut x0, mut x1, mut y0, mut y1) = (-0.1f64, 0.1f64, -0.1f64, 0.1f64);
+        for j in 0..=64 {
+            let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
+            let (cx, cy) = (th.cos(), th.sin());
+            x0 = x0.min(cx - reach);
+            x1 = x1.max(cx + reach);
+            y0 = y0.min(cy - reach);
+            y1 = y1.max(cy + reach);
+        }
+        let (wf, hf) = (w as f64, h as f64);
+        let d_px = (0.6 * hf)
+            .min(0.94 * wf / (x1 - x0))
+            .min(0.94 * hf / (y1 - y0));
+        let pivot = [
+            wf / 2.0 - d_px * (x0 + x1) / 2.0,
+            hf / 2.0 - d_px * (y0 + y1) / 2.0,
+        ];
+        Self {
+            w,
+            h,
+            pivot,
+            d_px,
+            ball_r: ball_ratio * d_px,
+            rp: 0.45 * d_px,
+            screw_r: (0.028 * d_px).max(2.5),
+            wire_w: (hf / 288.0).clamp(2.0, 3.0),
+            theta_rest,
+        }
+    }
+}

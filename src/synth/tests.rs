@@ -1,0 +1,325 @@
+use super::plan::{Plan, Spoil};
+use super::twin::Twin;
+use super::yuv::{bgr_to_yuv420, YuvRange};
+use super::*;
+use crate::rng::Rng;
+use crate::simulate;
+use opencv::core;
+use opencv::videoio;
+use std::process::Command;
+
+/// A 320x240, 30 frames/s twin unless `extra` sets the size.
+fn exp(extra: &str) -> Experiment {
+    let size = if extra.contains("width") {
+        ""
+    } else {
+        ", width: 320, height: 240"
+    };
+    let text = format!(
+        "
+geometry:
+  incline: {{ h_m: 0.142, l_m: 1.5 }}
+  pendulum: {{ d_m: 0.187 }}
+  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
+synthetic: {{ s_r_m: 4.445e-6, fps: 30, seed: 3{size}{extra} }}
+"
+    );
+    Experiment::parse(Path::new("t/twin.yaml"), &text).unwrap()
+}
+
+/// Every frame of a video, checking its size.
+fn read_back(path: &Path, w: i32, h: i32) -> Vec<Mat> {
+    let mut cap = videoio::VideoCapture::from_file(path, videoio::CAP_ANY).unwrap();
+    assert!(cap.is_opened().unwrap(), "{}", path.display());
+    let mut frames = Vec::new();
+    let mut m = Mat::default();
+    while cap.read(&mut m).unwrap() && !m.empty() {
+        assert_eq!((m.cols(), m.rows()), (w, h));
+        frames.push(m.clone());
+    }
+    frames
+}
+
+fn count_frames(path: &Path) -> usize {
+    read_back(path, 320, 240).len()
+}
+
+/// Mean absolute difference of two frames, grey levels.
+fn diff(a: &Mat, b: &Mat) -> f64 {
+    let mut d = Mat::default();
+    core::absdiff(a, b, &mut d).unwrap();
+    let m = core::mean(&d, &core::no_array()).unwrap();
+    (m[0] + m[1] + m[2]) / 3.0
+}
+
+fn brightness(a: &Mat) -> f64 {
+    let m = core::mean(a, &core::no_array()).unwrap();
+    (m[0] + m[1] + m[2]) / 3.0
+}
+
+#[test]
+fn odd_sizes_fall_back_to_mjpg_and_spoiled_frames_look_spoiled() {
+    let dir = tempfile::tempdir().unwrap();
+    let e = exp(", width: 322, height: 241");
+    let rep = render(&e, &dir.path().join("odd.mp4"), Some(1.0), &mut |_, _| {}).unwrap();
+    assert_eq!(rep.path, dir.path().join("odd.avi"));
+    assert_eq!(rep.codec, "MJPG (avi, OpenCV)");
+    let frames = read_back(&rep.path, 322, 241);
+    assert_eq!(frames.len(), rep.truth.len());
+    for (i, row) in rep.truth.iter().enumerate().skip(1) {
+        let (d, b) = (diff(&frames[i], &frames[i - 1]), brightness(&frames[i]));
+        match row.spoiled {
+            "duplicate" => assert!(d < 0.3, "frame {i}: {d}"),
+            "flash" => assert!(b > 225.0, "frame {i}: {b}"),
+            "hand" => assert!(d > 8.0, "frame {i}: {d}"),
+            _ => {
+                assert!(b < 200.0, "frame {i}: {b}");
+                if rep.truth[i - 1].spoiled == "none" {
+                    assert!((1.0..8.0).contains(&d), "frame {i}: {d}");
+                }
+            }
+        }
+    }
+    // No temporary file left behind, and no `.mp4`.
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["odd.avi"]);
+}
+
+#[test]
+fn one_second_render_has_every_frame_and_its_truth() {
+    let dir = tempfile::tempdir().unwrap();
+    let e = exp("");
+    let mut calls = Vec::new();
+    let rep = render(&e, &dir.path().join("twin.mp4"), Some(1.0), &mut |d, t| {
+        calls.push((d, t))
+    })
+    .unwrap();
+    // 1 s at 30 fps: frames 0..=30.
+    assert_eq!(rep.frames, 31);
+    assert_eq!(rep.truth.len(), 31);
+    assert_eq!(calls.last(), Some(&(31, 31)));
+    assert!(rep.path.exists(), "{}", rep.path.display());
+    assert_eq!(count_frames(&rep.path), 31);
+    // No temporary file left behind.
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(left.len(), 1);
+    // The truth is rest - psi(t), psi from the simulation.
+    let mut cam = simulate::camera_of(&e).unwrap();
+    cam.duration_s = Some(1.0);
+    let rec = simulate::record(&e, &cam).unwrap();
+    let rest = 91.7f64.to_radians();
+    for (row, &t) in rep.truth.iter().zip(&rec.series.t) {
+        assert_eq!(row.t_s, t);
+        let want = rest - rec.trajectory.state(t)[0];
+        assert!(
+            (row.angle_rad - want).abs() < 1e-12,
+            "{} {}",
+            row.angle_rad,
+            want
+        );
+    }
+    assert!((rep.truth[0].angle_rad - (91.7f64 - 10.0).to_radians()).abs() < 1e-9);
+    // Three spoiling events, one of each kind, counted as runs of equal tags.
+    let mut runs = Vec::new();
+    for (i, r) in rep.truth.iter().enumerate() {
+        if r.spoiled != "none" && (i == 0 || rep.truth[i - 1].spoiled != r.spoiled) {
+            runs.push(r.spoiled);
+        }
+    }
+    assert_eq!(runs, ["hand", "flash", "duplicate"]);
+    let csv = truth_csv(&rep.truth);
+    assert!(
+        csv.starts_with("t_s,angle_rad,spoiled\n0.000000,1.42"),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 32);
+}
+
+#[test]
+fn spoiled_frames_are_spoiled_and_clean_renders_are_not() {
+    let e = exp(", spoiled_frames: 6");
+    let truth = truth(&e, Some(20.0)).unwrap();
+    let tags = |kind: &str| truth.iter().filter(|r| r.spoiled == kind).count();
+    assert_eq!(tags("flash"), 2);
+    assert_eq!(tags("duplicate"), 2);
+    assert!((2..=6).contains(&tags("hand")));
+    // Away from the first and last 2 s.
+    for (i, r) in truth.iter().enumerate() {
+        if r.spoiled != "none" {
+            assert!(i >= 60 && i + 60 < truth.len(), "frame {i}");
+        }
+    }
+    let clean = self::truth(&exp(", clean: true, spoiled_frames: 6"), Some(20.0)).unwrap();
+    assert!(clean.iter().all(|r| r.spoiled == "none"));
+    // Same seed, same plan.
+    assert_eq!(truth, self::truth(&e, Some(20.0)).unwrap());
+}
+
+#[test]
+fn pixels_show_the_wire_where_the_truth_says() {
+    // Clean render: the darkest pixels along a circle around the pivot lie on the
+    // truth's angle, for each style.
+    for style in [
+        "dark-wire",
+        "light-wire",
+        "oblique",
+        "dark-wire, rest_angle_deg: 3",
+    ] {
+        let e = exp(&format!(", clean: true, style: {style}"));
+        let plan = Plan::new(&e, Some(2.0)).unwrap();
+        let g = plan.geo.clone();
+        let mut twin = Twin::new(plan).unwrap();
+        let i = 20;
+        twin.render_frame(i).unwrap();
+        let want = twin.plan.truth[i].angle_rad;
+        let buf = twin.frame.data_bytes().unwrap();
+        let light = style == "light-wire";
+        let r = 0.2 * g.d_px;
+        let mut best = (f64::MIN, 0.0);
+        for k in -400..=400 {
+            let a = want + (k as f64 / 400.0) * 0.5;
+            let (x, y) = (g.pivot[0] + r * a.cos(), g.pivot[1] + r * a.sin());
+            let j = 3 * ((y.round() as usize) * g.w + x.round() as usize);
+            let v = buf[j] as f64 + buf[j + 1] as f64 + buf[j + 2] as f64;
+            let score = if light { v } else { -v };
+            if score > best.0 {
+                best = (score, a);
+            }
+        }
+        assert!(
+            (best.1 - want).abs() < 1.5 / r,
+            "{style}: wire found at {} rad, truth {want}",
+            best.1
+        );
+    }
+}
+
+/// BT.601 as floating point, chroma of the 2x2 block's mean colour.
+fn yuv_reference(bgr: &[u8], w: usize, h: usize, range: YuvRange) -> Vec<f64> {
+    let (ky, kc, y0) = match range {
+        YuvRange::Full => (1.0, 1.0, 0.0),
+        YuvRange::Limited => (219.0 / 255.0, 224.0 / 255.0, 16.0),
+    };
+    let luma = |p: [f64; 3]| 0.114 * p[0] + 0.587 * p[1] + 0.299 * p[2];
+    let px = |x: usize, y: usize| {
+        let j = 3 * (y * w + x);
+        [bgr[j] as f64, bgr[j + 1] as f64, bgr[j + 2] as f64]
+    };
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            out.push(y0 + ky * luma(px(x, y)));
+        }
+    }
+    let mut cb = Vec::new();
+    let mut cr = Vec::new();
+    for y in (0..h).step_by(2) {
+        for x in (0..w).step_by(2) {
+            let mut m = [0.0; 3];
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let p = px(x + dx, y + dy);
+                (0..3).for_each(|c| m[c] += p[c] / 4.0);
+            }
+            let l = luma(m);
+            cb.push(128.0 + kc * 0.5 / 0.886 * (m[0] - l));
+            cr.push(128.0 + kc * 0.5 / 0.701 * (m[2] - l));
+        }
+    }
+    out.extend(cb);
+    out.extend(cr);
+    out
+}
+
+#[test]
+fn yuv_conversion_is_bt601_within_one_level() {
+    let (w, h) = (38, 6);
+    let mut rng = Rng::new(7);
+    let mut bgr: Vec<u8> = (0..3 * w * h)
+        .map(|_| (rng.uniform() * 256.0) as u8)
+        .collect();
+    // Extremes: black, white, pure B, G, R, as uniform 2x2 blocks in the top rows.
+    for (k, c) in [
+        [0, 0, 0],
+        [255, 255, 255],
+        [255, 0, 0],
+        [0, 255, 0],
+        [0, 0, 255],
+    ]
+    .iter()
+    .enumerate()
+    {
+        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let j = 3 * (dy * w + 2 * k + dx);
+            bgr[j..j + 3].copy_from_slice(c);
+        }
+    }
+    for range in [YuvRange::Full, YuvRange::Limited] {
+        let mut got = vec![9; 3];
+        bgr_to_yuv420(&bgr, w, h, range, &mut got);
+        let want = yuv_reference(&bgr, w, h, range);
+        assert_eq!(got.len(), want.len());
+        for (i, (&g, &e)) in got.iter().zip(&want).enumerate() {
+            assert!(
+                (g as f64 - e).abs() <= 1.0,
+                "{range:?} byte {i}: {g} vs {e:.2}"
+            );
+        }
+        // White and black exactly, and grey without colour.
+        let (y, c) = match range {
+            YuvRange::Full => ([0, 255], 128),
+            YuvRange::Limited => ([16, 235], 128),
+        };
+        assert_eq!([got[0], got[2]], y, "{range:?}");
+        let (cb, cr) = (w * h, w * h + w * h / 4);
+        assert_eq!([got[cb], got[cr], got[cb + 1], got[cr + 1]], [c; 4]);
+    }
+}
+
+#[test]
+fn ffmpeg_writes_every_frame_the_same_way_twice() {
+    if !crate::video::have_ffmpeg() {
+        eprintln!("SKIPPED: ffmpeg is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let e = exp(", spoiled_frames: 3");
+    let mut files = Vec::new();
+    for k in 0..2 {
+        let out = dir.path().join(format!("twin{k}.avi"));
+        let rep = render(&e, &out, Some(1.0), &mut |_, _| {}).unwrap();
+        assert_eq!(rep.codec, "MJPG (avi, ffmpeg)");
+        assert_eq!(rep.path, out);
+        files.push(std::fs::read(&out).unwrap());
+    }
+    assert!(files[0] == files[1], "two renders differ");
+    // Every frame, as rendered (up to the codec's loss), duplicates included.
+    let path = dir.path().join("twin0.avi");
+    let frames = read_back(&path, 320, 240);
+    let mut twin = Twin::new(Plan::new(&e, Some(1.0)).unwrap()).unwrap();
+    assert_eq!(frames.len(), twin.plan.truth.len());
+    for (i, f) in frames.iter().enumerate() {
+        let src = match twin.plan.spoils[i] {
+            Spoil::Duplicate => i - 1,
+            _ => i,
+        };
+        twin.render_frame(src).unwrap();
+        let d = diff(f, &twin.frame);
+        assert!(d < 2.5, "frame {i}: {d}");
+    }
+    // Constant rate: ffprobe counts every frame at exactly 30 frames/s.
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+        .args([
+            "-show_entries",
+            "stream=nb_read_frames,r_frame_rate,avg_frame_rate",
+        ])
+        .args(["-of", "csv=p=0"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.trim(), format!("30/1,30/1,{}", frames.len()));
+}

@@ -1,0 +1,107 @@
+//! The twin: everything prepared once, then frames on demand.
+
+use super::camera::{expose, HandPainter, Sensor};
+use super::mover::Mover;
+use super::plan::{stream, Plan, Spoil, EXPOSURE, SUBSAMPLES};
+use super::scene::build_background;
+use crate::rng::Rng;
+use anyhow::Result;
+use opencv::core::{self, Mat, Scalar};
+use opencv::prelude::*;
+
+pub(super) struct Twin {
+    pub(super) plan: Plan,
+    bg: Vec<u8>,
+    illum: Vec<f32>,
+    mover: Mover,
+    sensor: Option<Sensor>,
+    hand: HandPainter,
+    pub(super) frame: Mat,
+}
+
+impl Twin {
+    pub(super) fn new(plan: Plan) -> Result<Self> {
+        let defects = !plan.s.clean;
+        let mut rng = Rng::new(stream(plan.s.seed, 5));
+        let defocus = defects.then(|| 0.8 + 0.4 * rng.uniform());
+        let (bg, illum) = build_background(&plan, defocus)?;
+        // Pixel integration (~0.4 px) combined with the defocus.
+        let sigma = (0.4f64.powi(2) + defocus.unwrap_or(0.0).powi(2)).sqrt();
+        let mover = Mover::new(&plan.geo, &plan.look, sigma);
+        let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, plan.s.seed));
+        let frame = Mat::new_rows_cols_with_default(
+            plan.geo.h as i32,
+            plan.geo.w as i32,
+            core::CV_8UC3,
+            Scalar::all(0.0),
+        )?;
+        Ok(Self {
+            plan,
+            bg,
+            illum,
+            mover,
+            sensor,
+            hand: HandPainter::default(),
+            frame,
+        })
+    }
+
+    /// Render frame `i` into `self.frame` (a duplicate is rendered as its own content
+    /// would be: the caller repeats the previous frame instead).
+    pub(super) fn render_frame(&mut self, i: usize) -> Result<()> {
+        let plan = &self.plan;
+        let t = plan.truth[i].t_s;
+        let dt = 1.0 / plan.fps;
+        let mut thetas = [0.0; SUBSAMPLES];
+        let n_sub = if self.sensor.is_some() { SUBSAMPLES } else { 1 };
+        for (k, th) in thetas[..n_sub].iter_mut().enumerate() {
+            let f = if n_sub == 1 {
+                0.0
+            } else {
+                k as f64 / (n_sub - 1) as f64 - 0.5
+            };
+            *th = plan.theta(t + f * EXPOSURE * dt);
+        }
+        let theta_mid = plan.truth[i].angle_rad;
+        {
+            let buf = self.frame.data_bytes_mut()?;
+            buf.copy_from_slice(&self.bg);
+            self.mover
+                .draw(buf, &self.bg, &self.illum, &thetas[..n_sub], theta_mid);
+        }
+        if let Spoil::Hand { k, n, event } = plan.spoils[i] {
+            let g = &plan.geo;
+            let mut rng = Rng::new(stream(plan.s.seed, 100 + event as u64));
+            let dir = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+            let tilt = dir * (0.25 + 0.2 * rng.uniform());
+            // Start of the event: the hand crosses the wire's middle.
+            let th0 = plan.truth[i - k as usize].angle_rad;
+            let mid = [
+                g.pivot[0] + 0.55 * g.d_px * th0.cos(),
+                g.pivot[1] + 0.55 * g.d_px * th0.sin(),
+            ];
+            let u = 0.1 * g.h as f64;
+            let step = 0.3 * g.w as f64;
+            let off = k as f64 - (n as f64 - 1.0) / 2.0;
+            let c = [
+                mid[0] + dir * off * step + (rng.uniform() - 0.5) * u,
+                mid[1] + 1.2 * u + (rng.uniform() - 0.5) * u,
+            ];
+            let smear = (0.04 * g.w as f64).max(3.0);
+            self.hand
+                .paint(&mut self.frame, &self.illum, c, u, tilt, smear)?;
+        }
+        if let Some(sensor) = &self.sensor {
+            let (gain, off) = sensor.frame(i, t);
+            let (gain, offset) = if plan.spoils[i] == Spoil::Flash {
+                (3.5 * gain, 100.0)
+            } else {
+                (gain, 0.0)
+            };
+            let buf = self.frame.data_bytes_mut()?;
+            let n = buf.len();
+            expose(buf, &sensor.noise[off..off + n], gain, offset);
+        }
+        Ok(())
+    }
+}

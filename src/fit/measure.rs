@@ -1,0 +1,190 @@
+//! The measured side of a fit: turning points, equilibrium, envelope and period of an
+//! angle series, first model-free, then refined with the model's own shape.
+
+use super::BetaChoice;
+use crate::numerics::{linear_fit, upper_median, LineFit};
+use crate::physics::ode::{integrate, OdeOptions};
+use crate::physics::{FrictionLaw, Pendulum};
+use crate::series::AngleSeries;
+use crate::signal::{self, envelope_line, Equilibrium, Extreme};
+use anyhow::{bail, Result};
+use serde::Serialize;
+
+/// The measured side: turning points, equilibrium and envelope of one angle series.
+#[derive(Clone, Debug, Serialize)]
+pub struct Measurement {
+    pub extremes: Vec<Extreme>,
+    pub equilibrium: Equilibrium,
+    /// `|psi_k - psi_eq|` about the envelope-fit equilibrium, rad.
+    pub amplitudes: Vec<f64>,
+    /// Regression of the amplitudes on time (its slope is `-a`).
+    pub envelope: LineFit,
+    /// Half-swing index of each extreme, counted from the first (gaps allowed).
+    pub index: Vec<usize>,
+    /// Measured period (twice the half-swing time, by regression of `t_k` on index), s.
+    pub period_s: f64,
+}
+
+/// Minimum number of turning points for a fit with two parameters and a residual.
+pub const MIN_EXTREMES: usize = 4;
+
+/// Extremes, equilibrium and envelope of an angle series (model-free: the turning
+/// points come from local cusp fits, [`signal::find_extremes`]).
+pub fn measure(series: &AngleSeries) -> Result<Measurement> {
+    from_extremes(signal::find_extremes(series)?)
+}
+
+/// Equilibrium, envelope, half-swing indices and period of a list of turning points.
+pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
+    if extremes.len() < MIN_EXTREMES {
+        bail!(
+            "only {} turning point(s) in the angle series; the fit needs at least {MIN_EXTREMES}",
+            extremes.len()
+        );
+    }
+    let equilibrium = signal::equilibrium(&extremes)?;
+    let (amplitudes, envelope) = envelope_line(&extremes, equilibrium.envelope);
+    let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
+    let half = upper_median(&mut gaps);
+    let t0 = extremes[0].t;
+    let index: Vec<usize> = extremes
+        .iter()
+        .map(|e| ((e.t - t0) / half).round() as usize)
+        .collect();
+    if index.windows(2).any(|w| w[1] <= w[0]) {
+        bail!("turning points are not one half swing apart; the series is too irregular to fit");
+    }
+    let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();
+    let ts: Vec<f64> = extremes.iter().map(|e| e.t).collect();
+    let period_s = 2.0 * linear_fit(&idx, &ts).slope;
+    Ok(Measurement {
+        extremes,
+        equilibrium,
+        amplitudes,
+        envelope,
+        index,
+        period_s,
+    })
+}
+
+/// Second pass over the turning points: "fit the model itself around the extreme"
+/// (ERRATA §7). Each turning point is refitted over most of the two half swings that
+/// meet at it with the model's own shape: forward in time, the motion from rest at the
+/// turning amplitude `A`; backward in time, the same with the friction's sign reversed
+/// (the time reversal of Eq. 33). The unknowns are `A`, the turning time and the local
+/// equilibrium `e`: `y(t) = e + side psi(t - t_k; A)`. `A` is then measured about a
+/// local equilibrium, which no drift of the camera or error of the global equilibrium
+/// can bias, and averages about three times as many samples as the local polynomial.
+/// The shape uses `s_r` from the closed-form slope relation (ERRATA §2; its residual
+/// effect on the shape is second order) and a pendulum whose length reproduces the
+/// measured period, so that its time scale is the recording's own.
+pub fn refine(
+    series: &AngleSeries,
+    m: &Measurement,
+    p: &Pendulum,
+    beta: f64,
+    passes: usize,
+) -> Result<Measurement> {
+    let n = m.amplitudes.len() as f64;
+    let mean_amp = m.amplitudes.iter().sum::<f64>() / n;
+    let d = p.d_from_period(m.period_s / (1.0 + mean_amp * mean_amp / 16.0));
+    let ps = Pendulum::new(p.r, p.m, p.j_z, d.max(1.001 * p.r), p.alpha, p.g)?;
+    let s_r = (m.envelope.slope.abs() / ps.envelope_slope(&FrictionLaw::new(1.0, beta))).max(0.0);
+    let (fwd_law, bwd_law) = (FrictionLaw::new(s_r, beta), FrictionLaw::new(-s_r, beta));
+    let half = 0.5 * m.period_s;
+    let w = 0.8 * half;
+    let opts = OdeOptions {
+        rtol: 1e-8,
+        atol: 1e-9,
+        t_end: 0.9 * half,
+        ..OdeOptions::default()
+    };
+    // psi(tau; A) and psi'(tau; A) on both sides of a turning point at tau = 0.
+    let shape = |amp: f64| {
+        let fwd = integrate(&ps, &fwd_law, 0.0, [amp, 0.0], &opts);
+        let bwd = integrate(&ps, &bwd_law, 0.0, [amp, 0.0], &opts);
+        move |tau: f64| -> (f64, f64) {
+            if tau >= 0.0 {
+                let [x, v] = fwd.state(tau);
+                (x, v)
+            } else {
+                let [x, v] = bwd.state(-tau);
+                (x, -v)
+            }
+        }
+    };
+    let (t, y) = (&series.t, &series.angle);
+    let mut out = Vec::with_capacity(m.extremes.len());
+    let mut amps = Vec::with_capacity(m.extremes.len());
+    for (e, &a_first) in m.extremes.iter().zip(&m.amplitudes) {
+        let lo = t.partition_point(|&v| v < e.t - w);
+        let hi = t.partition_point(|&v| v <= e.t + w);
+        if hi - lo < 12 {
+            out.push(*e);
+            amps.push(a_first);
+            continue;
+        }
+        let (mut amp, mut tk, mut eq) = (a_first, e.t, e.angle - e.side * a_first);
+        let mut rss = 0.0;
+        // Outer passes integrate the shape at the current amplitude; inner Gauss–Newton
+        // steps scale it (psi(tau; A) ~ psi(tau; A_s) A / A_s, exact to O(A^2 dA), and
+        // the next pass removes even that).
+        for _pass in 0..passes {
+            let a_s = amp;
+            let cur = shape(a_s);
+            for _ in 0..8 {
+                let scale = amp / a_s;
+                let mut ata = nalgebra::Matrix3::<f64>::zeros();
+                let mut atr = nalgebra::Vector3::<f64>::zeros();
+                rss = 0.0;
+                for i in lo..hi {
+                    let (x, v) = cur(t[i] - tk);
+                    let r = y[i] - eq - e.side * x * scale;
+                    let g = nalgebra::Vector3::new(e.side * x / a_s, -e.side * v * scale, 1.0);
+                    ata += g * g.transpose();
+                    atr += g * r;
+                    rss += r * r;
+                }
+                let Some(step) = ata.cholesky().map(|c| c.solve(&atr)) else {
+                    break;
+                };
+                amp += step[0];
+                tk += step[1].clamp(-0.05 * half, 0.05 * half);
+                eq += step[2];
+                // Far below the noise of any recording (1e-8 rad, 1e-6 of a half swing).
+                if step[0].abs() < 1e-8 && step[1].abs() < 1e-6 * half {
+                    break;
+                }
+            }
+        }
+        out.push(Extreme {
+            t: tk,
+            angle: eq + e.side * amp,
+            side: e.side,
+            fit_rms: (rss / (hi - lo) as f64).sqrt(),
+            samples: hi - lo,
+        });
+        amps.push(amp);
+    }
+    let mut refined = from_extremes(out)?;
+    // The amplitudes about each turning point's own equilibrium.
+    refined.envelope = linear_fit(
+        &refined.extremes.iter().map(|e| e.t).collect::<Vec<_>>(),
+        &amps,
+    );
+    refined.amplitudes = amps;
+    Ok(refined)
+}
+
+/// The whole measurement: model-free turning points, then their model refinement.
+pub fn analyze(p: &Pendulum, series: &AngleSeries, beta: BetaChoice) -> Result<Measurement> {
+    let first = measure(series)?;
+    let b = match beta {
+        BetaChoice::Fixed(b) => b,
+        BetaChoice::Free => 1.0,
+    };
+    // Twice: the second pass takes the period and slope from the better turning points
+    // of the first, so the shape's time scale matches the recording's to ~1e-5.
+    let second = refine(series, &first, p, b, 1)?;
+    refine(series, &second, p, b, 2)
+}

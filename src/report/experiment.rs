@@ -158,7 +158,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         kv("ball mass m", format!("{:.4} kg", g.m_kg)),
         kv("J_z = 2/5 m r^2", format!("{:.4e} kg m^2", g.j_z_kg_m2)),
         kv(
-            "normal force at rest N_0 = m g cos(alpha)",
+            "normal force at rest N_0 = m g (cos(alpha) + sin(alpha) tan(delta))",
             format!("{:.4} N", g.n0_n),
         ),
         kv(

@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Read a whole text file; the error names the file.
 pub fn read_to_string(path: &Path) -> Result<String> {
@@ -19,14 +19,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     };
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create folder", dir.display()))?;
-    let name = path
-        .file_name()
-        .with_context(|| format!("{}: not a file path", path.display()))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
+    if path.file_name().is_none() {
+        anyhow::bail!("{}: not a file path", path.display());
+    }
+    let tmp = temp_path(path, false);
     let write = || -> std::io::Result<()> {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
@@ -41,6 +37,44 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .with_context(|| format!("{}: cannot write", path.display()))
 }
 
+/// The temporary name `path` is written through before it is renamed into place:
+/// `.rollfric-<pid>-<name>.tmp` in the same folder (with `keep_ext`,
+/// `.rollfric-<pid>-<stem>.tmp.<ext>`, for writers that choose a format by extension).
+/// Only rollfric makes such names, so a clean-up can never take a user's file.
+pub fn temp_path(path: &Path, keep_ext: bool) -> PathBuf {
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let pid = std::process::id();
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    match (keep_ext, path.extension()) {
+        (true, Some(ext)) => {
+            let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+            dir.join(format!(
+                ".rollfric-{pid}-{stem}.tmp.{}",
+                ext.to_string_lossy()
+            ))
+        }
+        _ => dir.join(format!(".rollfric-{pid}-{name}.tmp")),
+    }
+}
+
+/// The process that made temporary file `name` (see [`temp_path`]), if it is one.
+pub fn temp_owner(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix(".rollfric-")?;
+    let (pid, rest) = rest.split_once('-')?;
+    if !(rest.ends_with(".tmp") || rest.contains(".tmp.")) {
+        return None;
+    }
+    pid.parse().ok()
+}
+
+/// Whether process `pid` is running (Linux `/proc`; elsewhere, assumed running).
+pub fn process_alive(pid: u32) -> bool {
+    if !Path::new("/proc/self").exists() {
+        return true;
+    }
+    Path::new(&format!("/proc/{pid}")).exists()
+}
+
 /// Write `bytes` atomically unless the file already holds exactly them (an unchanged
 /// output keeps its bytes and its modification time). Returns whether it wrote.
 pub fn write_if_changed(path: &Path, bytes: &[u8]) -> Result<bool> {
@@ -49,4 +83,32 @@ pub fn write_if_changed(path: &Path, bytes: &[u8]) -> Result<bool> {
     }
     write_atomic(path, bytes)?;
     Ok(true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temporary_names_are_rollfric_s_own() {
+        let pid = std::process::id();
+        let t = temp_path(Path::new("out/a.html"), false);
+        assert_eq!(t, Path::new(&format!("out/.rollfric-{pid}-a.html.tmp")));
+        let v = temp_path(Path::new("c/twin.avi"), true);
+        assert_eq!(v, Path::new(&format!("c/.rollfric-{pid}-twin.tmp.avi")));
+        for p in [&t, &v] {
+            let name = p.file_name().unwrap().to_str().unwrap();
+            assert_eq!(temp_owner(name), Some(pid));
+        }
+        for user in [
+            ".thesis.tmpl",
+            ".notes.tmp",
+            ".draft.tmp2",
+            ".a.html.tmp123",
+            "x.tmp",
+        ] {
+            assert_eq!(temp_owner(user), None, "{user}");
+        }
+        assert!(process_alive(pid));
+    }
 }

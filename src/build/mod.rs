@@ -17,6 +17,7 @@
 //! any moment leaves old or new files, never torn ones, and the next build reruns
 //! exactly the stages whose keys are missing or stale.
 
+mod lock;
 pub mod progress;
 mod stages;
 mod writer;
@@ -45,6 +46,8 @@ pub struct BuildOptions {
     pub jobs: Option<usize>,
     /// No progress output.
     pub quiet: bool,
+    /// Refuse, instead of waiting, when another build holds the folders.
+    pub no_wait: bool,
 }
 
 /// What a build did.
@@ -68,6 +71,13 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_default();
+    // One build per folder at a time: held until this function returns.
+    let _cache_lock = lock::Lock::acquire(&opts.cache, !opts.no_wait)?;
+    let _out_lock = if same_folder(&opts.cache, &opts.out) {
+        None
+    } else {
+        Some(lock::Lock::acquire(&opts.out, !opts.no_wait)?)
+    };
     remove_stale_temporaries(&opts.out, 2);
     remove_stale_temporaries(&opts.cache, 2);
     let progress = Arc::new(Progress::new(files.len(), opts.quiet));
@@ -144,6 +154,14 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         seconds: started.elapsed().as_secs_f64(),
         written,
     })
+}
+
+/// Whether two folders (both existing) are the same one.
+fn same_folder(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
 }
 
 fn display_name(file: &Path) -> String {

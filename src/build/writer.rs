@@ -52,8 +52,9 @@ impl Writer {
     }
 }
 
-/// Remove the temporary files a killed build left (`.<name>.tmp<pid>[.<ext>]`, as
-/// [`fsutil::write_atomic`] and the renderer name them), `depth` folders deep.
+/// Remove the temporary files that builds killed before renaming them left behind
+/// ([`fsutil::temp_path`]: `.rollfric-<pid>-...tmp`, of a process no longer running),
+/// `depth` folders deep. Nothing else is touched.
 pub fn remove_stale_temporaries(dir: &Path, depth: usize) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
@@ -65,8 +66,10 @@ pub fn remove_stale_temporaries(dir: &Path, depth: usize) {
             if depth > 1 {
                 remove_stale_temporaries(&p, depth - 1);
             }
-        } else if name.starts_with('.') && name.contains(".tmp") {
-            let _ = std::fs::remove_file(&p);
+        } else if let Some(pid) = fsutil::temp_owner(&name) {
+            if pid != std::process::id() && !fsutil::process_alive(pid) {
+                let _ = std::fs::remove_file(&p);
+            }
         }
     }
 }

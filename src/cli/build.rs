@@ -18,11 +18,14 @@ pub struct BuildArgs {
     #[arg(long, default_value = "build")]
     cache: PathBuf,
     /// Experiments built at once (default: the number of cores).
-    #[arg(long, short)]
-    jobs: Option<usize>,
+    #[arg(long, short, value_parser = clap::value_parser!(u16).range(1..))]
+    jobs: Option<u16>,
     /// No progress output.
     #[arg(long, short)]
     quiet: bool,
+    /// Refuse instead of waiting when another build uses the same folders.
+    #[arg(long)]
+    no_wait: bool,
 }
 
 #[derive(clap::Args)]
@@ -37,8 +40,9 @@ pub fn build(a: BuildArgs) -> Result<Done> {
         manifest: a.manifest,
         out: a.out.clone(),
         cache: a.cache,
-        jobs: a.jobs,
+        jobs: a.jobs.map(usize::from),
         quiet: a.quiet,
+        no_wait: a.no_wait,
     })?;
     let n = o.summary.experiments.len();
     Ok(Done {

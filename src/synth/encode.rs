@@ -28,11 +28,9 @@ impl Drop for TempFile {
 }
 
 fn temp_name(path: &Path) -> PathBuf {
-    let dir = path.parent().unwrap_or(Path::new(""));
-    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
-    let ext = path.extension().unwrap_or_default().to_string_lossy();
-    dir.join(format!(".{stem}.tmp{}.{ext}", std::process::id()))
+    crate::fsutil::temp_path(path, true)
 }
+
 /// Whether the `ffmpeg` program has the encoder `name` (asked once per process).
 fn ffmpeg_has_encoder(name: &str) -> bool {
     static LIST: std::sync::OnceLock<String> = std::sync::OnceLock::new();

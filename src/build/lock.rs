@@ -1,0 +1,58 @@
+//! One build per folder at a time: an advisory lock (`flock`) on the folder itself, so
+//! that nothing is added to the folder and a killed build's lock goes with its process.
+
+use anyhow::{bail, Context, Result};
+use std::fs::{File, TryLockError};
+use std::path::Path;
+
+/// A held lock on a folder; released when dropped (or when the process ends).
+pub struct Lock(#[allow(dead_code)] File);
+
+impl Lock {
+    /// Lock `dir` (created when missing). When another build holds it: wait, saying so
+    /// on standard error, or with `wait` false refuse.
+    pub fn acquire(dir: &Path, wait: bool) -> Result<Self> {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create folder", dir.display()))?;
+        let f = File::open(dir).with_context(|| format!("{}: cannot open", dir.display()))?;
+        match f.try_lock() {
+            Ok(()) => return Ok(Self(f)),
+            Err(TryLockError::WouldBlock) => {}
+            Err(TryLockError::Error(e)) => {
+                return Err(e).with_context(|| format!("{}: cannot lock", dir.display()))
+            }
+        }
+        if !wait {
+            bail!(
+                "{}: another rollfric build is using this folder (--no-wait given)",
+                dir.display()
+            );
+        }
+        eprintln!(
+            "{}: another rollfric build is using this folder; waiting for it to finish",
+            dir.display()
+        );
+        f.lock()
+            .with_context(|| format!("{}: cannot lock", dir.display()))?;
+        Ok(Self(f))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_second_lock_on_the_folder_waits_or_refuses() {
+        let d = tempfile::tempdir().unwrap();
+        let first = Lock::acquire(d.path(), false).unwrap();
+        let e = Lock::acquire(d.path(), false).err().expect("held");
+        assert!(format!("{e:#}").contains("another rollfric build"), "{e:#}");
+        let dir = d.path().to_path_buf();
+        let waiter = std::thread::spawn(move || Lock::acquire(&dir, true).map(|_| ()));
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        assert!(!waiter.is_finished(), "waits while the first holds it");
+        drop(first);
+        waiter.join().unwrap().unwrap();
+    }
+}

@@ -4,18 +4,21 @@
 
 mod common;
 
-use common::have_ffmpeg;
+use common::{have_ffmpeg, rollfric, root};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn detect(video: &Path, csv: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .arg("detect")
-        .arg(video)
-        .arg("-o")
-        .arg(csv)
-        .output()
-        .unwrap()
+    rollfric(
+        &[
+            OsStr::new("detect"),
+            video.as_os_str(),
+            OsStr::new("-o"),
+            csv.as_os_str(),
+        ],
+        &root(),
+    )
 }
 
 fn assert_fails(out: &Output, csv: &Path, file: &str, needles: &[&str]) {

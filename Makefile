@@ -35,9 +35,11 @@ reports: build
 	$(BIN) build
 
 # The unit and integration tests (the browser test included), then a build of every
-# experiment of the manifest and `rollfric check` on its summary.
+# experiment of the manifest and `rollfric check` on its summary. With
+# ROLLFRIC_REQUIRE_TOOLS=1 a test whose tool (ffmpeg, python3, chromium) or real fixture
+# is missing fails instead of saying SKIPPED.
 test: deps
-	$(CARGO) test --release --locked
+	ROLLFRIC_REQUIRE_TOOLS=1 $(CARGO) test --release --locked
 	$(CARGO) build --release --locked
 	$(BIN) build
 	$(BIN) check

@@ -2392,8 +2392,11 @@ synthetic: {{ s_r_m: 4.445e-6, fps: 30, seed: 3{size}{extra} }}
 
     #[test]
     fn ffmpeg_writes_every_frame_the_same_way_twice() {
-        if !crate::video::have_ffmpeg() {
-            eprintln!("SKIPPED: ffmpeg is not installed");
+        if !crate::require::require(
+            "ffmpeg",
+            crate::require::MAKE_DEPS,
+            crate::video::have_ffmpeg(),
+        ) {
             return;
         }
         let dir = tempfile::tempdir().unwrap();

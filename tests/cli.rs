@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{rollfric, rollfric_ok, root};
+use common::{need_python3, rollfric, rollfric_ok, root};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -140,8 +140,7 @@ fn simulate_writes_the_documented_csv() {
 /// and its own CSV conventions: extra columns, 30 fps, offset and flipped sign).
 #[test]
 fn fits_a_csv_from_an_independent_simulator() {
-    if Command::new("python3").arg("--version").output().is_err() {
-        eprintln!("SKIPPED: python3 is not installed; the reference simulator needs it");
+    if !need_python3() {
         return;
     }
     let dir = tmpdir();

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{have_ffmpeg, pivot_in, rollfric_ok, root};
+use common::{need_ffmpeg, pivot_in, rollfric_ok, root};
 use std::path::Path;
 
 struct Row {
@@ -31,8 +31,7 @@ fn read(path: &Path, col: &str) -> Vec<Row> {
 
 #[test]
 fn every_style_is_measured_within_a_twentieth_of_a_degree() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -127,8 +126,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
 
 #[test]
 fn every_experiment_measures_back_its_s_r_from_video() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     // Every experiment of the manifest. Renders (or reuses) the twins under build/, as

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{have_ffmpeg, rollfric, root};
+use common::{need_ffmpeg, rollfric, root};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -61,8 +61,7 @@ fn make_clip(dir: &Path, name: &str, source: &str) -> PathBuf {
 
 #[test]
 fn fails_when_video_is_empty_corrupt_or_truncated() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -107,8 +106,7 @@ fn fails_when_video_is_empty_corrupt_or_truncated() {
 
 #[test]
 fn fails_when_no_wire_can_be_found() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

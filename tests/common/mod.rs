@@ -1,7 +1,12 @@
 //! Helpers shared by the integration tests (each test crate uses some of them): running
-//! the `rollfric` binary, the real fixtures, and the summary line's numbers.
+//! the `rollfric` binary; the tools and fixtures a test needs, which it may skip without
+//! on a developer's machine but not under `make test` or CI ([`require`]); the summary
+//! line's numbers.
 #![allow(dead_code)]
 
+mod require;
+
+pub use require::*;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -49,24 +54,32 @@ fn shown<S: AsRef<OsStr>>(args: &[S]) -> String {
 }
 
 /// A real camera clip of `../shared/fixtures/real/` (read in place: the clips carry no
-/// licence to redistribute), or `None`, saying SKIPPED, when it is absent.
+/// licence to redistribute), or `None` when it is absent and the test may skip
+/// ([`require`]).
 pub fn fixture(name: &str) -> Option<PathBuf> {
     let p = root().join("../shared/fixtures/real").join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is absent (the real fixtures live in ../shared)",
-            p.display()
-        );
-        None
-    }
+    let what = format!("the real fixture {}", p.display());
+    let how = "the real camera clips are read in place from ../shared/fixtures/real, \
+               beside the crate's folder; put them there";
+    require(&what, how, p.exists()).then_some(p)
 }
 
-/// Whether the `ffmpeg` program runs here (`make test` installs it; without it the
-/// video tests say SKIPPED).
+/// Whether the `ffmpeg` program runs here.
 pub fn have_ffmpeg() -> bool {
     Command::new("ffmpeg").arg("-version").output().is_ok()
+}
+
+/// Whether the test can go on: `ffmpeg` runs here, or it is missing and the test may
+/// skip ([`require`]).
+pub fn need_ffmpeg() -> bool {
+    require("ffmpeg", MAKE_DEPS, have_ffmpeg())
+}
+
+/// Whether the test can go on: `python3` runs here, or it is missing and the test may
+/// skip ([`require`]).
+pub fn need_python3() -> bool {
+    let present = Command::new("python3").arg("--version").output().is_ok();
+    require("python3 (for tests/reference_sim)", MAKE_DEPS, present)
 }
 
 /// The numbers between `open` and `close` after the last `key` of a summary line,

@@ -141,20 +141,15 @@ fn build_caches_reproduces_and_reruns_only_what_changed() {
         "the index must say the inputs are synthetic"
     );
 
-    // Unchanged: everything cached, no byte changes, fast.
-    let t = std::time::Instant::now();
+    // Unchanged: every experiment cached, no file rewritten, no byte changed (how long
+    // that takes is `make bench`'s business).
     let second = build(&m, &out, &cache);
-    let secs = t.elapsed().as_secs_f64();
-    assert!(second.status.success());
+    assert!(second.status.success(), "{}", stderr(&second));
     let err = stderr(&second);
     assert_eq!(err.matches(": cached in").count(), 2, "{err}");
-    assert!(secs < 5.0, "an unchanged build took {secs:.2} s");
     assert_eq!(snapshot(&out), files, "an unchanged build changed bytes");
-    assert!(
-        String::from_utf8_lossy(&second.stdout).contains("0 report files rewritten"),
-        "{}",
-        String::from_utf8_lossy(&second.stdout)
-    );
+    let line = String::from_utf8_lossy(&second.stdout);
+    assert!(line.contains("; 0 report files rewritten"), "{line}");
 
     // A new cache and output folder: the same bytes (the renders are deterministic).
     let (out2, cache2) = (d.path().join("reports2"), d.path().join("cache2"));

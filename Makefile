@@ -1,16 +1,16 @@
 # rollfric: one entry point for people and CI.
 #   make reports   build every report of experiments/manifest.yaml (installs what is missing)
-#   make test      the whole test suite (what CI runs)
-#   make check     fmt + clippy + tests
+#   make test      the whole test suite (a missing tool fails it, never skips)
+#   make check     fmt + clippy + tests (what CI runs: .ci/run)
 #   make bench     timing figures
 SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
 # ffmpeg decodes video for the detector (and is the benchmark's decode-only reference).
 APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver
-BIN := target/release/rollfric
+BIN := $(or $(CARGO_TARGET_DIR),target)/release/rollfric
 
-.PHONY: all deps build reports test check fmt clippy bench clean
+.PHONY: all deps rust-components build reports test check fmt clippy bench clean
 
 all: build
 
@@ -28,6 +28,17 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq $$missing >/dev/null || exit 1; \
 	fi
 
+# rustfmt and clippy: part of rustup's default toolchain profile; added when missing
+# (a minimal profile), which needs rustup and its server.
+rust-components:
+	@for c in fmt:rustfmt clippy:clippy; do \
+	  $(CARGO) $${c%%:*} --version >/dev/null 2>&1 && continue; \
+	  command -v rustup >/dev/null || { \
+	    echo "cargo $${c%%:*} is missing: install the toolchain's $${c#*:} component" >&2; exit 1; }; \
+	  echo "installing the Rust component $${c#*:}"; \
+	  rustup component add $${c#*:} || exit 1; \
+	done
+
 build: deps
 	$(CARGO) build --release --locked
 
@@ -35,17 +46,19 @@ reports: build
 	$(BIN) build
 
 # The unit and integration tests (the browser test included), then a build of every
-# experiment of the manifest and `rollfric check` on its summary.
+# experiment of the manifest and `rollfric check` on its summary. With
+# ROLLFRIC_REQUIRE_TOOLS=1 a test whose tool (ffmpeg, python3, chromium) or real fixture
+# is missing fails instead of saying SKIPPED.
 test: deps
-	$(CARGO) test --release --locked
+	ROLLFRIC_REQUIRE_TOOLS=1 $(CARGO) test --release --locked
 	$(CARGO) build --release --locked
 	$(BIN) build
 	$(BIN) check
 
-fmt:
+fmt: rust-components
 	$(CARGO) fmt --all -- --check
 
-clippy: deps
+clippy: deps rust-components
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
 
 check: fmt clippy test

@@ -29,3 +29,9 @@ pub mod stats;
 pub mod synth;
 pub mod verdict;
 pub mod video;
+
+/// For the unit tests: whether a test may skip when a tool it needs is missing (not
+/// under `make test` or CI); the integration tests' own copy, included by path.
+#[cfg(test)]
+#[path = "../tests/common/require.rs"]
+mod require;

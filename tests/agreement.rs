@@ -2,19 +2,13 @@
 //! inputs they give the same verdict: the same refusal with the same reason, or the
 //! same number.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn run(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run rollfric")
-}
+use common::rollfric as run;
+use std::path::{Path, PathBuf};
 
 fn experiments() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments")
+    common::root().join("experiments")
 }
 
 /// A folder with `exp.yaml` (the glass-fiber row measured from `angles.csv`), its

@@ -14,7 +14,11 @@
 //!   (default `glass-fiber-fabric.html`), relative to the report folder.
 //! - `ROLLFRIC_CHROMIUM`, `ROLLFRIC_CHROMEDRIVER`: other browser / driver binaries.
 
+mod common;
+
+use common::{rollfric, root};
 use serde_json::{json, Value};
+use std::ffi::OsStr;
 use std::fs;
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -46,10 +50,6 @@ const DEFAULT_PAGE: &str = "glass-fiber-fabric.html";
 const MAKE_DEPS: &str = "run `make deps` (the Makefile installs the Debian packages \
                          chromium and chromium-driver), or point ROLLFRIC_CHROMIUM / \
                          ROLLFRIC_CHROMEDRIVER at them";
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 // ---------------------------------------------------------------------------------------
 // The test.
@@ -383,17 +383,18 @@ fn reports_dir() -> PathBuf {
     }
     let cache = work.join("cache");
     let started = Instant::now();
-    let run = Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .arg("build")
-        .arg("--manifest")
-        .arg(&manifest)
-        .arg("--out")
-        .arg(&out)
-        .arg("--cache")
-        .arg(&cache)
-        .current_dir(root())
-        .output()
-        .expect("run rollfric build");
+    let run = rollfric(
+        &[
+            OsStr::new("build"),
+            OsStr::new("--manifest"),
+            manifest.as_os_str(),
+            OsStr::new("--out"),
+            out.as_os_str(),
+            OsStr::new("--cache"),
+            cache.as_os_str(),
+        ],
+        &root(),
+    );
     assert!(
         run.status.success(),
         "rollfric build --manifest {} --out {} --cache {} failed ({}):\n--- stdout\n{}\n--- stderr\n{}",

@@ -1,15 +1,15 @@
 //! `rollfric build` and `rollfric check` end to end on a small manifest: the cache, byte
 //! reproducibility, isolation of a failing experiment, atomicity under a kill.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_rollfric"))
-}
+use common::{command, rollfric, root};
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn experiments() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments")
+    root().join("experiments")
 }
 
 /// A manifest folder with two short twins (the glass-fiber row twice, with different
@@ -48,15 +48,30 @@ fn setup(dir: &Path, with_missing: bool) -> PathBuf {
 }
 
 fn build(m: &Path, out: &Path, cache: &Path) -> Output {
-    bin()
-        .args(["build", "--manifest"])
-        .arg(m)
-        .arg("--out")
-        .arg(out)
-        .arg("--cache")
-        .arg(cache)
-        .output()
-        .unwrap()
+    rollfric(
+        &[
+            OsStr::new("build"),
+            OsStr::new("--manifest"),
+            m.as_os_str(),
+            OsStr::new("--out"),
+            out.as_os_str(),
+            OsStr::new("--cache"),
+            cache.as_os_str(),
+        ],
+        &root(),
+    )
+}
+
+/// `rollfric check --summary <summary>`.
+fn check(summary: &Path) -> Output {
+    rollfric(
+        &[
+            OsStr::new("check"),
+            OsStr::new("--summary"),
+            summary.as_os_str(),
+        ],
+        &root(),
+    )
 }
 
 /// Every file under `dir`, relative path -> bytes.
@@ -126,20 +141,15 @@ fn build_caches_reproduces_and_reruns_only_what_changed() {
         "the index must say the inputs are synthetic"
     );
 
-    // Unchanged: everything cached, no byte changes, fast.
-    let t = std::time::Instant::now();
+    // Unchanged: every experiment cached, no file rewritten, no byte changed (how long
+    // that takes is `make bench`'s business).
     let second = build(&m, &out, &cache);
-    let secs = t.elapsed().as_secs_f64();
-    assert!(second.status.success());
+    assert!(second.status.success(), "{}", stderr(&second));
     let err = stderr(&second);
     assert_eq!(err.matches(": cached in").count(), 2, "{err}");
-    assert!(secs < 5.0, "an unchanged build took {secs:.2} s");
     assert_eq!(snapshot(&out), files, "an unchanged build changed bytes");
-    assert!(
-        String::from_utf8_lossy(&second.stdout).contains("0 report files rewritten"),
-        "{}",
-        String::from_utf8_lossy(&second.stdout)
-    );
+    let line = String::from_utf8_lossy(&second.stdout);
+    assert!(line.contains("; 0 report files rewritten"), "{line}");
 
     // A new cache and output folder: the same bytes (the renders are deterministic).
     let (out2, cache2) = (d.path().join("reports2"), d.path().join("cache2"));
@@ -173,12 +183,7 @@ fn build_caches_reproduces_and_reruns_only_what_changed() {
 
     // check passes on the summary, and fails when a value is off.
     let summary = out.join("summary.json");
-    let ok = bin()
-        .arg("check")
-        .arg("--summary")
-        .arg(&summary)
-        .output()
-        .unwrap();
+    let ok = check(&summary);
     assert!(
         ok.status.success(),
         "{}",
@@ -191,12 +196,7 @@ fn build_caches_reproduces_and_reruns_only_what_changed() {
     checks["value"] = serde_json::json!(v * 1.5);
     let bad = d.path().join("bad.json");
     std::fs::write(&bad, serde_json::to_vec(&s).unwrap()).unwrap();
-    let miss = bin()
-        .arg("check")
-        .arg("--summary")
-        .arg(&bad)
-        .output()
-        .unwrap();
+    let miss = check(&bad);
     assert_eq!(miss.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&miss.stdout).contains("MISS"));
 }
@@ -229,12 +229,7 @@ fn a_missing_video_fails_only_its_experiment() {
         .find(|e| e["name"] == "lab-run")
         .unwrap();
     assert_eq!(lab["status"], "failed");
-    let c = bin()
-        .arg("check")
-        .arg("--summary")
-        .arg(out.join("summary.json"))
-        .output()
-        .unwrap();
+    let c = check(&out.join("summary.json"));
     assert_eq!(c.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&c.stdout).contains("lab-run"));
 }
@@ -249,7 +244,7 @@ fn a_killed_build_leaves_whole_files_and_the_next_build_completes() {
     let reference = snapshot(&ref_out);
     let (out, cache) = (d.path().join("reports"), d.path().join("cache"));
     for delay_ms in [300u64, 1500, 3500] {
-        let mut child = bin()
+        let mut child = command(&root())
             .args(["build", "-q", "--manifest"])
             .arg(&m)
             .arg("--out")

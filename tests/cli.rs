@@ -1,20 +1,11 @@
 //! End-to-end tests of the `rollfric` binary: simulate -> fit on every experiment, a CSV
 //! from an independent simulator, and the failure paths.
 
+mod common;
+
+use common::{need_python3, rollfric, rollfric_ok, root};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn rollfric(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run rollfric")
-}
 
 fn tmpdir() -> tempfile::TempDir {
     tempfile::tempdir().expect("temp dir")
@@ -33,19 +24,17 @@ const EXPERIMENTS: [&str; 8] = [
 
 /// `fit --json` on a CSV, as a JSON value.
 fn fit_json(experiment: &str, csv: &Path) -> serde_json::Value {
-    let out = rollfric(&[
-        "fit",
-        experiment,
-        "--angles",
-        csv.to_str().unwrap(),
-        "--json",
-    ]);
-    assert!(
-        out.status.success(),
-        "fit {experiment}: {}",
-        String::from_utf8_lossy(&out.stderr)
+    let (out, _) = rollfric_ok(
+        &[
+            "fit",
+            experiment,
+            "--angles",
+            csv.to_str().unwrap(),
+            "--json",
+        ],
+        &root(),
     );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
+    serde_json::from_str(&out).expect("one JSON object")
 }
 
 fn truth_s_r(experiment: &str) -> f64 {
@@ -60,22 +49,20 @@ fn truth_s_r(experiment: &str) -> f64 {
 }
 
 fn simulate(experiment: &str, csv: &Path, noise_deg: &str, seed: &str) {
-    let out = rollfric(&[
-        "simulate",
-        experiment,
-        "-o",
-        csv.to_str().unwrap(),
-        "--fps",
-        "60",
-        "--noise-deg",
-        noise_deg,
-        "--seed",
-        seed,
-    ]);
-    assert!(
-        out.status.success(),
-        "simulate {experiment}: {}",
-        String::from_utf8_lossy(&out.stderr)
+    rollfric_ok(
+        &[
+            "simulate",
+            experiment,
+            "-o",
+            csv.to_str().unwrap(),
+            "--fps",
+            "60",
+            "--noise-deg",
+            noise_deg,
+            "--seed",
+            seed,
+        ],
+        &root(),
     );
 }
 
@@ -153,8 +140,7 @@ fn simulate_writes_the_documented_csv() {
 /// and its own CSV conventions: extra columns, 30 fps, offset and flipped sign).
 #[test]
 fn fits_a_csv_from_an_independent_simulator() {
-    if Command::new("python3").arg("--version").output().is_err() {
-        eprintln!("SKIPPED: python3 is not installed; the reference simulator needs it");
+    if !need_python3() {
         return;
     }
     let dir = tmpdir();
@@ -185,9 +171,8 @@ fn fits_a_csv_from_an_independent_simulator() {
 
 #[test]
 fn torsion_prints_the_appendix_numbers() {
-    let out = rollfric(&["torsion", "steel", "--s-r", "4.5e-6", "--json"]);
-    assert!(out.status.success());
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let (out, _) = rollfric_ok(&["torsion", "steel", "--s-r", "4.5e-6", "--json"], &root());
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
     let k_t = j["k_t_n_m_per_rad"].as_f64().unwrap();
     assert!((k_t - 3.95e-7).abs() < 0.005e-7, "{k_t}");
     let ratio = j["ratio_pct"].as_f64().unwrap();
@@ -224,7 +209,7 @@ fn glass_with(dir: &Path, from: &str, to: &str) -> PathBuf {
 fn fails_on_unknown_key() {
     let dir = tmpdir();
     let f = glass_with(dir.path(), "  fps: 25", "  fps: 25\n  fsp: 25");
-    let out = rollfric(&["fit", f.to_str().unwrap()]);
+    let out = rollfric(&["fit", f.to_str().unwrap()], &root());
     assert_fails_with(&out, "bad.yaml", "unknown field `fsp`");
 }
 
@@ -232,7 +217,7 @@ fn fails_on_unknown_key() {
 fn fails_when_wire_is_shorter_than_the_radius() {
     let dir = tmpdir();
     let f = glass_with(dir.path(), "d_m: 0.1774", "d_m: 0.02");
-    let out = rollfric(&["fit", f.to_str().unwrap()]);
+    let out = rollfric(&["fit", f.to_str().unwrap()], &root());
     assert_fails_with(
         &out,
         "bad.yaml",
@@ -258,7 +243,7 @@ fn fails_on_negative_or_zero_values() {
         ("period_s: 205.3", "period_s: -5", "`torsion.period_s` = -5"),
     ] {
         let f = glass_with(dir.path(), from, to);
-        let out = rollfric(&["fit", f.to_str().unwrap()]);
+        let out = rollfric(&["fit", f.to_str().unwrap()], &root());
         assert_fails_with(&out, "bad.yaml", needle);
     }
 }
@@ -267,17 +252,26 @@ fn fails_on_negative_or_zero_values() {
 fn fails_on_missing_empty_or_nan_csv() {
     let dir = tmpdir();
     let missing = dir.path().join("nothing.csv");
-    let out = rollfric(&["fit", "glass", "--angles", missing.to_str().unwrap()]);
+    let out = rollfric(
+        &["fit", "glass", "--angles", missing.to_str().unwrap()],
+        &root(),
+    );
     assert_fails_with(&out, "nothing.csv", "cannot read");
 
     let empty = dir.path().join("empty.csv");
     std::fs::write(&empty, "").unwrap();
-    let out = rollfric(&["fit", "glass", "--angles", empty.to_str().unwrap()]);
+    let out = rollfric(
+        &["fit", "glass", "--angles", empty.to_str().unwrap()],
+        &root(),
+    );
     assert_fails_with(&out, "empty.csv", "empty");
 
     let nan = dir.path().join("nan.csv");
     std::fs::write(&nan, "t_s,angle_rad\n0.0,1.5\n0.1,NaN\n").unwrap();
-    let out = rollfric(&["fit", "glass", "--angles", nan.to_str().unwrap()]);
+    let out = rollfric(
+        &["fit", "glass", "--angles", nan.to_str().unwrap()],
+        &root(),
+    );
     assert_fails_with(&out, "nan.csv", "line 3: `angle_rad` = NaN");
 }
 
@@ -286,21 +280,26 @@ fn fails_with_too_few_turning_points() {
     let dir = tmpdir();
     let csv = dir.path().join("short.csv");
     // Three seconds: about one turning point.
-    let out = rollfric(&[
-        "simulate",
-        "glass",
-        "-o",
-        csv.to_str().unwrap(),
-        "--duration",
-        "3",
-    ]);
-    assert!(out.status.success());
-    let out = rollfric(&["fit", "glass", "--angles", csv.to_str().unwrap()]);
+    rollfric_ok(
+        &[
+            "simulate",
+            "glass",
+            "-o",
+            csv.to_str().unwrap(),
+            "--duration",
+            "3",
+        ],
+        &root(),
+    );
+    let out = rollfric(
+        &["fit", "glass", "--angles", csv.to_str().unwrap()],
+        &root(),
+    );
     assert_fails_with(&out, "short.csv", "turning point");
 }
 
 #[test]
 fn fails_on_a_missing_experiment_file() {
-    let out = rollfric(&["fit", "experiments/nonexistent.yaml"]);
+    let out = rollfric(&["fit", "experiments/nonexistent.yaml"], &root());
     assert_fails_with(&out, "nonexistent.yaml", "cannot read");
 }

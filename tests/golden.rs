@@ -3,12 +3,13 @@
 //! for byte after redaction. A differing, missing or stale expected file fails; set
 //! `ROLLFRIC_BLESS=1` to regenerate `expected/` after an intended change.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn cases() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
+    common::root().join("tests/golden")
 }
 
 /// Every file under `dir`, by path relative to it (`/`-separated).
@@ -77,15 +78,21 @@ fn differences(
 fn build(name: &str) -> BTreeMap<String, Vec<u8>> {
     let case = cases().join(name);
     let tmp = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .args(["build", "-q", "-j", "1", "--manifest"])
-        .arg(case.join("experiments/manifest.yaml"))
-        .arg("--out")
-        .arg(tmp.path().join("reports"))
-        .arg("--cache")
-        .arg(tmp.path().join("cache"))
-        .output()
-        .unwrap();
+    let out = common::rollfric(
+        &[
+            "build".as_ref(),
+            "-q".as_ref(),
+            "-j".as_ref(),
+            "1".as_ref(),
+            "--manifest".as_ref(),
+            case.join("experiments/manifest.yaml").as_os_str(),
+            "--out".as_ref(),
+            tmp.path().join("reports").as_os_str(),
+            "--cache".as_ref(),
+            tmp.path().join("cache").as_os_str(),
+        ],
+        tmp.path(),
+    );
     // The case includes a failing experiment, so the build exits 1; it must still write
     // every report.
     let stderr = String::from_utf8_lossy(&out.stderr);

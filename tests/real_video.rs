@@ -5,24 +5,10 @@
 
 mod common;
 
+use common::{fixture, rollfric_ok, root};
 use rollfric::series::AngleSeries;
-use std::path::PathBuf;
-use std::process::Command;
-
-fn fixture(name: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/fixtures/real")
-        .join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is absent (the real fixtures live in ../shared)",
-            p.display()
-        );
-        None
-    }
-}
+use std::ffi::OsStr;
+use std::path::Path;
 
 struct Detected {
     series: AngleSeries,
@@ -33,19 +19,17 @@ struct Detected {
     roi: Vec<u32>,
 }
 
-fn detect(video: &PathBuf, extra: &[&str]) -> Detected {
+fn detect(video: &Path, extra: &[&str]) -> Detected {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("angles.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .arg("detect")
-        .arg(video)
-        .arg("-o")
-        .arg(&csv)
-        .args(extra)
-        .output()
-        .unwrap();
-    let msg = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(out.status.success(), "detect failed: {msg}");
+    let mut args = vec![
+        OsStr::new("detect"),
+        video.as_os_str(),
+        OsStr::new("-o"),
+        csv.as_os_str(),
+    ];
+    args.extend(extra.iter().map(OsStr::new));
+    let (_, msg) = rollfric_ok(&args, &root());
     let text = std::fs::read_to_string(&csv).unwrap();
     let frames = text.lines().count() - 1;
     let missing = text.lines().filter(|l| l.contains(",missing,")).count();

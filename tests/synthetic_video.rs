@@ -4,35 +4,8 @@
 
 mod common;
 
-use common::{have_ffmpeg, pivot_in};
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Runs rollfric; returns its standard output and its standard error.
-fn rollfric_both(args: &[&str], dir: &Path) -> (String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "rollfric {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (
-        String::from_utf8_lossy(&out.stdout).to_string(),
-        String::from_utf8_lossy(&out.stderr).to_string(),
-    )
-}
-
-fn rollfric(args: &[&str], dir: &Path) -> String {
-    rollfric_both(args, dir).0
-}
+use common::{need_ffmpeg, pivot_in, rollfric_ok, root};
+use std::path::Path;
 
 struct Row {
     angle: Option<f64>,
@@ -58,8 +31,7 @@ fn read(path: &Path, col: &str) -> Vec<Row> {
 
 #[test]
 fn every_style_is_measured_within_a_twentieth_of_a_degree() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -102,7 +74,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
             d.join(format!("{name}-angles.csv")),
         );
         let s = |p: &Path| p.to_str().unwrap().to_string();
-        let (_, rendered) = rollfric_both(
+        let (_, rendered) = rollfric_ok(
             &["synth", &s(&exp), "-o", &s(&video), "--truth", &s(&truth)],
             d,
         );
@@ -112,7 +84,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
         } else {
             video.with_extension("avi")
         };
-        let (_, detected) = rollfric_both(&["detect", &s(&video), "-o", &s(&angles)], d);
+        let (_, detected) = rollfric_ok(&["detect", &s(&video), "-o", &s(&angles)], d);
         // The pivot found in the shrunk frames, mapped back to the full frame, is the
         // rendered one (pixel centres at integers in both).
         let (want, got) = (pivot_in(&rendered), pivot_in(&detected));
@@ -154,8 +126,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
 
 #[test]
 fn every_experiment_measures_back_its_s_r_from_video() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     // Every experiment of the manifest. Renders (or reuses) the twins under build/, as
@@ -164,7 +135,7 @@ fn every_experiment_measures_back_its_s_r_from_video() {
         rollfric::config::Manifest::load(&root().join("experiments/manifest.yaml")).unwrap();
     for file in files {
         let exp = file.display().to_string();
-        let out = rollfric(&["fit", &exp, "--json"], &root());
+        let (out, _) = rollfric_ok(&["fit", &exp, "--json"], &root());
         let j: serde_json::Value = serde_json::from_str(&out).unwrap();
         assert!(
             j["angles"]["kind"]

@@ -4,18 +4,21 @@
 
 mod common;
 
-use common::have_ffmpeg;
+use common::{need_ffmpeg, rollfric, root};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn detect(video: &Path, csv: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollfric"))
-        .arg("detect")
-        .arg(video)
-        .arg("-o")
-        .arg(csv)
-        .output()
-        .unwrap()
+    rollfric(
+        &[
+            OsStr::new("detect"),
+            video.as_os_str(),
+            OsStr::new("-o"),
+            csv.as_os_str(),
+        ],
+        &root(),
+    )
 }
 
 fn assert_fails(out: &Output, csv: &Path, file: &str, needles: &[&str]) {
@@ -58,8 +61,7 @@ fn make_clip(dir: &Path, name: &str, source: &str) -> PathBuf {
 
 #[test]
 fn fails_when_video_is_empty_corrupt_or_truncated() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -104,8 +106,7 @@ fn fails_when_video_is_empty_corrupt_or_truncated() {
 
 #[test]
 fn fails_when_no_wire_can_be_found() {
-    if !have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed (make test installs it)");
+    if !need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

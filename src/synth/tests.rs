@@ -280,8 +280,11 @@ fn yuv_conversion_is_bt601_within_one_level() {
 
 #[test]
 fn ffmpeg_writes_every_frame_the_same_way_twice() {
-    if !crate::video::have_ffmpeg() {
-        eprintln!("SKIPPED: ffmpeg is not installed");
+    if !crate::require::require(
+        "ffmpeg",
+        crate::require::MAKE_DEPS,
+        crate::video::have_ffmpeg(),
+    ) {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -1,12 +1,85 @@
-//! Helpers shared by the integration tests (each test crate uses some of them).
+//! Helpers shared by the integration tests (each test crate uses some of them): running
+//! the `rollfric` binary; the tools and fixtures a test needs, which it may skip without
+//! on a developer's machine but not under `make test` or CI ([`require`]); the summary
+//! line's numbers.
 #![allow(dead_code)]
 
-use std::process::Command;
+mod require;
 
-/// Whether the `ffmpeg` program runs here (`make test` installs it; without it the
-/// video tests say SKIPPED).
+pub use require::*;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The crate's folder (where `experiments/` and `tests/` are).
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The `rollfric` binary under test, to run in `dir`.
+pub fn command(dir: &Path) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_rollfric"));
+    c.current_dir(dir);
+    c
+}
+
+/// Runs `rollfric args` in `dir` to the end; whatever its exit status.
+pub fn rollfric<S: AsRef<OsStr>>(args: &[S], dir: &Path) -> Output {
+    command(dir)
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("run rollfric {}: {e}", shown(args)))
+}
+
+/// Runs `rollfric args` in `dir`, asserts it succeeds (its standard error in the
+/// message), and returns its standard output and standard error.
+pub fn rollfric_ok<S: AsRef<OsStr>>(args: &[S], dir: &Path) -> (String, String) {
+    let out = rollfric(args, dir);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    );
+    assert!(
+        out.status.success(),
+        "rollfric {} failed ({}): {stderr}",
+        shown(args),
+        out.status
+    );
+    (stdout, stderr)
+}
+
+fn shown<S: AsRef<OsStr>>(args: &[S]) -> String {
+    let args: Vec<_> = args.iter().map(|a| a.as_ref().to_string_lossy()).collect();
+    args.join(" ")
+}
+
+/// A real camera clip of `../shared/fixtures/real/` (read in place: the clips carry no
+/// licence to redistribute), or `None` when it is absent and the test may skip
+/// ([`require`]).
+pub fn fixture(name: &str) -> Option<PathBuf> {
+    let p = root().join("../shared/fixtures/real").join(name);
+    let what = format!("the real fixture {}", p.display());
+    let how = "the real camera clips are read in place from ../shared/fixtures/real, \
+               beside the crate's folder; put them there";
+    require(&what, how, p.exists()).then_some(p)
+}
+
+/// Whether the `ffmpeg` program runs here.
 pub fn have_ffmpeg() -> bool {
     Command::new("ffmpeg").arg("-version").output().is_ok()
+}
+
+/// Whether the test can go on: `ffmpeg` runs here, or it is missing and the test may
+/// skip ([`require`]).
+pub fn need_ffmpeg() -> bool {
+    require("ffmpeg", MAKE_DEPS, have_ffmpeg())
+}
+
+/// Whether the test can go on: `python3` runs here, or it is missing and the test may
+/// skip ([`require`]).
+pub fn need_python3() -> bool {
+    let present = Command::new("python3").arg("--version").output().is_ok();
+    require("python3 (for tests/reference_sim)", MAKE_DEPS, present)
 }
 
 /// The numbers between `open` and `close` after the last `key` of a summary line,

@@ -80,6 +80,7 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
     };
     remove_stale_temporaries(&opts.out, 2);
     remove_stale_temporaries(&opts.cache, 2);
+    let collisions = name_collisions(&root, &files);
     let progress = Arc::new(Progress::new(files.len(), opts.quiet));
     let jobs = opts
         .jobs
@@ -107,10 +108,13 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
                     label: label.clone(),
                     writer: &writer,
                 };
-                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    stages::run_experiment(file, &ctx)
-                }))
-                .unwrap_or_else(|_| Err(anyhow::anyhow!("internal error (panic)")));
+                let r = match &collisions[i] {
+                    Some(why) => Err(anyhow::anyhow!("{why}")),
+                    None => std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        stages::run_experiment(file, &ctx)
+                    }))
+                    .unwrap_or_else(|_| Err(anyhow::anyhow!("internal error (panic)"))),
+                };
                 let secs = t0.elapsed().as_secs_f64();
                 let outcome = match r {
                     Ok((res, how)) => {
@@ -154,6 +158,43 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         seconds: started.elapsed().as_secs_f64(),
         written,
     })
+}
+
+/// Names the reports' index uses for itself: no experiment may take them.
+const RESERVED_NAMES: [&str; 2] = ["index", "summary"];
+
+/// For each experiment, why its name cannot be used: reserved, or taken by another
+/// experiment of the manifest (the same file listed twice included). Every experiment
+/// of a colliding group fails, naming the others, so none silently overwrites another's
+/// pages. A file that does not load keeps its file name here and fails later with its
+/// own error.
+fn name_collisions(root: &Path, files: &[PathBuf]) -> Vec<Option<String>> {
+    let names: Vec<String> = files
+        .iter()
+        .map(|f| Experiment::load(f).map_or_else(|_| display_name(f), |e| e.name))
+        .collect();
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            let me = relative(root, &files[i]);
+            if RESERVED_NAMES.contains(&n.as_str()) {
+                return Some(format!(
+                    "{me}: the experiment name `{n}` is the reports' own ({n}.html, {n}.md or {n}.json); choose another `name:`"
+                ));
+            }
+            let others: Vec<String> = (0..files.len())
+                .filter(|&j| j != i && names[j] == *n)
+                .map(|j| relative(root, &files[j]))
+                .collect();
+            (!others.is_empty()).then(|| {
+                format!(
+                    "{me}: the experiment name `{n}` is also that of {} in the manifest (each experiment needs its own name: its pages are <name>.html and <name>.md)",
+                    others.join(", ")
+                )
+            })
+        })
+        .collect()
 }
 
 /// Whether two folders (both existing) are the same one.

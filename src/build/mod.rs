@@ -60,6 +60,15 @@ const SYNTH_SOURCE: &[&str] = &[include_str!("../synth.rs")];
 const DETECT_SOURCE: &[&str] = &[
     include_str!("../detect/mod.rs"),
     include_str!("../detect/geometry.rs"),
+    include_str!("../detect/geometry/pivot.rs"),
+    include_str!("../detect/fill.rs"),
+    include_str!("../detect/line.rs"),
+    include_str!("../detect/options.rs"),
+    include_str!("../detect/repeats.rs"),
+    include_str!("../detect/row.rs"),
+    include_str!("../detect/track.rs"),
+    include_str!("../detect/track/diag.rs"),
+    include_str!("../detect/track/measure.rs"),
     include_str!("../video.rs"),
 ];
 const ANALYSIS_SOURCE: &[&str] = &[

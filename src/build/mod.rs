@@ -62,6 +62,7 @@ const DETECT_SOURCE: &[&str] = &[
     include_str!("../detect/geometry.rs"),
     include_str!("../detect/geometry/pivot.rs"),
     include_str!("../detect/fill.rs"),
+    include_str!("../detect/input.rs"),
     include_str!("../detect/line.rs"),
     include_str!("../detect/options.rs"),
     include_str!("../detect/repeats.rs"),

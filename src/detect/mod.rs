@@ -26,20 +26,26 @@
 //!
 //! Memory is flat: one frame, the background and the evidence at a time, whatever the
 //! video's length (the per-frame angles are a few bytes each).
+//!
+//! The frames come from a [`VideoInput`], opened twice (the first look, shrunk for a
+//! large frame, then the streaming pass): a [`VideoFile`] for [`detect`], or frames
+//! made in memory ([`MemoryVideo`]) for tests that need no decoder.
 
 mod fill;
 pub mod geometry;
+mod input;
 mod line;
 mod options;
 mod repeats;
 mod row;
 mod track;
 
+pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, Line};
 pub use options::{DetectOptions, FrameProgress};
 pub use row::{AngleRow, Detection, Flag, Status};
 
-use crate::video::{self, FfmpegSource, Frame, FrameSource, OpenCvSource, Roi, VideoInfo};
+use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
 use fill::{apply_marks, fill_flagged};
 use geometry::InitFrames;
@@ -64,37 +70,22 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
     (p - origin - Pt::repeat(0.5 * (s - 1.0))) / s
 }
 
-fn open_source(
-    path: &Path,
-    info: &VideoInfo,
-    roi: Option<Roi>,
-    shrink: u32,
-    opts: &DetectOptions,
-) -> Result<(Box<dyn FrameSource>, &'static str)> {
-    if !opts.force_opencv && video::have_ffmpeg() {
-        Ok((
-            Box::new(FfmpegSource::open(path, info, roi, shrink)?),
-            "ffmpeg (luma plane, cropped)",
-        ))
-    } else {
-        if shrink > 1 {
-            bail!("shrunk decoding needs the ffmpeg program");
-        }
-        Ok((
-            Box::new(OpenCvSource::open(path, roi)?),
-            "OpenCV VideoCapture",
-        ))
-    }
-}
-
 /// Length of the first look at the video (geometry and background), s: more than half
 /// a swing of any pendulum up to a 5 s period.
 const INIT_SECONDS: f64 = 2.5;
 
-/// Detect the wire angle in every frame of a video.
+/// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`, or by
+/// OpenCV without it or with `opts.force_opencv`).
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
+    detect_from(&VideoFile::open(path, opts.force_opencv)?, opts)
+}
+
+/// Detect the wire angle in every frame of `input` (`opts.force_opencv` aside: the
+/// input decides how it decodes).
+pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detection> {
     let started = std::time::Instant::now();
-    let info = video::probe(path)?;
+    let info = input.info();
+    let name = input.name();
     let bound = opts.roi.unwrap_or(Roi {
         x: 0,
         y: 0,
@@ -104,7 +95,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     if bound.x + bound.w > info.width || bound.y + bound.h > info.height {
         bail!(
             "{}: `video.roi` = [{}, {}, {}, {}] does not fit in the {}x{} frame",
-            path.display(),
+            name,
             bound.x,
             bound.y,
             bound.w,
@@ -119,11 +110,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     };
     // 1. Geometry from the first seconds (shrunk so the larger side is <= 640 px).
     let shrink = ((bound.w.max(bound.h) as f64) / 640.0).ceil().max(1.0) as u32;
-    let use_shrink = if !opts.force_opencv && video::have_ffmpeg() {
-        shrink
-    } else {
-        1
-    };
+    let use_shrink = if input.can_shrink() { shrink } else { 1 };
     // The first look's region, cut to whole multiples of the shrink factor: each of
     // its pixels averages exactly `use_shrink` x `use_shrink` full pixels.
     let bound = Roi {
@@ -131,7 +118,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         h: bound.h - bound.h % use_shrink,
         ..bound
     };
-    let (mut src, _) = open_source(path, &info, Some(bound), use_shrink, opts)?;
+    let mut src = input.open(bound, use_shrink)?;
     let mut init = InitFrames {
         w: 0,
         h: 0,
@@ -175,7 +162,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         );
     }
     if init.data.is_empty() {
-        bail!("{}: no frame could be decoded", path.display());
+        bail!("{}: no frame could be decoded", name);
     }
     let noise = geometry::noise_map(&init);
     let geo = geometry::find(
@@ -187,7 +174,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         opts.pivot.map(|[x, y]| Pt::new(x, y)),
         opts.roi,
     )
-    .with_context(|| format!("{}: no wire found", path.display()))?;
+    .with_context(|| format!("{}: no wire found", name))?;
     let init_angles = geo.initial_angles.clone();
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(
@@ -200,7 +187,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     drop(init);
 
     // 2. The streaming pass over the region of interest.
-    let (mut src, decoder) = open_source(path, &info, Some(geo.roi), 1, opts)?;
+    let mut src = input.open(geo.roi, 1)?;
     let mut tracker = Tracker::new(&geo, opts, init_bg, init_tmap, use_shrink as f64, bound)?;
     let total = info.frames_header;
     let tty = std::io::stderr().is_terminal() && opts.progress.is_none();
@@ -245,13 +232,10 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     }
     drop(src);
     if rows.is_empty() {
-        bail!("{}: no frame in the requested range", path.display());
+        bail!("{}: no frame in the requested range", name);
     }
     if rows.iter().any(|r| !r.t_s.is_finite()) {
-        bail!(
-            "{}: the decoder gave frames without timestamps",
-            path.display()
-        );
+        bail!("{}: the decoder gave frames without timestamps", name);
     }
     flag_repeats(&mut rows);
     let pivot = tracker.refine_pivot(&mut rows);
@@ -262,7 +246,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         bail!(
             "{}: the wire was found in only {usable} of {} frames (last good frame {}); \
              check `video.roi`, `video.pivot` and `video.polarity`",
-            path.display(),
+            name,
             rows.len(),
             rows.iter()
                 .rev()
@@ -276,7 +260,7 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
         roi: [geo.roi.x, geo.roi.y, geo.roi.w, geo.roi.h],
         dark_wire: geo.dark,
         band_px: [geo.r_lo, geo.r_hi],
-        decoder: decoder.to_string(),
+        decoder: input.decoder(),
         diagnostics: tracker.diagnostics,
     })
 }

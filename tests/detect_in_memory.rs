@@ -3,7 +3,9 @@
 //! noise, must be measured back to the angles it was drawn at, about the pivot it was
 //! drawn from.
 
-use rollfric::detect::{detect_from, DetectOptions, MemoryVideo, Status};
+use rollfric::detect::{
+    detect_from, figure11_frame, figure11_png, DetectOptions, Detection, MemoryVideo, Status,
+};
 use rollfric::rng::Rng;
 use std::f64::consts::{PI, TAU};
 
@@ -64,10 +66,49 @@ impl Scene {
     }
 }
 
+/// Figure 11 as the pass kept it: the `ok` frame of the first 4 s farthest in angle
+/// from their median, its region of interest exactly as drawn, and a PNG of the region
+/// in its margin.
+fn check_figure11(name: &str, d: &Detection, video: &MemoryVideo, width: u32) {
+    let ok: Vec<_> = d.rows.iter().filter(|r| r.status == Status::Ok).collect();
+    let early: Vec<_> = ok.iter().filter(|r| r.t_s - ok[0].t_s <= 4.0).collect();
+    let mut angles: Vec<f64> = early.iter().map(|r| r.angle_rad.unwrap()).collect();
+    angles.sort_by(f64::total_cmp);
+    let median = angles[angles.len() / 2];
+    let far = |r: &&&rollfric::detect::AngleRow| (r.angle_rad.unwrap() - median).abs();
+    let best = early.iter().map(far).fold(0.0, f64::max);
+    let want = early.iter().find(|r| far(r) == best).unwrap().frame;
+    let fig = d.figure11.as_ref().expect("a frame kept for Figure 11");
+    assert_eq!((fig.frame, figure11_frame(d)), (want, want), "{name}");
+    let [x, y, w, h] = d.roi.map(|v| v as usize);
+    assert_eq!((fig.width, fig.height), (w, h), "{name}");
+    let full = video.frame(want as usize).unwrap();
+    let crop: Vec<u8> = (y..y + h)
+        .flat_map(|r| &full[r * width as usize + x..r * width as usize + x + w])
+        .copied()
+        .collect();
+    assert!(
+        fig.grey == crop,
+        "{name}: the kept region is the drawn frame's"
+    );
+    let png = figure11_png(d).unwrap();
+    assert_eq!(&png[1..4], b"PNG", "{name}");
+    let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
+    let m = (w.max(h) / 6).max(8);
+    assert_eq!((size(16), size(20)), (w + 2 * m, h + 2 * m), "{name}");
+    eprintln!(
+        "{name}: Figure 11 is frame {want} (t {:.2} s), {w}x{h} px kept, PNG {} bytes",
+        d.rows[want as usize].t_s,
+        png.len()
+    );
+}
+
 /// Detect `scene` through the in-memory input; returns the RMS and largest angle
 /// error of the `ok` frames (deg) and the pivot's error (px).
 fn measure(name: &str, scene: &Scene) -> (f64, f64, f64) {
-    let d = detect_from(&scene.video(), &DetectOptions::default()).unwrap();
+    let video = scene.video();
+    let d = detect_from(&video, &DetectOptions::default()).unwrap();
+    check_figure11(name, &d, &video, scene.width);
     assert_eq!(
         d.rows.len(),
         scene.frames(),

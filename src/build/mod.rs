@@ -61,6 +61,7 @@ const DETECT_SOURCE: &[&str] = &[
     include_str!("../detect/mod.rs"),
     include_str!("../detect/geometry.rs"),
     include_str!("../detect/geometry/pivot.rs"),
+    include_str!("../detect/figure11.rs"),
     include_str!("../detect/fill.rs"),
     include_str!("../detect/input.rs"),
     include_str!("../detect/line.rs"),

@@ -118,6 +118,11 @@ impl MemoryVideo {
             frames,
         })
     }
+
+    /// Frame `k`'s full grey picture.
+    pub fn frame(&self, k: usize) -> Option<&[u8]> {
+        self.frames.get(k).map(Vec::as_slice)
+    }
 }
 
 impl VideoInput for MemoryVideo {

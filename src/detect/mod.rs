@@ -25,12 +25,14 @@
 //!    image with the detected and predicted lines (the paper's Figure 11).
 //!
 //! Memory is flat: one frame, the background and the evidence at a time, whatever the
-//! video's length (the per-frame angles are a few bytes each).
+//! video's length (the per-frame angles are a few bytes each), and a few frames'
+//! regions for Figure 11 ([`figure11_png`]), kept by the pass instead of decoding again.
 //!
 //! The frames come from a [`VideoInput`], opened twice (the first look, shrunk for a
 //! large frame, then the streaming pass): a [`VideoFile`] for [`detect`], or frames
 //! made in memory ([`MemoryVideo`]) for tests that need no decoder.
 
+mod figure11;
 mod fill;
 pub mod geometry;
 mod input;
@@ -40,6 +42,7 @@ mod repeats;
 mod row;
 mod track;
 
+pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, Line};
 pub use options::{DetectOptions, FrameProgress};
@@ -192,6 +195,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     let total = info.frames_header;
     let tty = std::io::stderr().is_terminal() && opts.progress.is_none();
     let mut rows = Vec::new();
+    let mut keeper = figure11::Keeper::new(figure11::PER_SIDE);
     let mut k = 0usize;
     let mut waited = 0.0f64;
     loop {
@@ -209,7 +213,9 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         }
         let hint = init_angles.get(k).copied().flatten();
 
-        rows.push(tracker.step(&frame, hint)?);
+        let row = tracker.step(&frame, hint)?;
+        keeper.offer(&row, &frame);
+        rows.push(row);
         k += 1;
         if let Some(p) = opts.progress.as_ref().filter(|_| k.is_multiple_of(100)) {
             (p.0)(k as u64, total);
@@ -254,6 +260,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                 .map_or(0, |r| r.frame)
         );
     }
+    let figure11 = keeper.take(&rows);
     Ok(Detection {
         rows,
         pivot_px: [pivot.x, pivot.y],
@@ -262,6 +269,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         band_px: [geo.r_lo, geo.r_hi],
         decoder: input.decoder(),
         diagnostics: tracker.diagnostics,
+        figure11,
     })
 }
 

@@ -17,7 +17,8 @@ pub struct DetectOptions {
     pub marks: BTreeMap<u64, [[f64; 2]; 2]>,
     /// Folder for the diagnostic images of flagged frames (none if `None`).
     pub diag_dir: Option<PathBuf>,
-    /// Use OpenCV's decoder even when `ffmpeg` is available.
+    /// Use OpenCV's decoder even when `ffmpeg` is available ([`super::detect`]; a
+    /// [`super::VideoInput`] decodes as it does).
     pub force_opencv: bool,
     /// Told the frames done (and the header's frame count) every 100 frames; when set,
     /// the detector prints no progress of its own.

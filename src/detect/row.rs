@@ -1,6 +1,7 @@
 //! What a detection gives: each frame's row (angle, status, flag) and the whole
 //! detection, with its CSV.
 
+use super::Figure11;
 use crate::series::AngleSeries;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -83,6 +84,9 @@ pub struct Detection {
     pub band_px: [f64; 2],
     pub decoder: String,
     pub diagnostics: Vec<PathBuf>,
+    /// The frame shown as Figure 11 ([`super::figure11_frame`]), kept by the pass.
+    #[serde(skip)]
+    pub figure11: Option<Figure11>,
 }
 
 impl Detection {

@@ -171,7 +171,8 @@ fn detect_stage(
         source.clone(),
     )?;
     let summary = angles.detection.expect("a detection");
-    let png = detect::figure11_png(&video.path, &d, summary.figure11_frame)?;
+    let png =
+        detect::figure11_png(&d).with_context(|| format!("{}: Figure 11", video.path.display()))?;
     fsutil::write_atomic(&fig11, &png)?;
     fsutil::write_atomic(&csv, d.to_csv().as_bytes())?;
     fsutil::write_atomic(&summary_file, &serde_json::to_vec_pretty(&summary)?)?;

@@ -1,0 +1,142 @@
+//! After the pass: flagged frames filled from their good neighbours, and operator
+//! marks.
+
+use super::{AngleRow, Pt, Status};
+use std::collections::BTreeMap;
+
+/// Operator marks replace the detection: the angle of the line through the two points,
+/// pointing away from the pivot.
+pub(super) fn apply_marks(rows: &mut [AngleRow], marks: &BTreeMap<u64, [[f64; 2]; 2]>, pivot: Pt) {
+    for r in rows.iter_mut() {
+        if let Some([[x1, y1], [x2, y2]]) = marks.get(&r.frame) {
+            let (a, b) = (Pt::new(*x1, *y1), Pt::new(*x2, *y2));
+            let (near, far) = if (a - pivot).norm() <= (b - pivot).norm() {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            let d = far - near;
+            r.angle_rad = Some(d.y.atan2(d.x));
+            r.status = Status::Manual;
+            r.flag = None;
+            r.quality = 1.0;
+        }
+    }
+}
+
+const FILL_REACH_S: f64 = 0.3;
+
+/// Fill each flagged frame from its good neighbours (a local quadratic in time through
+/// up to three good frames on each side, within 0.3 s); without good
+/// neighbours on both sides it stays missing.
+pub(super) fn fill_flagged(rows: &mut [AngleRow]) {
+    let good: Vec<usize> = rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.flag.is_none() && r.angle_rad.is_some())
+        .map(|(i, _)| i)
+        .collect();
+    let flagged: Vec<usize> = rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.flag.is_some())
+        .map(|(i, _)| i)
+        .collect();
+    for i in flagged {
+        let t = rows[i].t_s;
+        let k = good.partition_point(|&g| g < i);
+        let before: Vec<usize> = good[k.saturating_sub(3)..k]
+            .iter()
+            .copied()
+            .filter(|&g| t - rows[g].t_s <= FILL_REACH_S)
+            .collect();
+        let after: Vec<usize> = good[k..(k + 3).min(good.len())]
+            .iter()
+            .copied()
+            .filter(|&g| rows[g].t_s - t <= FILL_REACH_S)
+            .collect();
+        if before.is_empty() || after.is_empty() {
+            rows[i].angle_rad = None;
+            rows[i].status = Status::Missing;
+            continue;
+        }
+        if before.len() + after.len() == 2 {
+            // Straight line between the two neighbours.
+            let (a, b) = (&rows[before[0]], &rows[after[0]]);
+            let (ya, yb) = (a.angle_rad.unwrap_or(0.0), b.angle_rad.unwrap_or(0.0));
+            let v = ya + (yb - ya) * (t - a.t_s) / (b.t_s - a.t_s);
+            rows[i].angle_rad = Some(v);
+            rows[i].status = Status::Corrected;
+            continue;
+        }
+        let mut ata = nalgebra::Matrix3::<f64>::zeros();
+        let mut atb = nalgebra::Vector3::<f64>::zeros();
+        for &g in before.iter().chain(&after) {
+            let x = rows[g].t_s - t;
+            let v = nalgebra::Vector3::new(1.0, x, x * x);
+            ata += v * v.transpose();
+            atb += v * rows[g].angle_rad.expect("good rows have angles");
+        }
+        match ata.cholesky() {
+            Some(c) => {
+                rows[i].angle_rad = Some(c.solve(&atb)[0]);
+                rows[i].status = Status::Corrected;
+            }
+            None => {
+                rows[i].angle_rad = None;
+                rows[i].status = Status::Missing;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::detect::Flag;
+
+    #[test]
+    fn flagged_frames_are_filled_from_neighbours_or_left_missing() {
+        let mut rows: Vec<AngleRow> = (0..20)
+            .map(|i| {
+                let t = i as f64 / 30.0;
+                AngleRow {
+                    frame: i,
+                    t_s: t,
+                    angle_rad: Some(1.0 + 0.5 * t * t),
+                    status: Status::Ok,
+                    quality: 1.0,
+                    flag: None,
+                    moments: None,
+                }
+            })
+            .collect();
+        rows[7].flag = Some(Flag::Gate);
+        rows[7].angle_rad = Some(9.0);
+        rows[0].flag = Some(Flag::Weak);
+        fill_flagged(&mut rows);
+        assert_eq!(rows[7].status, Status::Corrected);
+        let t = rows[7].t_s;
+        assert!((rows[7].angle_rad.unwrap() - (1.0 + 0.5 * t * t)).abs() < 1e-9);
+        assert_eq!(rows[0].status, Status::Missing);
+        assert_eq!(rows[0].angle_rad, None);
+    }
+
+    #[test]
+    fn marks_give_the_angle_away_from_the_pivot() {
+        let mut rows = vec![AngleRow {
+            frame: 3,
+            t_s: 0.1,
+            angle_rad: None,
+            status: Status::Missing,
+            quality: 0.0,
+            flag: Some(Flag::Weak),
+            moments: None,
+        }];
+        let mut marks = BTreeMap::new();
+        marks.insert(3, [[100.0, 300.0], [100.0, 100.0]]);
+        apply_marks(&mut rows, &marks, Pt::new(100.0, 0.0));
+        assert_eq!(rows[0].status, Status::Manual);
+        assert!((rows[0].angle_rad.unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,69 @@
+//! The settings of one detection.
+
+use crate::config::{Polarity, Video};
+use crate::video::Roi;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Settings of one detection.
+#[derive(Clone, Debug)]
+pub struct DetectOptions {
+    pub roi: Option<Roi>,
+    pub pivot: Option<[f64; 2]>,
+    pub frames: Option<[u64; 2]>,
+    pub polarity: Polarity,
+    pub threshold_sigma: f64,
+    pub gate_deg: f64,
+    pub marks: BTreeMap<u64, [[f64; 2]; 2]>,
+    /// Folder for the diagnostic images of flagged frames (none if `None`).
+    pub diag_dir: Option<PathBuf>,
+    /// Use OpenCV's decoder even when `ffmpeg` is available ([`super::detect`]; a
+    /// [`super::VideoInput`] decodes as it does).
+    pub force_opencv: bool,
+    /// Told the frames done (and the header's frame count) every 100 frames; when set,
+    /// the detector prints no progress of its own.
+    pub progress: Option<FrameProgress>,
+}
+
+/// A progress callback: `(frames done, frames expected)`.
+#[derive(Clone)]
+pub struct FrameProgress(pub std::sync::Arc<dyn Fn(u64, Option<u64>) + Send + Sync>);
+
+impl std::fmt::Debug for FrameProgress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("FrameProgress")
+    }
+}
+
+impl Default for DetectOptions {
+    fn default() -> Self {
+        Self {
+            roi: None,
+            pivot: None,
+            frames: None,
+            polarity: Polarity::Auto,
+            threshold_sigma: 4.0,
+            gate_deg: 1.5,
+            marks: BTreeMap::new(),
+            diag_dir: None,
+            force_opencv: false,
+            progress: None,
+        }
+    }
+}
+
+impl DetectOptions {
+    /// Settings from an experiment's `video:` block.
+    pub fn from_video(v: &Video) -> Self {
+        Self {
+            roi: v.roi.map(|[x, y, w, h]| Roi { x, y, w, h }),
+            pivot: v.pivot,
+            frames: v.frames,
+            polarity: v.polarity,
+            threshold_sigma: v.threshold_sigma.unwrap_or(4.0),
+            gate_deg: v.gate_deg.unwrap_or(1.5),
+            marks: v.marks.clone(),
+            ..Self::default()
+        }
+    }
+}

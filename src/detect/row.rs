@@ -1,0 +1,106 @@
+//! What a detection gives: each frame's row (angle, status, flag) and the whole
+//! detection, with its CSV.
+
+use super::Figure11;
+use serde::Serialize;
+use std::path::PathBuf;
+
+pub use crate::series::Status;
+
+/// Why a frame was flagged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Flag {
+    /// The measured angle is too far from the prediction.
+    Gate,
+    /// Too little of the wire was seen.
+    Weak,
+    /// The whole frame's brightness jumped (a flash).
+    Flash,
+    /// The frame repeats the previous one (a dropped frame).
+    Duplicate,
+    /// Much of the region changed at once (a hand or a shadow passing).
+    Disturbed,
+}
+
+impl Flag {
+    /// The name the reports use (as serialised).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Flag::Gate => "gate",
+            Flag::Weak => "weak",
+            Flag::Flash => "flash",
+            Flag::Duplicate => "duplicate",
+            Flag::Disturbed => "disturbed",
+        }
+    }
+
+    /// The flag named `s` (as [`Flag::as_str`] writes it).
+    pub fn parse(s: &str) -> Option<Self> {
+        [
+            Flag::Gate,
+            Flag::Weak,
+            Flag::Flash,
+            Flag::Duplicate,
+            Flag::Disturbed,
+        ]
+        .into_iter()
+        .find(|f| f.as_str() == s)
+    }
+}
+
+/// One frame's result.
+#[derive(Clone, Debug, Serialize)]
+pub struct AngleRow {
+    pub frame: u64,
+    pub t_s: f64,
+    /// Angle of the wire from the image x axis (y down), rad; `None` when missing.
+    pub angle_rad: Option<f64>,
+    pub status: Status,
+    /// 0..1: the fraction of the wire's visible band covered by detected pixels.
+    pub quality: f64,
+    pub flag: Option<Flag>,
+    /// Weighted moments of the wire pixels `[sum w, sum w x, sum w y, sum w x^2,
+    /// sum w x y, sum w y^2]` (working-scale region pixels), so that the angle can be
+    /// refitted about a refined pivot after the pass.
+    #[serde(skip)]
+    pub moments: Option<[f64; 6]>,
+}
+
+/// The result of a detection.
+#[derive(Clone, Debug, Serialize)]
+pub struct Detection {
+    pub rows: Vec<AngleRow>,
+    pub pivot_px: [f64; 2],
+    pub roi: [u32; 4],
+    pub dark_wire: bool,
+    pub band_px: [f64; 2],
+    pub decoder: String,
+    pub diagnostics: Vec<PathBuf>,
+    /// The frame shown as Figure 11 ([`super::figure11_frame`]), kept by the pass.
+    #[serde(skip)]
+    pub figure11: Option<Figure11>,
+}
+
+impl Detection {
+    /// Count of rows per status.
+    pub fn count(&self, st: Status) -> usize {
+        self.rows.iter().filter(|r| r.status == st).count()
+    }
+
+    /// CSV: `t_s,angle_rad,status,quality` (angle empty when missing).
+    pub fn to_csv(&self) -> String {
+        let mut out = String::with_capacity(40 * self.rows.len() + 32);
+        out.push_str("t_s,angle_rad,status,quality\n");
+        for r in &self.rows {
+            let a = r.angle_rad.map(|a| format!("{a:.9}")).unwrap_or_default();
+            out.push_str(&format!(
+                "{:.6},{a},{},{:.3}\n",
+                r.t_s,
+                r.status.as_str(),
+                r.quality
+            ));
+        }
+        out
+    }
+}

@@ -1,0 +1,433 @@
+//! The streaming pass: per frame, the evidence against a background that follows the
+//! scene, the wire's angle in a wedge around the prediction, and the gate.
+
+mod diag;
+mod measure;
+
+use super::geometry::{self, WireGeometry};
+use super::line::{Line, Moments};
+use super::{full_to_shrunk, shrunk_to_full, AngleRow, DetectOptions, Flag, Pt, Status};
+use crate::video::{Frame, Roi};
+use anyhow::{bail, Context, Result};
+use opencv::core::{self, Mat, Scalar};
+use opencv::imgproc;
+use opencv::prelude::*;
+use std::path::PathBuf;
+
+/// Per-frame state of the streaming pass.
+pub(super) struct Tracker {
+    geo: WireGeometry,
+    /// Work at 1/scale of the full frame, in a region starting at `(roi_x, roi_y)`.
+    scale: f64,
+    roi_x: f64,
+    roi_y: f64,
+    /// Pivot and band in the scaled region's pixels.
+    piv: Pt,
+    r_lo: f64,
+    r_hi: f64,
+    small: Mat,
+    bg: Mat,
+    tmp: Mat,
+    raw_ev: Mat,
+    kernel: Mat,
+    /// Per-pixel detection threshold (grey levels).
+    tmap: Mat,
+    ev: Mat,
+    bin: Mat,
+    prev: Vec<u8>,
+    mean_level: Option<f64>,
+    gate: f64,
+    /// Recent accepted (t, angle) for the prediction.
+    hist: Vec<(f64, f64)>,
+    /// The last few raw measurements (accepted or not).
+    raw: Vec<(f64, f64)>,
+    /// Typical quality of accepted frames (a faint wire covers less of its band).
+    q_ref: Option<f64>,
+    /// Typical mean absolute change between consecutive frames.
+    mad_ref: Option<f64>,
+    /// Mean square innovation of accepted frames, and how many were seen.
+    innov: Option<(f64, usize)>,
+    since_good: usize,
+    decay_every: u64,
+    diag_dir: Option<PathBuf>,
+    pub(super) diagnostics: Vec<PathBuf>,
+}
+
+impl Tracker {
+    pub(super) fn new(
+        geo: &WireGeometry,
+        opts: &DetectOptions,
+        init_bg: Mat,
+        init_tmap: Mat,
+        shrink: f64,
+        bound: Roi,
+    ) -> Result<Self> {
+        // The first seconds' background covers `bound` at the shrunk scale: map it onto
+        // the region of interest at full scale.
+        let roi = geo.roi;
+        // The streaming pass works at the same scale as the first seconds: a faint wire
+        // that the area average brings out there stays visible, and the angle does not
+        // depend on scale. Map from the shrunk `bound` to the shrunk region.
+        let m = Mat::from_slice_2d(&[
+            [1.0, 0.0, (roi.x as f64 - bound.x as f64) / shrink],
+            [0.0, 1.0, (roi.y as f64 - bound.y as f64) / shrink],
+        ])?;
+        let (sw, sh) = (
+            (roi.w as f64 / shrink).floor() as i32,
+            (roi.h as f64 / shrink).floor() as i32,
+        );
+        let to_roi = |src: &Mat| -> Result<Mat> {
+            let mut out = Mat::default();
+            imgproc::warp_affine(
+                src,
+                &mut out,
+                &m,
+                core::Size::new(sw, sh),
+                imgproc::INTER_LINEAR | imgproc::WARP_INVERSE_MAP,
+                core::BORDER_REPLICATE,
+                Scalar::default(),
+            )?;
+            Ok(out)
+        };
+        let bg = to_roi(&init_bg)?;
+        let tmap = to_roi(&init_tmap)?;
+        if let Some(d) = &opts.diag_dir {
+            std::fs::create_dir_all(d)
+                .with_context(|| format!("{}: cannot create folder", d.display()))?;
+        }
+        Ok(Self {
+            geo: geo.clone(),
+            scale: shrink,
+            roi_x: roi.x as f64,
+            roi_y: roi.y as f64,
+            piv: full_to_shrunk(geo.pivot, Pt::new(roi.x as f64, roi.y as f64), shrink),
+            r_lo: geo.r_lo / shrink,
+            r_hi: geo.r_hi / shrink,
+            small: Mat::default(),
+            bg,
+            raw_ev: Mat::default(),
+            tmp: Mat::default(),
+            kernel: imgproc::get_structuring_element_def(
+                imgproc::MORPH_ELLIPSE,
+                core::Size::new(7, 7),
+            )?,
+            tmap,
+            ev: Mat::default(),
+            bin: Mat::default(),
+            prev: Vec::new(),
+            mean_level: None,
+            gate: opts.gate_deg.to_radians(),
+            hist: Vec::new(),
+            raw: Vec::new(),
+            q_ref: None,
+            mad_ref: None,
+            innov: None,
+            since_good: 0,
+            decay_every: 120,
+            diag_dir: opts.diag_dir.clone(),
+            diagnostics: Vec::new(),
+        })
+    }
+
+    fn predict(&self, t: f64) -> Option<f64> {
+        let lo = self.geo.theta_min - 15f64.to_radians();
+        let hi = self.geo.theta_max + 15f64.to_radians();
+        self.predict_raw(t)
+            .filter(|p| *p > lo - 0.2 && *p < hi + 0.2)
+            .map(|p| p.clamp(lo, hi))
+    }
+
+    fn predict_raw(&self, t: f64) -> Option<f64> {
+        let n = self.hist.len();
+        if n == 0 || self.since_good > 4 {
+            return None;
+        }
+        let recent = &self.hist[n.saturating_sub(3)..];
+        if recent.len() == 3 && recent[2].0 - recent[0].0 < 0.25 {
+            // The quadratic through the last three accepted angles (Lagrange form).
+            let [(t0, a0), (t1, a1), (t2, a2)] = [recent[0], recent[1], recent[2]];
+            let l0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
+            let l1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
+            let l2 = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
+            return Some(a0 * l0 + a1 * l1 + a2 * l2);
+        }
+        if recent.len() >= 2 {
+            let (t1, a1) = recent[recent.len() - 2];
+            let (t2, a2) = recent[recent.len() - 1];
+            return Some(a2 + (a2 - a1) / (t2 - t1) * (t - t2));
+        }
+        Some(recent[0].1)
+    }
+
+    pub(super) fn step(&mut self, f: &Frame, hint: Option<f64>) -> Result<AngleRow> {
+        let full = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
+        let (w, h) = (self.bg.cols(), self.bg.rows());
+        if self.scale > 1.0 {
+            imgproc::resize(
+                &full,
+                &mut self.small,
+                core::Size::new(w, h),
+                0.0,
+                0.0,
+                imgproc::INTER_AREA,
+            )?;
+        } else {
+            if full.cols() != w || full.rows() != h {
+                bail!(
+                    "frame {} is {}x{} px, expected {w}x{h}",
+                    f.index,
+                    full.cols(),
+                    full.rows()
+                );
+            }
+            full.copy_to(&mut self.small)?;
+        }
+        // Global brightness: a flash or a dropout is kept out of the background.
+        let level = sampled_mean(&f.data, 7);
+        let flash = self
+            .mean_level
+            .is_some_and(|m| (level - m).abs() > 0.2 * m.max(20.0));
+        // A repeated frame (the camera dropped one and the recorder repeated the last)
+        // differs from its predecessor far less than the sensor noise makes any two
+        // real frames differ.
+        let mad = if self.prev.is_empty() {
+            f64::NAN
+        } else {
+            mean_abs_diff_sampled(&f.data, &self.prev, 5)
+        };
+        let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
+        let disturbed = self.mad_ref.is_some_and(|r| mad > 4.0 * r.max(0.5));
+        if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "mad") {
+            eprintln!("mad {} {mad:.3} ref {:?}", f.index, self.mad_ref);
+        }
+        if mad.is_finite() && !duplicate {
+            self.mad_ref = Some(match self.mad_ref {
+                Some(r) => 0.95 * r + 0.05 * mad.min(3.0 * r),
+                None => mad,
+            });
+        }
+
+        self.prev.clear();
+        self.prev.extend(f.data.iter().step_by(5));
+        if !flash {
+            self.mean_level = Some(match self.mean_level {
+                Some(m) => 0.9 * m + 0.1 * level,
+                None => level,
+            });
+        }
+        // Evidence (thin structures only: a top-hat removes the bob and a hand's
+        // palm), then the background follows the scene.
+        if self.geo.dark {
+            core::subtract_def(&self.bg, &self.small, &mut self.raw_ev)?;
+        } else {
+            core::subtract_def(&self.small, &self.bg, &mut self.raw_ev)?;
+        }
+        imgproc::morphology_ex_def(
+            &self.raw_ev,
+            &mut self.ev,
+            imgproc::MORPH_TOPHAT,
+            &self.kernel,
+        )?;
+        if !flash {
+            if self.geo.dark {
+                core::max(&self.bg, &self.small, &mut self.tmp)?;
+            } else {
+                core::min(&self.bg, &self.small, &mut self.tmp)?;
+            }
+            std::mem::swap(&mut self.bg, &mut self.tmp);
+            if f.index.is_multiple_of(self.decay_every) {
+                let one = Scalar::all(1.0);
+                if self.geo.dark {
+                    core::subtract_def(&self.bg, &one, &mut self.tmp)?;
+                } else {
+                    core::add_def(&self.bg, &one, &mut self.tmp)?;
+                }
+                std::mem::swap(&mut self.bg, &mut self.tmp);
+            }
+        }
+        // During the first seconds the geometry pass's angle of this very frame is the
+        // better guess until three frames have been accepted.
+        let pred = if self.hist.len() < 3 {
+            hint.or(self.predict(f.t_s))
+        } else {
+            self.predict(f.t_s).or(hint)
+        };
+        let mut row = AngleRow {
+            frame: f.index,
+            t_s: f.t_s,
+            angle_rad: None,
+            status: Status::Ok,
+            quality: 0.0,
+            flag: None,
+            moments: None,
+        };
+        if flash {
+            row.flag = Some(Flag::Flash);
+            self.since_good += 1;
+            self.save_diag(f.index, f64::NAN, pred)?;
+            return Ok(row);
+        }
+        let (angle, quality, moments) = match self.measure(pred)? {
+            Some((a, q, m)) => (a, q, Some(m)),
+            None => (f64::NAN, 0.0, None),
+        };
+        row.quality = quality;
+        row.moments = moments;
+        // Fewer than three accepted frames make a poor prediction: open the gate.
+        let short = if self.hist.len() < 3 { 4.0 } else { 1.0 };
+        // Fast motion at a low frame rate predicts less well: widen the gate by half the
+        // last accepted step.
+        let step = match self.hist.as_slice() {
+            [.., (_, a), (_, b)] => (b - a).abs(),
+            _ => 0.0,
+        };
+        // Once the innovations (measured minus predicted) of accepted frames are known,
+        // the gate tightens to four times their RMS: a repeated frame that the codec did
+        // not keep bit-identical still lags its prediction by a fraction of a degree.
+        let base = match self.innov {
+            Some((ms, n)) if n >= 30 => (4.0 * ms.sqrt()).clamp(0.05f64.to_radians(), self.gate),
+            _ => self.gate,
+        };
+        let gate = (base + 0.5 * step) * (1.0 + self.since_good as f64) * short;
+        // A repeated frame that the codec did not keep identical is found after the
+        // pass, from both sides (`flag_repeats`): the previous frames alone overshoot
+        // at a turning point, where a wire that stops looks like a repeat.
+        let flag = if duplicate {
+            Some(Flag::Duplicate)
+        } else if disturbed {
+            Some(Flag::Disturbed)
+        } else if !angle.is_finite() || quality < (0.5 * self.q_ref.unwrap_or(0.6)).max(0.1) {
+            Some(Flag::Weak)
+        } else if pred.is_some_and(|p| (angle - p).abs() > gate) {
+            Some(Flag::Gate)
+        } else {
+            None
+        };
+        if angle.is_finite() {
+            row.angle_rad = Some(angle);
+        }
+        if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "frames") {
+            eprintln!(
+                "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?}",
+                f.index,
+                f.t_s,
+                angle.to_degrees(),
+                pred.map(|p| (p.to_degrees() * 100.0).round() / 100.0),
+                quality,
+                flag
+            );
+        }
+        if angle.is_finite() {
+            self.raw.push((f.t_s, angle));
+            if self.raw.len() > 8 {
+                self.raw.remove(0);
+            }
+        }
+        // Re-anchor after a run of rejections when the last three raw measurements agree
+        // with one another (a smooth motion): the history, not the wire, was wrong.
+        let flag = match flag {
+            Some(Flag::Gate) if self.since_good >= 2 && self.raw.len() >= 3 => {
+                let r = &self.raw[self.raw.len() - 3..];
+                let smooth =
+                    (r[2].1 - 2.0 * r[1].1 + r[0].1).abs() < self.gate && r[2].0 - r[0].0 < 0.2;
+                if smooth {
+                    self.hist.clear();
+                    self.hist.extend_from_slice(&r[..2]);
+                    None
+                } else {
+                    flag
+                }
+            }
+            other => other,
+        };
+        match flag {
+            None => {
+                if let Some(p) = pred.filter(|_| self.hist.len() >= 3) {
+                    let e2 = (angle - p).powi(2);
+                    self.innov = Some(match self.innov {
+                        Some((ms, n)) => (0.97 * ms + 0.03 * e2.min(9.0 * ms.max(1e-12)), n + 1),
+                        None => (e2, 1),
+                    });
+                }
+                self.q_ref = Some(match self.q_ref {
+                    Some(q) => 0.95 * q + 0.05 * quality,
+                    None => quality,
+                });
+                self.hist.push((f.t_s, angle));
+                if self.hist.len() > 16 {
+                    self.hist.drain(..8);
+                }
+                self.since_good = 0;
+            }
+            Some(fl) => {
+                row.flag = Some(fl);
+                self.since_good += 1;
+                if fl != Flag::Duplicate {
+                    self.save_diag(f.index, angle, pred)?;
+                }
+            }
+        }
+        Ok(row)
+    }
+
+    /// Refine the pivot from the whole pass: the robust intersection of every accepted
+    /// frame's free line fit (hundreds of lines at different angles, against the few
+    /// dozen of the first seconds), then refit every angle about it from the stored
+    /// pixel moments. Returns the pivot in full-frame pixels.
+    pub(super) fn refine_pivot(&self, rows: &mut [AngleRow]) -> Pt {
+        let to_full = |p: Pt| shrunk_to_full(p, Pt::new(self.roi_x, self.roi_y), self.scale);
+        let lines: Vec<Line> = rows
+            .iter()
+            .filter(|r| r.flag.is_none())
+            .filter_map(|r| r.moments.as_ref().and_then(|m| m.free_line()))
+            .collect();
+        let angles: Vec<f64> = lines
+            .iter()
+            .map(|l| l.dir.y.atan2(l.dir.x).rem_euclid(std::f64::consts::PI))
+            .collect();
+        let spread = angles.iter().fold(f64::MIN, |a, &b| a.max(b))
+            - angles.iter().fold(f64::MAX, |a, &b| a.min(b));
+        if lines.len() < 20 || spread < 2f64.to_radians() {
+            return to_full(self.piv);
+        }
+        let Ok(p) = geometry::intersect(&lines) else {
+            return to_full(self.piv);
+        };
+        // Accept a refinement, not a jump elsewhere.
+        if (p - self.piv).norm() > 0.05 * (self.r_lo + self.r_hi) {
+            return to_full(self.piv);
+        }
+        for r in rows.iter_mut() {
+            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {
+                if r.angle_rad.is_some() {
+                    r.angle_rad = Some(a);
+                }
+            }
+        }
+        to_full(p)
+    }
+}
+
+/// Mean of every `step`-th byte.
+fn sampled_mean(d: &[u8], step: usize) -> f64 {
+    let (mut s, mut n) = (0u64, 0u64);
+    for v in d.iter().step_by(step) {
+        s += *v as u64;
+        n += 1;
+    }
+    s as f64 / n.max(1) as f64
+}
+
+/// Mean absolute difference between every `step`-th byte of `a` and the bytes of
+/// `sampled` (which holds every `step`-th byte of the previous frame).
+fn mean_abs_diff_sampled(a: &[u8], sampled: &[u8], step: usize) -> f64 {
+    let (mut s, mut n) = (0u64, 0u64);
+    for (x, y) in a.iter().step_by(step).zip(sampled) {
+        s += x.abs_diff(*y) as u64;
+        n += 1;
+    }
+    if n as usize != sampled.len() {
+        return f64::INFINITY;
+    }
+    s as f64 / n.max(1) as f64
+}

@@ -1,0 +1,192 @@
+//! The whole detector on frames drawn in memory (no file, no decoder, no `ffmpeg`):
+//! a dark wire swinging from a pivot over a light wall, with a little blur and sensor
+//! noise, must be measured back to the angles it was drawn at, about the pivot it was
+//! drawn from.
+
+use rollfric::detect::{
+    detect_from, figure11_frame, figure11_png, DetectOptions, Detection, MemoryVideo, Status,
+};
+use rollfric::rng::Rng;
+use std::f64::consts::{PI, TAU};
+
+/// A swinging wire: `angle(t) = rest + amp cos(2 pi t / period)` (rad, image angle
+/// from the x axis, y down), drawn from `pivot` out to `length` px.
+struct Scene {
+    width: u32,
+    height: u32,
+    fps: f64,
+    seconds: f64,
+    pivot: (f64, f64),
+    length: f64,
+    rest: f64,
+    amp: f64,
+    period: f64,
+}
+
+impl Scene {
+    fn angle(&self, t: f64) -> f64 {
+        self.rest + self.amp * (TAU * t / self.period).cos()
+    }
+
+    fn frames(&self) -> usize {
+        (self.seconds * self.fps).round() as usize
+    }
+
+    /// Frame `k`: a wall at 200 (a gentle gradient), the wire 120 grey levels darker
+    /// on its centre line, fading out over 1.5 px on either side (a blurred wire about
+    /// 2 px wide), and Gaussian noise of 1.5 grey levels.
+    fn draw(&self, k: usize, rng: &mut Rng) -> Vec<u8> {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let th = self.angle(k as f64 / self.fps);
+        let (dx, dy) = (th.cos(), th.sin());
+        let (px, py) = self.pivot;
+        let mut img = vec![0u8; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let (vx, vy) = (x as f64 - px, y as f64 - py);
+                let along = vx * dx + vy * dy;
+                let across = (vx * dy - vy * dx).abs();
+                let cover = if (0.0..=self.length).contains(&along) {
+                    (1.5 - across).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let wall = 200.0 - 20.0 * y as f64 / h as f64;
+                let v = wall - 120.0 * cover + 1.5 * rng.normal();
+                img[y * w + x] = v.round().clamp(0.0, 255.0) as u8;
+            }
+        }
+        img
+    }
+
+    fn video(&self) -> MemoryVideo {
+        let mut rng = Rng::new(7);
+        let frames = (0..self.frames()).map(|k| self.draw(k, &mut rng)).collect();
+        MemoryVideo::new(self.width, self.height, self.fps, frames).unwrap()
+    }
+}
+
+/// Figure 11 as the pass kept it: the `ok` frame of the first 4 s farthest in angle
+/// from their median, its region of interest exactly as drawn, and a PNG of the region
+/// in its margin.
+fn check_figure11(name: &str, d: &Detection, video: &MemoryVideo, width: u32) {
+    let ok: Vec<_> = d.rows.iter().filter(|r| r.status == Status::Ok).collect();
+    let early: Vec<_> = ok.iter().filter(|r| r.t_s - ok[0].t_s <= 4.0).collect();
+    let mut angles: Vec<f64> = early.iter().map(|r| r.angle_rad.unwrap()).collect();
+    angles.sort_by(f64::total_cmp);
+    let median = angles[angles.len() / 2];
+    let far = |r: &&&rollfric::detect::AngleRow| (r.angle_rad.unwrap() - median).abs();
+    let best = early.iter().map(far).fold(0.0, f64::max);
+    let want = early.iter().find(|r| far(r) == best).unwrap().frame;
+    let fig = d.figure11.as_ref().expect("a frame kept for Figure 11");
+    assert_eq!((fig.frame, figure11_frame(d)), (want, want), "{name}");
+    let [x, y, w, h] = d.roi.map(|v| v as usize);
+    assert_eq!((fig.width, fig.height), (w, h), "{name}");
+    let full = video.frame(want as usize).unwrap();
+    let crop: Vec<u8> = (y..y + h)
+        .flat_map(|r| &full[r * width as usize + x..r * width as usize + x + w])
+        .copied()
+        .collect();
+    assert!(
+        fig.grey == crop,
+        "{name}: the kept region is the drawn frame's"
+    );
+    let png = figure11_png(d).unwrap();
+    assert_eq!(&png[1..4], b"PNG", "{name}");
+    let size = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
+    let m = (w.max(h) / 6).max(8);
+    assert_eq!((size(16), size(20)), (w + 2 * m, h + 2 * m), "{name}");
+    eprintln!(
+        "{name}: Figure 11 is frame {want} (t {:.2} s), {w}x{h} px kept, PNG {} bytes",
+        d.rows[want as usize].t_s,
+        png.len()
+    );
+}
+
+/// Detect `scene` through the in-memory input; returns the RMS and largest angle
+/// error of the `ok` frames (deg) and the pivot's error (px).
+fn measure(name: &str, scene: &Scene) -> (f64, f64, f64) {
+    let video = scene.video();
+    let d = detect_from(&video, &DetectOptions::default()).unwrap();
+    check_figure11(name, &d, &video, scene.width);
+    assert_eq!(
+        d.rows.len(),
+        scene.frames(),
+        "{name}: every frame has a row"
+    );
+    assert!(d.dark_wire, "{name}: the wire is dark");
+    let errs: Vec<f64> = d
+        .rows
+        .iter()
+        .filter(|r| r.status == Status::Ok)
+        .map(|r| {
+            let a = r.angle_rad.expect("ok rows have an angle");
+            (a - scene.angle(r.t_s)).to_degrees()
+        })
+        .collect();
+    let rms = (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt();
+    let max = errs.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+    let [x, y] = d.pivot_px;
+    let piv = ((x - scene.pivot.0).powi(2) + (y - scene.pivot.1).powi(2)).sqrt();
+    eprintln!(
+        "{name}: {} frames, {} ok, {} corrected, {} missing; angle error RMS {rms:.4} deg, \
+         max {max:.4} deg; pivot ({x:.2}, {y:.2}) px, drawn ({:.2}, {:.2}), off by {piv:.3} px; \
+         ROI {:?}, decoder {}",
+        d.rows.len(),
+        d.count(Status::Ok),
+        d.count(Status::Corrected),
+        d.count(Status::Missing),
+        scene.pivot.0,
+        scene.pivot.1,
+        d.roi,
+        d.decoder
+    );
+    assert_eq!(d.count(Status::Missing), 0, "{name}: no frame missing");
+    assert!(
+        d.count(Status::Ok) as f64 >= 0.95 * d.rows.len() as f64,
+        "{name}: {} of {} frames ok",
+        d.count(Status::Ok),
+        d.rows.len()
+    );
+    (rms, max, piv)
+}
+
+#[test]
+fn a_wire_drawn_in_memory_is_measured_back_without_a_decoder() {
+    let scene = Scene {
+        width: 320,
+        height: 240,
+        fps: 25.0,
+        seconds: 8.0,
+        pivot: (161.3, 18.6),
+        length: 200.0,
+        rest: PI / 2.0 + 3f64.to_radians(),
+        amp: 20f64.to_radians(),
+        period: 2.2,
+    };
+    let (rms, max, piv) = measure("320x240", &scene);
+    assert!(rms < 0.1, "angle error RMS {rms:.4} deg");
+    assert!(max < 0.5, "largest angle error {max:.4} deg");
+    assert!(piv < 1.0, "pivot off by {piv:.3} px");
+}
+
+#[test]
+fn a_large_frame_is_looked_at_shrunk_in_memory() {
+    // 960 px wide: the detector works on frames shrunk twice (its first look and its
+    // streaming pass), which the in-memory input makes by block means.
+    let scene = Scene {
+        width: 960,
+        height: 720,
+        fps: 25.0,
+        seconds: 6.0,
+        pivot: (480.7, 40.2),
+        length: 620.0,
+        rest: PI / 2.0 - 2f64.to_radians(),
+        amp: 15f64.to_radians(),
+        period: 2.2,
+    };
+    let (rms, max, piv) = measure("960x720", &scene);
+    assert!(rms < 0.1, "angle error RMS {rms:.4} deg");
+    assert!(max < 0.5, "largest angle error {max:.4} deg");
+    assert!(piv < 1.0, "pivot off by {piv:.3} px");
+}

@@ -26,7 +26,7 @@ pub use writer::relative;
 
 use crate::config::{Experiment, Manifest};
 use crate::report::{self, Outcome};
-use anyhow::Result;
+use anyhow::{bail, Result};
 use progress::Progress;
 use stages::Ctx;
 use std::path::{Path, PathBuf};
@@ -66,11 +66,17 @@ pub struct BuildOutcome {
 pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
     let started = Instant::now();
     let (manifest, files) = Manifest::load(&opts.manifest)?;
-    let root = opts
-        .manifest
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
+    // The manifest's folder; `.` for a bare file name, so that paths in the reports are
+    // relative to it however the manifest was spelled.
+    let root = root_or_here(opts.manifest.parent().unwrap_or(Path::new("")));
+    for (flag, dir) in [("--out", &opts.out), ("--cache", &opts.cache)] {
+        if same_folder(&root, dir) {
+            bail!(
+                "{flag} {}: that is the manifest's own folder; the build would write among the experiments",
+                dir.display()
+            );
+        }
+    }
     // One build per folder at a time: held until this function returns.
     let _cache_lock = lock::Lock::acquire(&opts.cache, !opts.no_wait)?;
     let _out_lock = if same_folder(&opts.cache, &opts.out) {
@@ -195,6 +201,15 @@ fn name_collisions(root: &Path, files: &[PathBuf]) -> Vec<Option<String>> {
             })
         })
         .collect()
+}
+
+/// The manifest's folder, `.` when it is the current one.
+fn root_or_here(root: &Path) -> PathBuf {
+    if root.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        root.to_path_buf()
+    }
 }
 
 /// Whether two folders (both existing) are the same one.

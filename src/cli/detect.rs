@@ -70,6 +70,17 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
 }
 
 pub fn detect(a: DetectArgs) -> Result<String> {
+    if let (Ok(v), Ok(o)) = (
+        std::fs::canonicalize(&a.video),
+        std::fs::canonicalize(&a.output),
+    ) {
+        if v == o {
+            bail!(
+                "-o {}: that is the video itself; the CSV would overwrite it",
+                a.output.display()
+            );
+        }
+    }
     let opts = options(&a)?;
     let started = std::time::Instant::now();
     let d = detect::detect(&a.video, &opts)?;

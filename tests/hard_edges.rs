@@ -1,0 +1,239 @@
+//! What a build or a detection may touch: only its own files, one build per folder at a
+//! time, names that cannot overwrite each other's pages.
+
+mod common;
+
+use common::{rollfric, root};
+use std::path::Path;
+
+/// A folder with `manifest.yaml` listing `names` (file stems), each the glass-fiber row
+/// measured from one small angle CSV, with its `name:` as given.
+fn setup(dir: &Path, experiments: &[(&str, &str)]) {
+    let yaml = std::fs::read_to_string(root().join("experiments/glass-fiber-fabric.yaml"))
+        .unwrap()
+        .split("\nsynthetic:")
+        .next()
+        .unwrap()
+        .to_string();
+    let out = rollfric(
+        &[
+            "simulate",
+            "glass-fiber-fabric",
+            "-o",
+            dir.join("angles.csv").to_str().unwrap(),
+            "--duration",
+            "16",
+        ],
+        &root(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut list = String::new();
+    for (file, name) in experiments {
+        let text = yaml.replace("name: glass-fiber-fabric", &format!("name: {name}"))
+            + "\nangles: angles.csv\n";
+        std::fs::write(dir.join(file), text).unwrap();
+        list.push_str(&format!("  - {file}\n"));
+    }
+    std::fs::write(
+        dir.join("manifest.yaml"),
+        format!("title: edges\nexperiments:\n{list}"),
+    )
+    .unwrap();
+}
+
+fn build(dir: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "build",
+        "-q",
+        "--manifest",
+        "manifest.yaml",
+        "--out",
+        "out",
+        "--cache",
+        "cache",
+    ];
+    args.extend_from_slice(extra);
+    rollfric(&args, dir)
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join("out/summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn colliding_names_are_refused_naming_both_files() {
+    let d = tempfile::tempdir().unwrap();
+    setup(
+        d.path(),
+        &[
+            ("a.yaml", "same"),
+            ("b.yaml", "same"),
+            ("c.yaml", "index"),
+            ("d.yaml", "fine"),
+        ],
+    );
+    let out = build(d.path(), &[]);
+    assert!(!out.status.success());
+    let s = summary(d.path());
+    let e = |i: usize| s["experiments"][i].clone();
+    assert_eq!(e(0)["status"], "failed");
+    assert!(e(0)["error"]
+        .as_str()
+        .unwrap()
+        .contains("a.yaml: the experiment name `same` is also that of b.yaml"));
+    assert!(e(1)["error"]
+        .as_str()
+        .unwrap()
+        .contains("b.yaml: the experiment name `same` is also that of a.yaml"));
+    assert!(e(2)["error"]
+        .as_str()
+        .unwrap()
+        .contains("`index` is the reports' own"));
+    assert_eq!(e(3)["status"], "ok", "the others still build");
+    let index = std::fs::read_to_string(d.path().join("out/index.md")).unwrap();
+    assert!(
+        index.starts_with("# edges"),
+        "the index is the index: {}",
+        &index[..40.min(index.len())]
+    );
+    assert!(
+        !d.path().join("out/same.html").exists(),
+        "no page for a colliding name"
+    );
+}
+
+#[test]
+fn the_same_file_listed_twice_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a")]);
+    std::fs::write(
+        d.path().join("manifest.yaml"),
+        "title: twice\nexperiments:\n  - a.yaml\n  - a.yaml\n",
+    )
+    .unwrap();
+    let out = build(d.path(), &["-j", "2"]);
+    assert!(!out.status.success());
+    let s = summary(d.path());
+    for i in 0..2 {
+        assert!(s["experiments"][i]["error"]
+            .as_str()
+            .unwrap()
+            .contains("is also that of a.yaml"));
+    }
+}
+
+#[test]
+fn a_build_removes_only_its_own_dead_temporaries() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a")]);
+    let out = d.path().join("out");
+    std::fs::create_dir_all(out.join("sub")).unwrap();
+    let users = [
+        ".thesis.tmpl",
+        ".notes.tmp",
+        "sub/.draft.tmp2",
+        ".a.html.tmp123",
+    ];
+    for f in users {
+        std::fs::write(out.join(f), "mine").unwrap();
+    }
+    // A temporary of a process that is not running (pids stay below 2^22 on Linux).
+    let stale = out.join(".rollfric-4194303-a.html.tmp");
+    std::fs::write(&stale, "left by a killed build").unwrap();
+    let o = build(d.path(), &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in users {
+        assert_eq!(
+            std::fs::read_to_string(out.join(f)).unwrap(),
+            "mine",
+            "{f} kept"
+        );
+    }
+    assert!(!stale.exists(), "a dead build's temporary is removed");
+}
+
+#[test]
+fn a_second_build_of_the_same_folders_waits_or_refuses() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a")]);
+    std::fs::create_dir_all(d.path().join("cache")).unwrap();
+    // Another build holds the cache folder.
+    let held = std::fs::File::open(d.path().join("cache")).unwrap();
+    held.lock().unwrap();
+    let o = build(d.path(), &["--no-wait"]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("another rollfric build is using this folder"),
+        "{err}"
+    );
+    let mut waiting = common::command(d.path())
+        .args([
+            "build",
+            "-q",
+            "--manifest",
+            "manifest.yaml",
+            "--out",
+            "out",
+            "--cache",
+            "cache",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    assert!(
+        waiting.try_wait().unwrap().is_none(),
+        "it waits while the folder is held"
+    );
+    held.unlock().unwrap();
+    let o = waiting.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("waiting for it to finish"), "{err}");
+}
+
+#[test]
+fn detect_refuses_to_write_over_its_video() {
+    let d = tempfile::tempdir().unwrap();
+    let video = d.path().join("v.mp4");
+    std::fs::write(&video, b"not really a video").unwrap();
+    let o = rollfric(&["detect", "v.mp4", "-o", "./v.mp4"], d.path());
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("is the video itself"), "{err}");
+    assert_eq!(std::fs::read(&video).unwrap(), b"not really a video");
+}
+
+#[test]
+fn a_build_refuses_to_write_into_the_experiments_folder() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a")]);
+    let o = rollfric(
+        &[
+            "build",
+            "-q",
+            "--manifest",
+            "manifest.yaml",
+            "--out",
+            ".",
+            "--cache",
+            "cache",
+        ],
+        d.path(),
+    );
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("is the manifest's own folder"), "{err}");
+}
+
+#[test]
+fn zero_jobs_is_refused() {
+    let o = rollfric(&["build", "-j", "0"], &root());
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("-j"));
+}

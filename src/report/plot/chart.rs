@@ -140,3 +140,8 @@ impl Chart {
         self
     }
 }
+
+/// A drawing backend's error, in our words.
+pub(super) fn draw_err<E: std::fmt::Display>(e: E) -> anyhow::Error {
+    anyhow::anyhow!("drawing the chart failed: {e}")
+}

@@ -7,9 +7,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::axes::text_width;
-use super::chart::{Chart, Kind, Series};
+use super::chart::{draw_err, Chart, Kind, Series};
 use super::lines::{Prepared, Shape};
-use super::render::draw_err;
 use super::{
     CIRCLE_RADIUS, CROSS_HALF, DASH, DOT_RADIUS, FONT, GAP, LEGEND_FONT, LEGEND_GLYPH,
     LEGEND_MARGIN, LINE_WIDTH, MARKER_RADIUS, MARKER_STROKE,

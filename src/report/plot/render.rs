@@ -1,9 +1,9 @@
 //! Drawing one chart with plotters' SVG backend.
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use plotters::prelude::*;
 
-use super::chart::{Chart, Kind};
+use super::chart::{draw_err, Chart, Kind};
 use super::layout::Layout;
 use super::legend::{draw_legend, legend_corner};
 use super::lines::{Bounds, Prepared, Shape};
@@ -125,8 +125,4 @@ pub(super) fn draw(chart: &Chart, layout: &Layout, legend_outside: bool) -> Resu
         root.present().map_err(draw_err)?;
     }
     Ok(Some(svg))
-}
-
-pub(super) fn draw_err<E: std::fmt::Display>(e: E) -> anyhow::Error {
-    anyhow!("drawing the chart failed: {e}")
 }

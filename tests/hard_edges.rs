@@ -237,3 +237,41 @@ fn zero_jobs_is_refused() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("-j"));
 }
+
+#[test]
+fn detect_flags_out_of_range_are_refused_in_our_words() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("v.mp4"), b"x").unwrap();
+    for (args, needle) in [
+        (
+            ["--roi", "10,10,0,0"],
+            "--roi 10,10,0,0: the width and height must be at least 1 px",
+        ),
+        (
+            ["--pivot", "nan,nan"],
+            "--pivot NaN,NaN: expected two finite numbers",
+        ),
+    ] {
+        let o = rollfric(
+            &["detect", "v.mp4", "-o", "a.csv", args[0], args[1]],
+            d.path(),
+        );
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{err}");
+    }
+}
+
+#[test]
+fn a_quiet_build_still_says_why_an_experiment_failed() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a"), ("b.yaml", "index")]);
+    let o = build(d.path(), &[]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("FAILED b: b.yaml: the experiment name `index`")
+            && err.contains("is the reports' own"),
+        "{err}"
+    );
+}

@@ -186,7 +186,7 @@ fn name_collisions(root: &Path, files: &[PathBuf]) -> Vec<Option<String>> {
             let me = relative(root, &files[i]);
             if RESERVED_NAMES.contains(&n.as_str()) {
                 return Some(format!(
-                    "{me}: the experiment name `{n}` is the reports' own ({n}.html, {n}.md or {n}.json); choose another `name:`"
+                    "{me}: the experiment name `{n}` is the reports' own (index.html, index.md, summary.json); choose another `name:`"
                 ));
             }
             let others: Vec<String> = (0..files.len())

@@ -45,6 +45,14 @@ pub fn build(a: BuildArgs) -> Result<Done> {
         no_wait: a.no_wait,
     })?;
     let n = o.summary.experiments.len();
+    // Why each experiment failed, also under -q (the log lines are the progress's).
+    for e in o.summary.experiments.iter().filter(|e| e.failed()) {
+        eprintln!(
+            "FAILED {}: {}",
+            e.name,
+            e.error.as_deref().unwrap_or("no result")
+        );
+    }
     Ok(Done {
         out: format!(
             "{} experiments in {:.1} s: {} built, {} failed, {} missing a tolerance; {} report files rewritten -> {}\n",

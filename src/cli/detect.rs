@@ -59,7 +59,15 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
     };
     opts.force_opencv = a.opencv;
     if let Some([x, y, w, h]) = roi {
+        if w == 0 || h == 0 {
+            bail!("--roi {x},{y},{w},{h}: the width and height must be at least 1 px");
+        }
         opts.roi = Some(Roi { x, y, w, h });
+    }
+    if let Some([px, py]) = pivot {
+        if !(px.is_finite() && py.is_finite()) {
+            bail!("--pivot {px},{py}: expected two finite numbers (px)");
+        }
     }
     opts.frames = frames.or(opts.frames);
     opts.pivot = pivot.or(opts.pivot);

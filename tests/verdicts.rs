@@ -258,3 +258,40 @@ fn degrees_and_absurd_lengths_are_refused() {
         "{err}"
     );
 }
+
+/// The real green-screen clip with a plausible but wrong YAML (the issue's first case):
+/// its period says the string is ~3 cm, not 20 cm, so it is `suspect` (period); with the
+/// length its period implies, the period check agrees.
+#[test]
+fn the_real_clip_with_a_wrong_length_is_suspect() {
+    let clip = root().join("../shared/fixtures/real/sborquez_video1_greenscreen.mp4");
+    if !clip.exists() {
+        eprintln!("SKIPPED: {} is absent", clip.display());
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let exp = |d_m: &str| {
+        let p = d
+            .path()
+            .join(format!("clip-{}.yaml", d_m.replace('.', "_")));
+        std::fs::write(
+            &p,
+            format!(
+                "geometry:
+  incline: {{ angle_deg: 5 }}
+  pendulum: {{ d_m: {d_m} }}
+  ball: {{ radius_m: 0.0127, mass_kg: 0.067 }}
+video: {{ path: {} }}
+",
+                clip.display()
+            ),
+        )
+        .unwrap();
+        p
+    };
+    let j = fit_json(&exp("0.20"));
+    assert_eq!(j["verdict"], "suspect", "{j}");
+    assert!(warned(&j).contains(&"period".to_string()), "{j}");
+    let j = fit_json(&exp("0.0296"));
+    assert!(!warned(&j).contains(&"period".to_string()), "{j}");
+}

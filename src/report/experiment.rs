@@ -105,6 +105,8 @@ struct ExperimentView {
     measured: Vec<Kv>,
     verdict: String,
     suspect: bool,
+    /// `ok`, `suspect`, or `accepted` (suspect, every warning accepted): the banner's class.
+    verdict_class: &'static str,
     warnings: Vec<WarningView>,
 }
 
@@ -378,6 +380,13 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         },
         verdict: r.verdict.label(),
         suspect: !r.verdict.warnings.is_empty(),
+        verdict_class: if r.verdict.warnings.is_empty() {
+            "ok"
+        } else if r.verdict.blocks() {
+            "suspect"
+        } else {
+            "accepted"
+        },
         warnings: r
             .verdict
             .warnings

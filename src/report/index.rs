@@ -27,6 +27,8 @@ struct IndexView {
     compared: usize,
     measured_only: usize,
     suspect: usize,
+    /// Suspect, but every warning accepted with a written reason.
+    accepted: usize,
     total: usize,
 }
 
@@ -194,6 +196,9 @@ pub fn index_pages(
         compared: results().filter(|r| r.compared()).count(),
         measured_only: results().filter(|r| !r.compared()).count(),
         suspect: results().filter(|r| !r.verdict.warnings.is_empty()).count(),
+        accepted: results()
+            .filter(|r| !r.verdict.warnings.is_empty() && !r.verdict.blocks())
+            .count(),
         total: summary.experiments.len(),
         rows,
         failures,

@@ -61,7 +61,7 @@ impl Entry {
         self.result.is_none()
     }
 
-    /// Built and every check within tolerance.
+    /// Built, compared with an expected value, and every check within tolerance.
     pub fn passed(&self) -> bool {
         self.result.as_ref().is_some_and(ExperimentResult::passed)
     }

@@ -1,7 +1,14 @@
-//! Comparisons of a reproduced value with an expected one, and their verdicts.
+//! Comparisons of a reproduced value with an expected one, and the consistency verdict
+//! on every result.
 //!
 //! A check's verdict is always recomputed from its numbers ([`Check::verdict`]), so a
 //! summary edited by hand cannot claim a pass its numbers do not support.
+//!
+//! A result is `ok` only when the data agree with the physics it was fitted with
+//! ([`assess`]): the period measured against the geometry's, the fit's residual against
+//! the angle series' own noise, the envelope's shape (linear for rolling friction,
+//! exponential for viscous damping) and the width of the interval on `s_r`. Each
+//! disagreement is a named [`Warning`]; a result with any is `suspect`.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -99,9 +106,422 @@ impl Check {
     }
 }
 
+/// The limits of the consistency checks (an experiment's `tolerances:`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Largest `|d_period - d| / d`.
+    pub period_rel: f64,
+    /// Largest ratio of the amplitude residual RMS to the amplitude scatter the angle
+    /// noise explains.
+    pub residual_factor: f64,
+    /// Largest AICc advantage of an exponential envelope over a linear one.
+    pub envelope_aicc: f64,
+    /// Largest relative half-width of the 95 % interval on `s_r`.
+    pub interval_rel: f64,
+}
+
+/// The check names, in the order they are run.
+pub use crate::config::CHECKS;
+
+/// One failed consistency check.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Warning {
+    /// `period`, `residual`, `envelope` or `interval`.
+    pub check: String,
+    pub value: f64,
+    pub limit: f64,
+    /// One line: what disagrees with what.
+    pub reason: String,
+    /// The experiment file's written reason for accepting it, if it does.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accepted: Option<String>,
+}
+
+/// `ok` or `suspect`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    #[default]
+    Ok,
+    Suspect,
+}
+
+impl Status {
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Suspect => "suspect",
+        }
+    }
+}
+
+/// A result's verdict: `suspect` when any consistency check failed.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Verdict {
+    #[serde(default)]
+    pub verdict: Status,
+    #[serde(default)]
+    pub warnings: Vec<Warning>,
+}
+
+impl Verdict {
+    /// The verdict of a list of warnings.
+    pub fn of(warnings: Vec<Warning>) -> Self {
+        Self {
+            verdict: if warnings.is_empty() {
+                Status::Ok
+            } else {
+                Status::Suspect
+            },
+            warnings,
+        }
+    }
+
+    /// Mark the warnings an experiment accepts, `(check, reason)`.
+    pub fn accept<'a>(&mut self, accepted: impl IntoIterator<Item = (&'a str, &'a str)>) {
+        for (check, reason) in accepted {
+            for w in self.warnings.iter_mut().filter(|w| w.check == check) {
+                w.accepted = Some(reason.to_string());
+            }
+        }
+    }
+
+    /// Recomputed from the warnings (a stale `verdict` field is not trusted).
+    pub fn status(&self) -> Status {
+        if self.warnings.is_empty() {
+            Status::Ok
+        } else {
+            Status::Suspect
+        }
+    }
+
+    /// The warnings no written reason accepts.
+    pub fn open(&self) -> impl Iterator<Item = &Warning> {
+        self.warnings.iter().filter(|w| w.accepted.is_none())
+    }
+
+    /// Suspect, with a warning nobody accepted.
+    pub fn blocks(&self) -> bool {
+        self.open().next().is_some()
+    }
+
+    /// `ok`, `suspect (period, envelope)` or `suspect, accepted (period)`.
+    pub fn label(&self) -> String {
+        if self.warnings.is_empty() {
+            return "ok".into();
+        }
+        let names = |acc: bool| {
+            self.warnings
+                .iter()
+                .filter(|w| w.accepted.is_some() == acc)
+                .map(|w| w.check.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let (open, acc) = (names(false), names(true));
+        match (open.is_empty(), acc.is_empty()) {
+            (false, true) => format!("suspect ({open})"),
+            (true, false) => format!("suspect, accepted ({acc})"),
+            _ => format!("suspect ({open}; accepted: {acc})"),
+        }
+    }
+}
+
+/// What the consistency checks look at.
+#[derive(Clone, Debug)]
+pub struct Evidence<'a> {
+    /// Pendulum length `d` of the geometry, m.
+    pub d_m: f64,
+    /// The length the measured period implies, m.
+    pub d_from_period_m: f64,
+    /// Per-frame noise of the angle series, rad.
+    pub frame_noise_rad: f64,
+    /// Samples behind each measured amplitude (its local fit's window).
+    pub samples: &'a [usize],
+    /// Times of the turning points, s, and their amplitudes, rad.
+    pub t: &'a [f64],
+    pub amplitudes: &'a [f64],
+    /// RMS residual of the model fit to the amplitudes, rad.
+    pub residual_rms_rad: f64,
+    pub s_r: f64,
+    pub s_r_ci95: [f64; 2],
+}
+
+/// Residual sum of squares of the best linear envelope `A0 - a t`.
+pub fn linear_rss(t: &[f64], y: &[f64]) -> f64 {
+    let n = t.len() as f64;
+    let (mt, my) = (t.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxx: f64 = t.iter().map(|x| (x - mt).powi(2)).sum();
+    let sxy: f64 = t.iter().zip(y).map(|(x, v)| (x - mt) * (v - my)).sum();
+    let b = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    t.iter()
+        .zip(y)
+        .map(|(x, v)| (v - my - b * (x - mt)).powi(2))
+        .sum()
+}
+
+/// Residual sum of squares of the best exponential envelope `A0 exp(-k t)` (`k >= 0`
+/// profiled: `A0` is linear given `k`) and its `k`, 1/s.
+pub fn exponential_rss(t: &[f64], y: &[f64]) -> (f64, f64) {
+    let t0 = t.first().copied().unwrap_or(0.0);
+    let rss_at = |k: f64| {
+        let e: Vec<f64> = t.iter().map(|x| (-k * (x - t0)).exp()).collect();
+        let ee: f64 = e.iter().map(|v| v * v).sum();
+        let ey: f64 = e.iter().zip(y).map(|(a, b)| a * b).sum();
+        let a0 = if ee > 0.0 { ey / ee } else { 0.0 };
+        e.iter()
+            .zip(y)
+            .map(|(a, b)| (b - a0 * a).powi(2))
+            .sum::<f64>()
+    };
+    let span = (t.last().copied().unwrap_or(t0) - t0).max(1e-9);
+    // Rates from no decay to a thousandfold over the recording, on a log grid, then a
+    // golden-section polish around the best.
+    let grid: Vec<f64> = std::iter::once(0.0)
+        .chain((0..=120).map(|i| 1e-4 * 10f64.powf(i as f64 / 20.0) / span))
+        .collect();
+    let (mut best_k, mut best) = (0.0, rss_at(0.0));
+    for &k in &grid {
+        let r = rss_at(k);
+        if r < best {
+            (best_k, best) = (k, r);
+        }
+    }
+    let (mut lo, mut hi) = (best_k / 1.13, best_k * 1.13);
+    if best_k > 0.0 {
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        for _ in 0..60 {
+            let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+            if rss_at(x1) < rss_at(x2) {
+                hi = x2;
+            } else {
+                lo = x1;
+            }
+        }
+        let k = 0.5 * (lo + hi);
+        let r = rss_at(k);
+        if r < best {
+            (best_k, best) = (k, r);
+        }
+    }
+    (best, best_k)
+}
+
+/// `v <= limit`, false when either is NaN (a NaN never passes a check).
+fn within(v: f64, limit: f64) -> bool {
+    v <= limit
+}
+
+/// The consistency checks of one fit (the `inputs` check refuses a result instead, in
+/// the pipeline: see [`degrees_suspected`]).
+pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
+    let mut w = Vec::new();
+    // period: ERRATA §2's small-angle period 2 pi sqrt(7 L / (5 g sin(alpha))) turned
+    // into the length it implies.
+    let dev = (e.d_from_period_m - e.d_m) / e.d_m;
+    if !within(dev.abs(), lim.period_rel) {
+        w.push(Warning {
+            check: "period".into(),
+            value: dev.abs(),
+            limit: lim.period_rel,
+            reason: format!(
+                "the measured period implies d = {:.4} m, the geometry says {:.4} m ({:+.1} %): \
+                 the YAML's geometry does not describe this pendulum",
+                e.d_from_period_m,
+                e.d_m,
+                100.0 * dev
+            ),
+            accepted: None,
+        });
+    }
+    // residual: each amplitude averages its window's frames, so the noise alone scatters
+    // it by about sigma_frame / sqrt(samples).
+    let n = e.samples.len().max(1) as f64;
+    let mean_samples = (e.samples.iter().sum::<usize>() as f64 / n).max(1.0);
+    let expected = (e.frame_noise_rad / mean_samples.sqrt()).max(1e-5);
+    let ratio = e.residual_rms_rad / expected;
+    if !within(ratio, lim.residual_factor) {
+        w.push(Warning {
+            check: "residual".into(),
+            value: ratio,
+            limit: lim.residual_factor,
+            reason: format!(
+                "the amplitudes scatter about the model by {:.4} deg RMS, {ratio:.1} times what \
+                 the angle noise ({:.4} deg per frame over ~{mean_samples:.0} frames) explains: \
+                 a turning point is wrong or the model does not fit",
+                e.residual_rms_rad.to_degrees(),
+                e.frame_noise_rad.to_degrees()
+            ),
+            accepted: None,
+        });
+    }
+    // envelope: linear (rolling friction, Eq. 33) against exponential (viscous or air
+    // damping), both with two parameters, by their AICc difference n ln(RSS_lin/RSS_exp).
+    let k = e.amplitudes.len();
+    if k >= 4 {
+        let lin = linear_rss(e.t, e.amplitudes).max(1e-300);
+        let (exp, rate) = exponential_rss(e.t, e.amplitudes);
+        let gain = k as f64 * (lin / exp.max(1e-300)).ln();
+        if gain > lim.envelope_aicc {
+            w.push(Warning {
+                check: "envelope".into(),
+                value: gain,
+                limit: lim.envelope_aicc,
+                reason: format!(
+                    "the amplitudes decay exponentially (time constant {:.1} s), not linearly: \
+                     viscous or air damping, not rolling friction, dominates (AICc favours the \
+                     exponential by {gain:.1})",
+                    1.0 / rate
+                ),
+                accepted: None,
+            });
+        }
+    }
+    // interval: s_r resolved from zero, and not wider than the limit.
+    let [lo, hi] = e.s_r_ci95;
+    let half = 0.5 * (hi - lo) / e.s_r.abs();
+    if !within(f64::MIN_POSITIVE, lo) {
+        w.push(Warning {
+            check: "interval".into(),
+            value: lo,
+            limit: 0.0,
+            reason: format!(
+                "the 95 % interval on s_r ({lo:.3e} .. {hi:.3e} m) includes zero: s_r is not \
+                 resolved"
+            ),
+            accepted: None,
+        });
+    } else if !within(half, lim.interval_rel) {
+        w.push(Warning {
+            check: "interval".into(),
+            value: half,
+            limit: lim.interval_rel,
+            reason: format!(
+                "the 95 % interval on s_r is +/- {:.1} % wide (limit {:.1} %)",
+                100.0 * half,
+                100.0 * lim.interval_rel
+            ),
+            accepted: None,
+        });
+    }
+    Verdict::of(w)
+}
+
+/// Why an angle series (rad) looks like degrees, if it does: the wire's angle is a
+/// direction (within a turn of zero) and the pendulum swings less than 90 degrees from
+/// its equilibrium (`center`, e.g. the series' median).
+pub fn degrees_suspected(angles: &[f64], center: f64) -> Option<String> {
+    let (lo, hi) = angles
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let tau = std::f64::consts::TAU;
+    let swing = (hi - center).max(center - lo);
+    if hi - lo > tau {
+        Some(format!(
+            "the angles span {:.3} rad, more than a full turn: are these degrees? \
+             (`angle_rad` is in radians)",
+            hi - lo
+        ))
+    } else if swing > std::f64::consts::FRAC_PI_2 {
+        Some(format!(
+            "the angle swings {:.3} rad ({:.1} deg) from its equilibrium, beyond 90 deg: \
+             are these degrees? (`angle_rad` is in radians)",
+            swing,
+            swing.to_degrees()
+        ))
+    } else if center.abs() > tau {
+        Some(format!(
+            "the equilibrium angle is {center:.3} rad, beyond a full turn: are these \
+             degrees? (`angle_rad` is in radians)"
+        ))
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const LIM: Limits = Limits {
+        period_rel: 0.1,
+        residual_factor: 5.0,
+        envelope_aicc: 10.0,
+        interval_rel: 0.25,
+    };
+
+    fn evidence<'a>(t: &'a [f64], amps: &'a [f64], samples: &'a [usize]) -> Evidence<'a> {
+        Evidence {
+            d_m: 0.2,
+            d_from_period_m: 0.201,
+            frame_noise_rad: 1e-3,
+            samples,
+            t,
+            amplitudes: amps,
+            residual_rms_rad: 5e-5,
+            s_r: 4e-6,
+            s_r_ci95: [3.9e-6, 4.1e-6],
+        }
+    }
+
+    #[test]
+    fn a_consistent_linear_decay_is_ok() {
+        let t: Vec<f64> = (0..40).map(|k| 0.7 * k as f64).collect();
+        let a: Vec<f64> = t
+            .iter()
+            .enumerate()
+            .map(|(k, x)| 0.17 - 3e-3 * x + 1e-5 * if k % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let s = vec![60; 40];
+        let v = assess(&evidence(&t, &a, &s), &LIM);
+        assert_eq!(v, Verdict::default(), "{v:?}");
+        assert_eq!(v.label(), "ok");
+    }
+
+    #[test]
+    fn each_disagreement_is_named() {
+        let t: Vec<f64> = (0..40).map(|k| 0.7 * k as f64).collect();
+        let a: Vec<f64> = t.iter().map(|x| 0.17 * (-x / 8.0f64).exp()).collect();
+        let s = vec![60; 40];
+        let mut e = evidence(&t, &a, &s);
+        e.d_from_period_m = 0.03;
+        e.residual_rms_rad = 1e-2;
+        e.s_r_ci95 = [-1e-6, 9e-6];
+        let mut v = assess(&e, &LIM);
+        let names: Vec<&str> = v.warnings.iter().map(|w| w.check.as_str()).collect();
+        assert_eq!(names, ["period", "residual", "envelope", "interval"]);
+        assert_eq!(v.verdict, Status::Suspect);
+        assert!(v.blocks());
+        v.accept([("period", "the length was not measured")]);
+        assert!(v.blocks());
+        assert!(v.label().contains("accepted: period"), "{}", v.label());
+        e.s_r_ci95 = [1e-6, 7e-6];
+        let w = &assess(&e, &LIM).warnings[3];
+        assert!((w.value - 0.75).abs() < 1e-12, "{w:?}");
+    }
+
+    #[test]
+    fn the_exponential_fit_finds_its_rate() {
+        let t: Vec<f64> = (0..30).map(|k| 0.5 * k as f64).collect();
+        let a: Vec<f64> = t.iter().map(|x| 0.2 * (-x / 5.0f64).exp()).collect();
+        let (rss, k) = exponential_rss(&t, &a);
+        assert!(rss < 1e-16 && (k - 0.2).abs() < 1e-6, "{rss} {k}");
+        assert!(linear_rss(&t, &a) > 1e-4);
+    }
+
+    #[test]
+    fn degrees_are_suspected() {
+        let rad: Vec<f64> = (0..100).map(|i| 1.6 + 0.17 * (i as f64).sin()).collect();
+        assert_eq!(degrees_suspected(&rad, 1.6), None);
+        let deg: Vec<f64> = rad.iter().map(|v| v.to_degrees()).collect();
+        assert!(degrees_suspected(&deg, 91.7)
+            .unwrap()
+            .contains("are these degrees?"));
+        let small: Vec<f64> = (0..100).map(|i| 91.7 + 1.0 * (i as f64).sin()).collect();
+        assert!(degrees_suspected(&small, 91.7).is_some());
+    }
 
     #[test]
     fn the_verdict_comes_from_the_numbers() {

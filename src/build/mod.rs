@@ -57,6 +57,8 @@ pub struct BuildOutcome {
     pub failed: usize,
     /// Experiments whose values miss their tolerances.
     pub missed: usize,
+    /// Experiments whose verdict is `suspect` with a warning nobody accepted.
+    pub suspect: usize,
     pub seconds: f64,
     /// Report files rewritten (unchanged files are left alone).
     pub written: usize,
@@ -155,12 +157,18 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
     let missed = summary
         .experiments
         .iter()
-        .filter(|e| !e.failed() && !e.passed())
+        .filter(|e| e.result.as_ref().is_some_and(|r| r.missed()))
+        .count();
+    let suspect = summary
+        .experiments
+        .iter()
+        .filter(|e| e.result.as_ref().is_some_and(|r| r.verdict.blocks()))
         .count();
     Ok(BuildOutcome {
         summary,
         failed,
         missed,
+        suspect,
         seconds: started.elapsed().as_secs_f64(),
         written,
     })

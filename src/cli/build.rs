@@ -55,12 +55,13 @@ pub fn build(a: BuildArgs) -> Result<Done> {
     }
     Ok(Done {
         out: format!(
-            "{} experiments in {:.1} s: {} built, {} failed, {} missing a tolerance; {} report files rewritten -> {}\n",
+            "{} experiments in {:.1} s: {} built, {} failed, {} missing a tolerance, {} suspect; {} report files rewritten -> {}\n",
             n,
             o.seconds,
             n - o.failed,
             o.failed,
             o.missed,
+            o.suspect,
             o.written,
             a.out.join("index.html").display()
         ),

@@ -4,6 +4,7 @@ use crate::config::{self, locate, Experiment};
 use crate::detect::DetectOptions;
 use crate::fit::FitResult;
 use crate::pipeline::{self, Angles, Overrides, Source};
+use crate::verdict::Verdict;
 use anyhow::Result;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -46,6 +47,9 @@ pub struct FitReport {
     /// Sliding coefficient of Eq. 34 and whether pure rolling held.
     pub sliding_mu: Option<f64>,
     pub pure_rolling: Option<bool>,
+    /// `ok`, or `suspect` with its warnings (`"verdict"`, `"warnings"`).
+    #[serde(flatten)]
+    pub verdict: Verdict,
     #[serde(flatten)]
     pub fit: FitResult,
 }
@@ -153,6 +157,7 @@ pub fn fit_report(exp: &Experiment, a: &FitArgs) -> Result<FitReport> {
         pure_rolling: r.pure_rolling,
         sliding_mu: r.sliding_mu,
         angles: described,
+        verdict: r.verdict,
         fit: r.fit,
     })
 }
@@ -240,6 +245,23 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
              so this recording cannot determine beta; s_r N_0^beta is what it measures",
             f.reactions.n_variation_pct
         );
+    }
+    let _ = writeln!(o, "verdict          {}", r.verdict.label());
+    for w in &r.verdict.warnings {
+        let _ = writeln!(
+            o,
+            "  {}{}: {}",
+            w.check,
+            if w.accepted.is_some() {
+                " (accepted)"
+            } else {
+                ""
+            },
+            w.reason
+        );
+        if let Some(why) = &w.accepted {
+            let _ = writeln!(o, "    accepted because: {why}");
+        }
     }
     o
 }

@@ -31,6 +31,23 @@ pub struct ExperimentFile {
     pub angles: Option<String>,
     /// The video and the detector's settings. Optional.
     pub video: Option<Video>,
+    /// Consistency warnings accepted, each with a written reason (the result stays
+    /// `suspect`, and its page says the warning was accepted and why).
+    #[serde(default)]
+    pub accept: Vec<Accept>,
+}
+
+/// The consistency checks' names, as `accept[].check` names them.
+pub const CHECKS: [&str; 4] = ["period", "residual", "envelope", "interval"];
+
+/// One accepted consistency warning.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Accept {
+    /// The check's name: `period`, `residual`, `envelope` or `interval`.
+    pub check: String,
+    /// Why the warning does not invalidate the result.
+    pub reason: String,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -151,7 +168,8 @@ pub struct Reference {
     pub a_rad_s: Option<f64>,
 }
 
-/// How close reproduced values must come (relative deviations).
+/// How close reproduced values must come (relative deviations), and the limits of the
+/// consistency checks that make a result `suspect`.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Tolerances {
@@ -161,6 +179,26 @@ pub struct Tolerances {
     /// Against the synthetic truth `s_r`. Default 0.01.
     #[serde(default = "default_truth_tol")]
     pub truth_rel: f64,
+    /// `period` check: largest relative difference between the pendulum length the
+    /// measured period implies (small-angle period, ERRATA §2) and the geometry's `d`.
+    /// Default 0.10 (a length measured to a centimetre on a 0.2 m pendulum is 5 %).
+    #[serde(default = "default_period_rel")]
+    pub period_rel: f64,
+    /// `residual` check: largest ratio of the fit's amplitude residual RMS to the
+    /// scatter the series' own per-frame noise explains (`sigma / sqrt(frames per
+    /// turning point)`). Default 10 (the twins sit at 1-4; a bad turning point at
+    /// hundreds).
+    #[serde(default = "default_residual_factor")]
+    pub residual_factor: f64,
+    /// `envelope` check: largest AICc advantage of an exponential (viscous) amplitude
+    /// envelope over the linear one of rolling friction. Default 10 ("clearly
+    /// preferred").
+    #[serde(default = "default_envelope_aicc")]
+    pub envelope_aicc: f64,
+    /// `interval` check: largest relative half-width of the 95 % interval on `s_r` (which
+    /// must also exclude zero). Default 0.25.
+    #[serde(default = "default_interval_rel")]
+    pub interval_rel: f64,
 }
 
 impl Default for Tolerances {
@@ -168,8 +206,25 @@ impl Default for Tolerances {
         Self {
             reference_rel: default_ref_tol(),
             truth_rel: default_truth_tol(),
+            period_rel: default_period_rel(),
+            residual_factor: default_residual_factor(),
+            envelope_aicc: default_envelope_aicc(),
+            interval_rel: default_interval_rel(),
         }
     }
+}
+
+fn default_period_rel() -> f64 {
+    0.10
+}
+fn default_residual_factor() -> f64 {
+    10.0
+}
+fn default_envelope_aicc() -> f64 {
+    10.0
+}
+fn default_interval_rel() -> f64 {
+    0.25
 }
 
 fn default_ref_tol() -> f64 {

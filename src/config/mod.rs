@@ -167,6 +167,26 @@ impl Experiment {
             "",
         )?;
         positive("tolerances.truth_rel", file.tolerances.truth_rel, "")?;
+        let t = &file.tolerances;
+        positive("tolerances.period_rel", t.period_rel, "")?;
+        positive("tolerances.residual_factor", t.residual_factor, "")?;
+        positive("tolerances.envelope_aicc", t.envelope_aicc, "")?;
+        positive("tolerances.interval_rel", t.interval_rel, "")?;
+        for (i, a) in file.accept.iter().enumerate() {
+            if !CHECKS.contains(&a.check.as_str()) {
+                bail!(
+                    "`accept[{i}].check` = `{}`: expected one of {}",
+                    a.check,
+                    CHECKS.join(", ")
+                );
+            }
+            if a.reason.trim().is_empty() {
+                bail!(
+                    "`accept[{i}].reason`: accepting the `{}` warning needs a written reason",
+                    a.check
+                );
+            }
+        }
         if let Some(s) = &file.synthetic {
             non_negative("synthetic.s_r_m", s.s_r_m, "m")?;
             if parse_beta(&s.beta, "synthetic.beta")? == BetaChoice::Free {
@@ -231,6 +251,16 @@ fn non_negative(key: &str, v: f64, unit: &str) -> Result<()> {
     Ok(())
 }
 
+/// A positive value no larger than `hi` (a physical bound: a typo such as `1e300` is
+/// refused, naming the key, instead of reaching the fit).
+fn bounded(key: &str, v: f64, hi: f64, unit: &str) -> Result<()> {
+    positive(key, v, unit)?;
+    if v > hi {
+        bail!("`{key}` = {v:e} {unit}: expected at most {hi} {unit} (a table-top pendulum)");
+    }
+    Ok(())
+}
+
 fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v > lo && v < hi) {
         bail!("`{key}` = {v} {unit}: expected a value between {lo} and {hi} {unit}");
@@ -240,11 +270,11 @@ fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
 
 /// Geometry block -> pendulum parameters (Eq. 36, 37, 9).
 fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
-    positive("geometry.g_m_s2", g.g_m_s2, "m/s^2")?;
+    bounded("geometry.g_m_s2", g.g_m_s2, 100.0, "m/s^2")?;
     let alpha = match (&g.incline.h_m, &g.incline.l_m, &g.incline.angle_deg) {
         (Some(h), Some(l), None) => {
-            positive("geometry.incline.h_m", *h, "m")?;
-            positive("geometry.incline.l_m", *l, "m")?;
+            bounded("geometry.incline.h_m", *h, 100.0, "m")?;
+            bounded("geometry.incline.l_m", *l, 100.0, "m")?;
             if h >= l {
                 bail!("`geometry.incline.h_m` = {h} m: expected less than `l_m` = {l} m (sin(alpha) = h/l, Eq. 36)");
             }
@@ -257,14 +287,14 @@ fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
         _ => bail!("`geometry.incline`: expected either `h_m` and `l_m` (Eq. 36) or `angle_deg`, not both or neither"),
     };
     let r = g.ball.radius_m;
-    positive("geometry.ball.radius_m", r, "m")?;
+    bounded("geometry.ball.radius_m", r, 1.0, "m")?;
     let m = match (g.ball.mass_kg, g.ball.density_kg_m3) {
         (Some(m), None) => {
-            positive("geometry.ball.mass_kg", m, "kg")?;
+            bounded("geometry.ball.mass_kg", m, 1000.0, "kg")?;
             m
         }
         (None, Some(rho)) => {
-            positive("geometry.ball.density_kg_m3", rho, "kg/m^3")?;
+            bounded("geometry.ball.density_kg_m3", rho, 1e5, "kg/m^3")?;
             4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * rho
         }
         _ => bail!(
@@ -273,14 +303,14 @@ fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
     };
     let d = match (g.pendulum.d_m, g.pendulum.contact_length_m) {
         (Some(d), None) => {
-            positive("geometry.pendulum.d_m", d, "m")?;
+            bounded("geometry.pendulum.d_m", d, 100.0, "m")?;
             if d <= r {
                 bail!("`geometry.pendulum.d_m` = {d} m must exceed the ball radius {r} m");
             }
             d
         }
         (None, Some(l)) => {
-            positive("geometry.pendulum.contact_length_m", l, "m")?;
+            bounded("geometry.pendulum.contact_length_m", l, 100.0, "m")?;
             physics::d_from_contact_length(l, r)
         }
         _ => bail!("`geometry.pendulum`: expected either `d_m` or `contact_length_m` (Eq. 37), not both or neither"),
@@ -361,6 +391,19 @@ synthetic: { s_r_m: 3.2e-6 }
         );
         let e = err(&GOOD.replace("radius_m: 0.03175", "radius_m: 0"));
         assert!(e.contains("`geometry.ball.radius_m` = 0"), "{e}");
+        let e = err(&GOOD.replace("d_m: 0.14", "d_m: 1e300"));
+        assert!(
+            e.contains("`geometry.pendulum.d_m` = 1e300 m: expected at most 100 m"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("mass_kg: 1.0458", "mass_kg: 1e9"));
+        assert!(e.contains("`geometry.ball.mass_kg`"), "{e}");
+        let e = err(&format!("{GOOD}accept: [{{check: periodd, reason: x}}]\n"));
+        assert!(e.contains("`accept[0].check` = `periodd`"), "{e}");
+        let e = err(&format!(
+            "{GOOD}accept: [{{check: period, reason: \"\"}}]\n"
+        ));
+        assert!(e.contains("needs a written reason"), "{e}");
         let e = err(&GOOD.replace("{ h_m: 0.142, l_m: 1.5 }", "{ h_m: 0.142, angle_deg: 5 }"));
         assert!(e.contains("`geometry.incline`"), "{e}");
         let e = err(&format!("{GOOD}model: {{ beta: fast }}\n"));

@@ -17,7 +17,7 @@ use crate::hash::{self, Key};
 use crate::physics::torsion::{torsion_check, TorsionCheck};
 use crate::physics::{BetaChoice, FrictionLaw};
 use crate::series::AngleTable;
-use crate::verdict::{Against, Check, Quantity};
+use crate::verdict::{self, Against, Check, Evidence, Limits, Quantity, Verdict};
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 
@@ -184,6 +184,8 @@ pub struct Analysis {
     /// The sliding coefficient of Eq. 34, and whether pure rolling held.
     pub sliding_mu: Option<f64>,
     pub pure_rolling: Option<bool>,
+    /// Whether the data agree with the physics of the fit (`ok` or `suspect`).
+    pub verdict: Verdict,
 }
 
 impl Analysis {
@@ -206,6 +208,10 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         ),
         _ => format!("{}: fitting", exp.path.display()),
     };
+    let center = crate::numerics::median(&mut series.angle.clone());
+    if let Some(why) = verdict::degrees_suspected(&series.angle, center) {
+        return Err(anyhow::anyhow!(why)).with_context(what);
+    }
     let m = fit::analyze(p, &series, beta).with_context(what)?;
     let opts = FitOptions {
         beta,
@@ -213,6 +219,22 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         ..FitOptions::default()
     };
     let f = fit::fit(p, &m, &opts).with_context(what)?;
+    for (key, v) in [
+        ("s_r", f.s_r_m),
+        ("its standard error", f.s_r_se_m),
+        ("the 95 % interval's lower end", f.s_r_ci95_m[0]),
+        ("the 95 % interval's upper end", f.s_r_ci95_m[1]),
+        ("mu_r", f.mu_r),
+        ("the envelope slope a", f.a_rad_s),
+        ("the length implied by the period", f.d_from_period_m),
+    ] {
+        if !v.is_finite() {
+            return Err(anyhow::anyhow!(
+                "the fit gave {key} = {v}: not a measurement (check the geometry's values and the angles' units)"
+            ))
+            .with_context(what);
+        }
+    }
     let law = FrictionLaw::new(f.s_r_m, f.beta);
     let truth = angles
         .source
@@ -220,6 +242,33 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         .then(|| exp.synthetic_law().map(|l| l.s_r))
         .flatten();
     let tol = &exp.file.tolerances;
+    let ts: Vec<f64> = m.extremes.iter().map(|e| e.t).collect();
+    let samples: Vec<usize> = m.extremes.iter().map(|e| e.samples).collect();
+    let mut verdict = verdict::assess(
+        &Evidence {
+            d_m: p.d,
+            d_from_period_m: f.d_from_period_m,
+            frame_noise_rad: crate::signal::noise_sigma(&series.angle),
+            samples: &samples,
+            t: &ts,
+            amplitudes: &m.amplitudes,
+            residual_rms_rad: f.residual_rms_rad,
+            s_r: f.s_r_m,
+            s_r_ci95: f.s_r_ci95_m,
+        },
+        &Limits {
+            period_rel: tol.period_rel,
+            residual_factor: tol.residual_factor,
+            envelope_aicc: tol.envelope_aicc,
+            interval_rel: tol.interval_rel,
+        },
+    );
+    verdict.accept(
+        exp.file
+            .accept
+            .iter()
+            .map(|a| (a.check.as_str(), a.reason.as_str())),
+    );
     let mut checks = Vec::new();
     if let Some(r) = &exp.file.reference {
         let src = if r.source.is_empty() {
@@ -266,5 +315,6 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         truth_s_r_m: truth,
         checks,
         torsion,
+        verdict,
     })
 }

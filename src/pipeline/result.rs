@@ -6,7 +6,7 @@ use crate::detect::summary::DetectionSummary;
 use crate::fit::FitResult;
 use crate::physics::torsion::TorsionCheck;
 use crate::physics::FrictionLaw;
-use crate::verdict::Check;
+use crate::verdict::{Check, Verdict};
 use serde::{Deserialize, Serialize};
 
 /// Hashes of the inputs, for provenance.
@@ -60,6 +60,9 @@ pub struct ExperimentResult {
     pub reference: Option<Reference>,
     pub tolerances: Tolerances,
     pub checks: Vec<Check>,
+    /// `ok`, or `suspect` with its warnings (`"verdict"`, `"warnings"`).
+    #[serde(flatten, default)]
+    pub verdict: Verdict,
     pub sliding_mu: Option<f64>,
     pub pure_rolling: Option<bool>,
     pub torsion: Option<TorsionCheck>,
@@ -112,6 +115,7 @@ impl ExperimentResult {
             reference: exp.file.reference.clone(),
             tolerances: exp.file.tolerances.clone(),
             checks: a.checks.clone(),
+            verdict: a.verdict.clone(),
             sliding_mu: a.sliding_mu,
             pure_rolling: a.pure_rolling,
             torsion: a.torsion,
@@ -120,9 +124,32 @@ impl ExperimentResult {
         }
     }
 
-    /// Every check within its tolerance (recomputed from the numbers).
+    /// Compared with an expected value (a reference or the synthetic truth): without
+    /// one, a result is only measured, never "within tolerances".
+    pub fn compared(&self) -> bool {
+        !self.checks.is_empty()
+    }
+
+    /// Compared, and every check within its tolerance (recomputed from the numbers).
     pub fn passed(&self) -> bool {
-        self.checks.iter().all(Check::verdict)
+        self.compared() && self.checks.iter().all(Check::verdict)
+    }
+
+    /// A check outside its tolerance.
+    pub fn missed(&self) -> bool {
+        !self.checks.iter().all(Check::verdict)
+    }
+
+    /// How the result stands against its expected values: `within tolerances`,
+    /// `MISSES a tolerance` or `measured` (nothing to compare with).
+    pub fn standing(&self) -> &'static str {
+        if !self.compared() {
+            "measured (nothing to compare with)"
+        } else if self.passed() {
+            "within tolerances"
+        } else {
+            "MISSES a tolerance"
+        }
     }
 
     /// One line for the build's log.
@@ -137,13 +164,10 @@ impl ExperimentResult {
             })
             .unwrap_or_default();
         format!(
-            "s_r = {:.4e} m{truth}, {}",
+            "s_r = {:.4e} m{truth}, {}, verdict {}",
             self.results.s_r_m,
-            if self.passed() {
-                "within tolerances"
-            } else {
-                "MISSES a tolerance"
-            }
+            self.standing(),
+            self.verdict.label()
         )
     }
 }

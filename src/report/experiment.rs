@@ -98,6 +98,25 @@ struct ExperimentView {
     torsion: Vec<Kv>,
     rolling: String,
     pass: bool,
+    /// `pass`, `fail` or `measured` (the CSS class of the standing).
+    standing_class: &'static str,
+    standing: &'static str,
+    /// Nothing to compare with: the Results table lists the measured values.
+    measured: Vec<Kv>,
+    verdict: String,
+    suspect: bool,
+    /// `ok`, `suspect`, or `accepted` (suspect, every warning accepted): the banner's class.
+    verdict_class: &'static str,
+    warnings: Vec<WarningView>,
+}
+
+#[derive(Serialize)]
+struct WarningView {
+    check: String,
+    value: String,
+    limit: String,
+    reason: String,
+    accepted: String,
 }
 
 #[derive(Serialize)]
@@ -336,5 +355,49 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         torsion,
         rolling,
         pass: r.passed(),
+        standing_class: if !r.compared() {
+            "measured"
+        } else if r.passed() {
+            "pass"
+        } else {
+            "fail"
+        },
+        standing: r.standing(),
+        measured: if r.compared() {
+            Vec::new()
+        } else {
+            vec![
+                kv(
+                    "s_r (95 % CI)",
+                    format!(
+                        "{:.4e} m ({:.4e} .. {:.4e})",
+                        f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1]
+                    ),
+                ),
+                kv("mu_r", format!("{:.4e}", f.mu_r)),
+                kv("envelope slope a", format!("{:.4e} rad/s", f.a_rad_s)),
+            ]
+        },
+        verdict: r.verdict.label(),
+        suspect: !r.verdict.warnings.is_empty(),
+        verdict_class: if r.verdict.warnings.is_empty() {
+            "ok"
+        } else if r.verdict.blocks() {
+            "suspect"
+        } else {
+            "accepted"
+        },
+        warnings: r
+            .verdict
+            .warnings
+            .iter()
+            .map(|w| WarningView {
+                check: w.check.clone(),
+                value: fmt_sci(w.value, 3),
+                limit: fmt_sci(w.limit, 3),
+                reason: w.reason.clone(),
+                accepted: w.accepted.clone().unwrap_or_default(),
+            })
+            .collect(),
     }
 }

@@ -24,6 +24,11 @@ struct IndexView {
     fig2: bool,
     fig2_note: String,
     passed: usize,
+    compared: usize,
+    measured_only: usize,
+    suspect: usize,
+    /// Suspect, but every warning accepted with a written reason.
+    accepted: usize,
     total: usize,
 }
 
@@ -43,6 +48,10 @@ struct TableRow {
     a_dev: String,
     truth_dev: String,
     pass: bool,
+    /// `pass`, `FAIL` or `measured` (nothing to compare with).
+    standing: &'static str,
+    verdict: String,
+    suspect: bool,
 }
 
 #[derive(Serialize)]
@@ -105,6 +114,15 @@ pub fn index_pages(
             a_dev: dev(Quantity::A),
             truth_dev: truth,
             pass: r.passed(),
+            standing: if !r.compared() {
+                "measured"
+            } else if r.passed() {
+                "pass"
+            } else {
+                "FAIL"
+            },
+            verdict: r.verdict.label(),
+            suspect: !r.verdict.warnings.is_empty(),
         });
         if let Some(c) = r.torsion {
             torsion.push(TorsionRow {
@@ -169,11 +187,18 @@ pub fn index_pages(
         manifest_sha256: manifest_sha256.clone(),
         experiments: entries,
     };
+    let results = || summary.experiments.iter().filter_map(|e| e.result.as_ref());
     let view = IndexView {
         title: manifest.title.clone(),
         tool: crate::hash::TOOL,
         manifest_sha256,
         passed: summary.experiments.iter().filter(|e| e.passed()).count(),
+        compared: results().filter(|r| r.compared()).count(),
+        measured_only: results().filter(|r| !r.compared()).count(),
+        suspect: results().filter(|r| !r.verdict.warnings.is_empty()).count(),
+        accepted: results()
+            .filter(|r| !r.verdict.warnings.is_empty() && !r.verdict.blocks())
+            .count(),
         total: summary.experiments.len(),
         rows,
         failures,

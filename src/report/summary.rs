@@ -61,7 +61,7 @@ impl Entry {
         self.result.is_none()
     }
 
-    /// Built and every check within tolerance.
+    /// Built, compared with an expected value, and every check within tolerance.
     pub fn passed(&self) -> bool {
         self.result.as_ref().is_some_and(ExperimentResult::passed)
     }
@@ -90,7 +90,10 @@ impl Summary {
 }
 
 /// `rollfric check`: the reproduced values of a summary against their expected values
-/// and tolerances (recomputed from the numbers). Returns the table and whether all pass.
+/// and tolerances (recomputed from the numbers), and each result's consistency verdict.
+/// Returns the table and whether all pass: no failed experiment, no missed tolerance and
+/// no `suspect` verdict with a warning the experiment does not accept. A result with no
+/// expected value is "measured", neither a pass nor a miss.
 pub fn check(s: &Summary) -> (String, bool) {
     let mut o = String::new();
     let _ = writeln!(
@@ -111,7 +114,11 @@ pub fn check(s: &Summary) -> (String, bool) {
             continue;
         };
         if r.checks.is_empty() {
-            let _ = writeln!(o, "{:<22} (no expected values)", e.name);
+            let _ = writeln!(
+                o,
+                "{:<22} measured: no reference or synthetic truth to compare with",
+                e.name
+            );
         }
         for c in &r.checks {
             let pass = c.verdict();
@@ -129,9 +136,40 @@ pub fn check(s: &Summary) -> (String, bool) {
                 if pass { "pass" } else { "MISS" }
             );
         }
+        let v = &r.verdict;
+        ok &= !v.blocks();
+        let _ = writeln!(o, "{:<22} verdict {}", e.name, v.label());
+        for w in &v.warnings {
+            let _ = writeln!(
+                o,
+                "{:<22}   {}{}: {} (value {}, limit {})",
+                e.name,
+                w.check,
+                if w.accepted.is_some() {
+                    " [accepted]"
+                } else {
+                    ""
+                },
+                w.reason,
+                fmt_sci(w.value, 3),
+                fmt_sci(w.limit, 3)
+            );
+            if let Some(why) = &w.accepted {
+                let _ = writeln!(o, "{:<22}     accepted because: {why}", e.name);
+            }
+        }
     }
     let n = s.experiments.len();
+    let results = || s.experiments.iter().filter_map(|e| e.result.as_ref());
     let good = s.experiments.iter().filter(|e| e.passed()).count();
-    let _ = writeln!(o, "{good}/{n} experiments within their tolerances");
+    let compared = results().filter(|r| r.compared()).count();
+    let suspect = results().filter(|r| r.verdict.blocks()).count();
+    let failed = s.experiments.iter().filter(|e| e.failed()).count();
+    let _ = writeln!(
+        o,
+        "{good}/{compared} compared experiments within their tolerances; {} measured only; \
+         {suspect} suspect; {failed} failed; {n} in all",
+        results().count() - compared
+    );
     (o, ok)
 }

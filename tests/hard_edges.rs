@@ -45,17 +45,20 @@ fn setup(dir: &Path, experiments: &[(&str, &str)]) {
     .unwrap();
 }
 
+/// `rollfric build` of the folder's manifest into `out/` and `cache/`.
+const BUILD: [&str; 8] = [
+    "build",
+    "-q",
+    "--manifest",
+    "manifest.yaml",
+    "--out",
+    "out",
+    "--cache",
+    "cache",
+];
+
 fn build(dir: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "build",
-        "-q",
-        "--manifest",
-        "manifest.yaml",
-        "--out",
-        "out",
-        "--cache",
-        "cache",
-    ];
+    let mut args = BUILD.to_vec();
     args.extend_from_slice(extra);
     rollfric(&args, dir)
 }
@@ -172,16 +175,7 @@ fn a_second_build_of_the_same_folders_waits_or_refuses() {
         "{err}"
     );
     let mut waiting = common::command(d.path())
-        .args([
-            "build",
-            "-q",
-            "--manifest",
-            "manifest.yaml",
-            "--out",
-            "out",
-            "--cache",
-            "cache",
-        ])
+        .args(BUILD)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();

@@ -10,7 +10,7 @@ use crate::series::AngleSeries;
 use anyhow::{Context, Result};
 
 /// Longest default recording, s.
-pub const MAX_DEFAULT_DURATION_S: f64 = 120.0;
+pub const MAX_DEFAULT_DURATION_S: f64 = crate::config::DEFAULT_MAX_DURATION_S;
 
 /// Camera settings for one simulated recording.
 #[derive(Clone, Copy, Debug)]

@@ -269,3 +269,55 @@ fn a_quiet_build_still_says_why_an_experiment_failed() {
         "{err}"
     );
 }
+
+#[test]
+fn an_impossible_twin_fails_alone_before_allocating() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a"), ("b.yaml", "b")]);
+    let huge = std::fs::read_to_string(root().join("experiments/glass-fiber-fabric.yaml"))
+        .unwrap()
+        .replace("name: glass-fiber-fabric", "name: huge")
+        .replace("  fps: 25\n", "  fps: 1e9\n  duration_s: 1e9\n");
+    assert!(huge.contains("fps: 1e9"), "fixture changed");
+    std::fs::write(d.path().join("huge.yaml"), huge).unwrap();
+    std::fs::write(
+        d.path().join("manifest.yaml"),
+        "title: budgets\nexperiments:\n  - a.yaml\n  - huge.yaml\n  - b.yaml\n",
+    )
+    .unwrap();
+    let o = build(d.path(), &[]);
+    assert!(!o.status.success());
+    let s = summary(d.path());
+    assert_eq!(s["experiments"][0]["status"], "ok");
+    assert_eq!(s["experiments"][2]["status"], "ok");
+    let e = s["experiments"][1]["error"].as_str().unwrap();
+    assert!(
+        e.contains("`synthetic.fps` = 1000000000 frames/s: expected more than 0 and at most 1000"),
+        "{e}"
+    );
+    assert!(d.path().join("out/index.html").exists());
+    for (args, needle) in [
+        (
+            vec!["simulate", "glass", "-o", "x.csv", "--fps", "1e7"],
+            "`--fps` = 10000000",
+        ),
+        (
+            vec![
+                "simulate",
+                "glass",
+                "-o",
+                "x.csv",
+                "--fps",
+                "1000",
+                "--duration",
+                "3000",
+            ],
+            "at most 200000 frames",
+        ),
+    ] {
+        let o = rollfric(&args, &root());
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{err}");
+    }
+}

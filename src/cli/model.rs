@@ -52,6 +52,7 @@ pub fn simulate(a: SimulateArgs) -> Result<String> {
         }
         cam.duration_s = Some(d);
     }
+    crate::config::frame_budget(("--fps", cam.fps), ("--duration", cam.duration_s))?;
     cam.seed = a.seed.unwrap_or(cam.seed);
     let rec = simulate::record(&exp, &cam)?;
     fsutil::write_atomic(&a.output, rec.series.to_csv().as_bytes())?;
@@ -97,6 +98,9 @@ pub fn synth(a: SynthArgs) -> Result<String> {
             eprint!("\rsynth: frame {done}/{total}");
         }
     };
+    if let (Some(s), Some(_)) = (&exp.file.synthetic, a.duration) {
+        crate::config::frame_budget(("synthetic.fps", s.fps), ("--duration", a.duration))?;
+    }
     let r = crate::synth::render(&exp, &a.output, a.duration, &mut progress)?;
     if tty {
         eprintln!();

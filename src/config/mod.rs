@@ -74,6 +74,38 @@ fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
     anyhow::anyhow!("{first}{src}")
 }
 
+/// The highest frame rate a digital twin may be asked for, frames/s.
+pub const MAX_FPS: f64 = 1000.0;
+/// The longest recording a digital twin may be asked for, s.
+pub const MAX_DURATION_S: f64 = 3600.0;
+/// The most frames (frame rate x duration) a twin may be asked to simulate or render:
+/// every per-frame vector is sized from this before anything is allocated.
+pub const MAX_FRAMES: f64 = 200_000.0;
+/// The recording length used when none is given (until the ball stops, at most this), s.
+pub const DEFAULT_MAX_DURATION_S: f64 = 120.0;
+
+/// Check a twin's frame rate and duration against the budgets above, before anything
+/// is allocated; errors name the key (or flag) and the limit.
+pub fn frame_budget(fps: (&str, f64), duration: (&str, Option<f64>)) -> Result<()> {
+    let (fk, f) = fps;
+    if !(f.is_finite() && f > 0.0 && f <= MAX_FPS) {
+        bail!("`{fk}` = {f} frames/s: expected more than 0 and at most {MAX_FPS}");
+    }
+    let (dk, d) = duration;
+    if let Some(d) = d {
+        if !(d.is_finite() && d > 0.0 && d <= MAX_DURATION_S) {
+            bail!("`{dk}` = {d} s: expected more than 0 and at most {MAX_DURATION_S}");
+        }
+    }
+    let frames = f * d.unwrap_or(DEFAULT_MAX_DURATION_S);
+    if frames > MAX_FRAMES {
+        bail!(
+            "`{fk}` x `{dk}` = {frames:.0} frames: at most {MAX_FRAMES:.0} frames may be simulated or rendered"
+        );
+    }
+    Ok(())
+}
+
 /// Parse a `beta` value; `key` names it in errors.
 pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<BetaChoice> {
     let v = match b {
@@ -193,11 +225,11 @@ impl Experiment {
                 bail!("`synthetic.beta` = free: the simulated truth needs a number");
             }
             in_range("synthetic.psi0_deg", s.psi0_deg, 0.0, 60.0, "deg")?;
-            positive("synthetic.fps", s.fps, "frames/s")?;
             non_negative("synthetic.angle_noise_deg", s.angle_noise_deg, "deg")?;
-            if let Some(d) = s.duration_s {
-                positive("synthetic.duration_s", d, "s")?;
-            }
+            frame_budget(
+                ("synthetic.fps", s.fps),
+                ("synthetic.duration_s", s.duration_s),
+            )?;
             if s.width < 64 || s.height < 64 || s.width > 7680 || s.height > 4320 {
                 bail!(
                     "`synthetic.width` x `synthetic.height` = {} x {} px: expected 64..7680 x 64..4320",

@@ -192,7 +192,16 @@ impl FfmpegSource {
         }
         filters.push_str(",showinfo=checksum=0");
         let mut child = Command::new("ffmpeg")
-            .args(["-nostdin", "-hide_banner", "-nostats", "-v", "info", "-i"])
+            // `level+`: every line carries its severity as `[error]`, `[info]`, ...,
+            // so complaints are told by the decoder's own level, not by their words.
+            .args([
+                "-nostdin",
+                "-hide_banner",
+                "-nostats",
+                "-v",
+                "level+info",
+                "-i",
+            ])
             .arg(path)
             .args([
                 "-map",
@@ -275,12 +284,7 @@ impl FfmpegSource {
                     if tx.send(t).is_err() {
                         break;
                     }
-                } else if !line.contains("showinfo")
-                    && (line.contains("rror")
-                        || line.contains("nvalid")
-                        || line.contains("runcat")
-                        || line.contains("partial file"))
-                {
+                } else if decoder_complaint(&line) {
                     if let Ok(mut e) = errs.lock() {
                         if e.len() < 8 {
                             e.push(line.trim().to_string());
@@ -324,6 +328,15 @@ impl FfmpegSource {
             None => format!("{}: decoding failed ({last})", self.path.display()),
         }
     }
+}
+
+/// Whether an ffmpeg log line (with `-v level+...`) is an error the decoder reports:
+/// its severity tag is `[error]`, `[fatal]` or `[panic]`. Nothing else is judged, so a
+/// file named `mirror.mp4` (quoted on `[info]` lines) is not taken for a damaged one.
+fn decoder_complaint(line: &str) -> bool {
+    ["[error] ", "[fatal] ", "[panic] "]
+        .iter()
+        .any(|tag| line.starts_with(tag) || line.contains(&format!("] {tag}")))
 }
 
 /// What the reader thread hands over.
@@ -467,4 +480,23 @@ pub fn info() -> Result<String> {
         opencv::core::CV_VERSION,
         if have_ffmpeg() { "found (fast decoding)" } else { "not found (OpenCV decoding)" }
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn complaints_are_told_by_their_level_not_their_words() {
+        assert!(decoder_complaint(
+            "[h264 @ 0x55] [error] Invalid NAL unit size (1210 > 415)."
+        ));
+        assert!(decoder_complaint(
+            "[error] cut.mp4: Invalid data found when processing input"
+        ));
+        assert!(!decoder_complaint(
+            "[info] Input #0, mov,mp4,m4a,3gp,3g2,mj2, from 'mirror_error_invalid_truncated.mp4':"
+        ));
+        assert!(!decoder_complaint("[warning] deprecated pixel format used"));
+    }
 }

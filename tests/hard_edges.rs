@@ -321,3 +321,37 @@ fn an_impossible_twin_fails_alone_before_allocating() {
         assert!(err.contains(needle), "{err}");
     }
 }
+
+#[test]
+fn a_video_is_judged_by_its_bytes_not_its_name() {
+    if !common::need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    // A swinging dark line on a light background, 3 s.
+    let src = "color=c=white:s=160x120:r=25:d=3,geq=lum='if(lt(abs((X-80)*cos(0.3*sin(2*PI*T/1.5))-(Y)*sin(0.3*sin(2*PI*T/1.5))),1.5),30,220)':cb=128:cr=128";
+    let st = std::process::Command::new("ffmpeg")
+        .args([
+            "-v", "error", "-y", "-f", "lavfi", "-i", src, "-c:v", "libx264", "-pix_fmt", "yuv420p",
+        ])
+        .arg(d.path().join("mir.mp4"))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let named = "mirror-error-invalid-truncated.mp4";
+    std::fs::copy(d.path().join("mir.mp4"), d.path().join(named)).unwrap();
+    let a = rollfric(&["detect", "mir.mp4", "-o", "a.csv"], d.path());
+    let b = rollfric(&["detect", named, "-o", "b.csv"], d.path());
+    assert_eq!(
+        a.status.success(),
+        b.status.success(),
+        "{}\n{}",
+        String::from_utf8_lossy(&a.stderr),
+        String::from_utf8_lossy(&b.stderr)
+    );
+    assert!(b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
+    assert_eq!(
+        std::fs::read(d.path().join("a.csv")).unwrap(),
+        std::fs::read(d.path().join("b.csv")).unwrap()
+    );
+}

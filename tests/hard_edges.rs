@@ -355,3 +355,59 @@ fn a_video_is_judged_by_its_bytes_not_its_name() {
         std::fs::read(d.path().join("b.csv")).unwrap()
     );
 }
+
+#[test]
+fn messages_quote_input_briefly_and_in_our_words() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("dup.yaml"),
+        "geometry:\n  incline: { angle_deg: 5 }\n  pendulum: { d_m: 0.2 }\n  pendulum: { d_m: 0.3 }\n",
+    )
+    .unwrap();
+    let o = rollfric(&["fit", "dup.yaml"], d.path());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("the key `pendulum` is given twice"), "{err}");
+    assert!(!err.contains("DuplicateKeyPolicy"), "{err}");
+    std::fs::write(
+        d.path().join("big.yaml"),
+        format!("x: {}\n", "a".repeat(1 << 20)),
+    )
+    .unwrap();
+    let o = rollfric(&["fit", "big.yaml"], d.path());
+    assert!(!o.status.success());
+    assert!(o.stderr.len() < 1000, "{} bytes of error", o.stderr.len());
+}
+
+#[test]
+fn frames_beyond_the_video_are_named() {
+    if !common::need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let st = std::process::Command::new("ffmpeg")
+        .args([
+            "-v",
+            "error",
+            "-y",
+            "-f",
+            "lavfi",
+            "-i",
+            "testsrc2=duration=1:size=160x120:rate=10",
+        ])
+        .args(["-c:v", "libx264", "-pix_fmt", "yuv420p"])
+        .arg(d.path().join("v.mp4"))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let o = rollfric(
+        &["detect", "v.mp4", "-o", "a.csv", "--frames", "500,900"],
+        d.path(),
+    );
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("frames 500..900 asked for, but the video has only 10 (0..9)"),
+        "{err}"
+    );
+}

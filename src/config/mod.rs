@@ -69,9 +69,29 @@ fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
         .and_then(|r| r.split_whitespace().next())
         .and_then(|n| n.parse::<usize>().ok())
         .and_then(|n| text.lines().nth(n.saturating_sub(1)))
-        .map(|l| format!(" (in `{}`)", l.trim()))
+        .map(|l| format!(" (in `{}`)", excerpt(l.trim(), 120)))
         .unwrap_or_default();
-    anyhow::anyhow!("{first}{src}")
+    // The parser's advice on its own options is not ours to give.
+    let first = match first.split_once("duplicate mapping key: ") {
+        Some((at, rest)) => {
+            let key = rest
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .next()
+                .unwrap_or("");
+            format!("{at}the key `{key}` is given twice")
+        }
+        None => first.to_string(),
+    };
+    // Room for the list of valid keys, not for a huge quoted value.
+    anyhow::anyhow!("{}{src}", excerpt(&first, 400))
+}
+
+/// At most `max` characters of quoted input (a huge one-line file is not echoed whole).
+fn excerpt(s: &str, max: usize) -> String {
+    match s.char_indices().nth(max) {
+        Some((i, _)) => format!("{}... ({} more bytes)", &s[..i], s.len() - i),
+        None => s.to_string(),
+    }
 }
 
 /// The highest frame rate a digital twin may be asked for, frames/s.

@@ -139,10 +139,12 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         data: Vec::new(),
     };
     let mut t_start = None;
+    let mut decoded = 0u64;
     while src
         .next_frame(&mut frame)
         .with_context(|| "finding the wire".to_string())?
     {
+        decoded = frame.index + 1;
         if frame.index < first {
             continue;
         }
@@ -166,6 +168,12 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         );
     }
     if init.data.is_empty() {
+        if let (Some([a, b]), true) = (opts.frames, decoded > 0) {
+            bail!(
+                "{name}: frames {a}..{b} asked for, but the video has only {decoded} (0..{})",
+                decoded - 1
+            );
+        }
         bail!("{}: no frame could be decoded", name);
     }
     let noise = geometry::noise_map(&init);

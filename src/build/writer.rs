@@ -77,6 +77,14 @@ pub fn remove_stale_temporaries(dir: &Path, depth: usize) {
 /// A path as the reports show it: relative to the manifest's folder when inside it,
 /// else its file name (no absolute paths in the reports).
 pub fn relative(root: &Path, p: &Path) -> String {
+    // As spelled first (a video reached through a link keeps the link's name), then
+    // with links resolved (the manifest's folder itself may be spelled through one).
+    let lexical = |q: &Path| std::path::absolute(q).map(|a| normalize(&a));
+    if let (Ok(r), Ok(a)) = (lexical(root), lexical(p)) {
+        if let Ok(rel) = a.strip_prefix(&r) {
+            return rel.display().to_string();
+        }
+    }
     let abs = |q: &Path| std::fs::canonicalize(q).unwrap_or_else(|_| q.to_path_buf());
     let (r, a) = (abs(root), abs(p));
     match a.strip_prefix(&r) {
@@ -101,6 +109,21 @@ pub fn unrooted(root: &Path, text: &str) -> String {
         let p = p.display().to_string();
         if !p.is_empty() {
             out = out.replace(&format!("{p}/"), "");
+        }
+    }
+    out
+}
+
+/// `a/b/../c` -> `a/c`, `a/./b` -> `a/b`, without looking at the file system.
+fn normalize(p: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            c => out.push(c),
         }
     }
     out
@@ -155,6 +178,28 @@ mod tests {
         );
         assert_eq!(unrooted(&root, &msg), "a.csv: line 4; b.yaml: bad");
         assert_eq!(unrooted(Path::new(""), "x/a.csv"), "x/a.csv");
+    }
+
+    #[test]
+    fn a_linked_video_keeps_the_name_it_was_given() {
+        let d = tempfile::tempdir().unwrap();
+        let root = d.path().join("experiments");
+        std::fs::create_dir_all(root.join("videos")).unwrap();
+        std::fs::create_dir_all(d.path().join("store")).unwrap();
+        std::fs::write(d.path().join("store/real.mp4"), b"x").unwrap();
+        std::os::unix::fs::symlink(
+            d.path().join("store/real.mp4"),
+            root.join("videos/link.mp4"),
+        )
+        .unwrap();
+        assert_eq!(
+            relative(&root, &root.join("videos/link.mp4")),
+            "videos/link.mp4"
+        );
+        assert_eq!(
+            relative(&root.join("."), &root.join("./videos/../videos/link.mp4")),
+            "videos/link.mp4"
+        );
     }
 
     #[test]

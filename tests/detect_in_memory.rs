@@ -190,3 +190,30 @@ fn a_large_frame_is_looked_at_shrunk_in_memory() {
     assert!(max < 0.5, "largest angle error {max:.4} deg");
     assert!(piv < 1.0, "pivot off by {piv:.3} px");
 }
+
+#[test]
+fn progress_ends_at_the_frames_measured() {
+    let scene = Scene {
+        width: 200,
+        height: 160,
+        fps: 25.0,
+        seconds: 5.0,
+        pivot: (101.0, 12.0),
+        length: 130.0,
+        rest: PI / 2.0,
+        amp: 15f64.to_radians(),
+        period: 1.8,
+    };
+    let calls = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let seen = calls.clone();
+    let opts = DetectOptions {
+        progress: Some(rollfric::detect::FrameProgress(std::sync::Arc::new(
+            move |done, total| seen.lock().unwrap().push((done, total)),
+        ))),
+        ..DetectOptions::default()
+    };
+    let d = detect_from(&scene.video(), &opts).unwrap();
+    let calls = calls.lock().unwrap();
+    let n = d.rows.len() as u64;
+    assert_eq!(calls.last(), Some(&(n, Some(n))), "{calls:?}");
+}

@@ -85,9 +85,10 @@ impl Progress {
     /// `done` of `total` frames of the current stage.
     pub fn frames(&self, exp: &str, done: u64, total: Option<u64>) {
         if let Some(b) = self.bar(exp) {
-            if let Some(t) = total {
-                b.set_length(t.max(done));
-            }
+            // Without a count (or with a header's wrong one) the bar grows with the
+            // frames measured, so it never reads 0/0 or stops short.
+            let len = b.length().unwrap_or(0);
+            b.set_length(total.unwrap_or(len).max(done));
             b.set_position(done);
         }
     }

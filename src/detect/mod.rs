@@ -201,7 +201,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     // 2. The streaming pass over the region of interest.
     let mut src = input.open(geo.roi, 1)?;
     let mut tracker = Tracker::new(&geo, opts, init_bg, init_tmap, use_shrink as f64, bound)?;
-    let total = info.frames_header;
+    // The header's count, within the frames asked for (the header may be wrong: the
+    // last report below gives the frames actually measured).
+    let total = info
+        .frames_header
+        .map(|n| n.min(last.saturating_add(1)).saturating_sub(first));
     let tty = std::io::stderr().is_terminal() && opts.progress.is_none();
     let mut rows = Vec::new();
     let mut keeper = figure11::Keeper::new(figure11::PER_SIDE);
@@ -236,8 +240,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
             }
         }
     }
+    if let Some(p) = &opts.progress {
+        (p.0)(k as u64, Some(k as u64));
+    }
     if tty {
-        eprintln!();
+        eprintln!("\rdetect: frame {k}/{k}");
     }
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(

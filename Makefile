@@ -3,6 +3,7 @@
 #   make test      the whole test suite (a missing tool fails it, never skips)
 #   make check     fmt + clippy + tests (what CI runs: .ci/run)
 #   make bench     timing figures
+#   make fuzz      a long run of the property tests of the readers and the fit
 SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
@@ -10,7 +11,7 @@ CARGO ?= cargo
 APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/rollfric
 
-.PHONY: all deps rust-components build reports test check fmt clippy bench clean
+.PHONY: all deps rust-components build reports test check fmt clippy bench fuzz clean
 
 all: build
 
@@ -65,6 +66,14 @@ check: fmt clippy test
 
 bench: build
 	$(CARGO) bench --locked --bench pipeline
+
+# The property tests of tests/fuzz.rs (a short pass runs in `make test`) with many more
+# inputs: FUZZ_ITERS per target, from FUZZ_SEED.
+FUZZ_ITERS ?= 200000
+FUZZ_SEED ?= 12
+fuzz: deps
+	ROLLFRIC_FUZZ_ITERS=$(FUZZ_ITERS) ROLLFRIC_FUZZ_SEED=$(FUZZ_SEED) \
+	  $(CARGO) test --release --locked --test fuzz -- --nocapture --test-threads 1
 
 clean:
 	$(CARGO) clean

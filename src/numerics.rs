@@ -79,9 +79,13 @@ pub fn slope_through_origin(x: &[f64], y: &[f64]) -> f64 {
     }
 }
 
+/// The most steps of [`golden_section_min`].
+const GOLDEN_MAX_STEPS: usize = 200;
+
 /// Golden-section search for the minimum of `f` on `[lo, hi]`: narrows the bracket until
 /// it is no wider than `tol` and gives its midpoint. `f` is evaluated at two inner points
-/// first, then once per step; the first error of `f` ends the search.
+/// first, then once per step; the first error of `f` ends the search. It stops after
+/// `GOLDEN_MAX_STEPS` steps, when `tol` is finer than floats can resolve there.
 pub fn golden_section_min<E>(
     mut f: impl FnMut(f64) -> Result<f64, E>,
     (lo, hi): (f64, f64),
@@ -93,7 +97,13 @@ pub fn golden_section_min<E>(
     let mut x2 = a + gr * (b - a);
     let mut f1 = f(x1)?;
     let mut f2 = f(x2)?;
-    while b - a > tol {
+    // The bracket shrinks by 0.618 a step: 200 steps reach any tolerance a float can
+    // hold; past that (a tolerance below the spacing of floats near the minimum, e.g.
+    // times of 1e4 s with a 1e-15 s tolerance) the loop would never end.
+    for _ in 0..GOLDEN_MAX_STEPS {
+        if b - a <= tol {
+            break;
+        }
         if f1 < f2 {
             b = x2;
             x2 = x1;
@@ -138,6 +148,18 @@ pub fn bisect(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn golden_section_ends_when_the_tolerance_is_below_float_spacing() {
+        // Near 1e4 floats are 1.8e-12 apart: a 1e-15 bracket cannot be reached.
+        let x = golden_section_min(
+            |x| Ok::<_, ()>((x - 1e4).powi(2)),
+            (1e4 - 1e-6, 1e4 + 1e-6),
+            1e-15,
+        )
+        .unwrap();
+        assert!((x - 1e4).abs() < 1e-9, "{x}");
+    }
 
     #[test]
     fn medians_of_odd_and_even_counts() {

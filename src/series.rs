@@ -6,6 +6,7 @@
 //! It refuses what no series can be: times that do not strictly increase, angles that
 //! are not finite numbers, a status it does not know; each error names the line.
 
+use crate::config::excerpt;
 use crate::fsutil;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
@@ -70,6 +71,11 @@ pub struct AngleTable {
     pub rows: Vec<AngleRow>,
 }
 
+/// Quoted input on one short line: control characters escaped, at most `max` characters.
+fn quoted(s: &str, max: usize) -> String {
+    excerpt(&s.escape_debug().to_string(), max)
+}
+
 impl AngleTable {
     /// Read an angle CSV; errors name the file and the line.
     pub fn read_csv(path: &Path) -> Result<Self> {
@@ -93,7 +99,7 @@ impl AngleTable {
             headers.iter().position(|h| h == name).with_context(|| {
                 format!(
                     "no `{name}` column (header is `{}`)",
-                    headers.iter().collect::<Vec<_>>().join(",")
+                    quoted(&headers.iter().collect::<Vec<_>>().join(","), 120)
                 )
             })
         };
@@ -107,17 +113,24 @@ impl AngleTable {
                 None => Status::Ok,
                 Some(raw) => Status::parse(raw).with_context(|| {
                     format!(
-                        "line {line}: `status` = `{raw}` is not one of ok, corrected, manual, missing"
+                        "line {line}: `status` = `{}` is not one of ok, corrected, manual, missing",
+                        quoted(raw, 60)
                     )
                 })?,
             };
             let num = |c: usize, name: &str| -> Result<f64> {
                 let raw = rec.get(c).unwrap_or("");
-                let v: f64 = raw
-                    .parse()
-                    .with_context(|| format!("line {line}: `{name}` = `{raw}` is not a number"))?;
+                let v: f64 = raw.parse().with_context(|| {
+                    format!(
+                        "line {line}: `{name}` = `{}` is not a number",
+                        quoted(raw, 60)
+                    )
+                })?;
                 if !v.is_finite() {
-                    bail!("line {line}: `{name}` = {raw} is not a finite number");
+                    bail!(
+                        "line {line}: `{name}` = {} is not a finite number",
+                        quoted(raw, 60)
+                    );
                 }
                 Ok(v)
             };

@@ -87,7 +87,7 @@ fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
 }
 
 /// At most `max` characters of quoted input (a huge one-line file is not echoed whole).
-fn excerpt(s: &str, max: usize) -> String {
+pub(crate) fn excerpt(s: &str, max: usize) -> String {
     match s.char_indices().nth(max) {
         Some((i, _)) => format!("{}... ({} more bytes)", &s[..i], s.len() - i),
         None => s.to_string(),

@@ -254,6 +254,11 @@ fn aicc(rss: f64, n: usize, k: usize) -> f64 {
     nf * (rss.max(1e-300) / nf).ln() + 2.0 * kf + corr
 }
 
+/// The longest span of turning points the model is integrated over, in small-angle
+/// periods of the pendulum (an hour of a 0.7 s pendulum): the integration's steps are
+/// bounded by this before it starts.
+pub const MAX_MODEL_PERIODS: f64 = 5000.0;
+
 /// Fit `s_r` (and optionally `beta`) to a measurement.
 pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult> {
     let n = m.amplitudes.len();
@@ -295,6 +300,15 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
     let n0 = p.rest_normal_force();
     let t_first = m.extremes[0].t;
     let t_last = m.extremes.last().expect("non-empty").t;
+    let period = p.small_angle_period();
+    let span = t_last - t_first;
+    if span.is_nan() || span > MAX_MODEL_PERIODS * period {
+        bail!(
+            "the turning points span {:.6e} s, over {MAX_MODEL_PERIODS} periods of the pendulum \
+             ({period:.3} s), the most the model integrates (check the times' units)",
+            span
+        );
+    }
     let model = integrate(
         p,
         &law,

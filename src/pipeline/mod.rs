@@ -208,6 +208,9 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         ),
         _ => format!("{}: fitting", exp.path.display()),
     };
+    if series.is_empty() {
+        return Err(anyhow::anyhow!("no angles to fit (every row is missing)")).with_context(what);
+    }
     let center = crate::numerics::median(&mut series.angle.clone());
     if let Some(why) = verdict::degrees_suspected(&series.angle, center) {
         return Err(anyhow::anyhow!(why)).with_context(what);

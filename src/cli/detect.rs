@@ -69,6 +69,11 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
             bail!("--pivot {px},{py}: expected two finite numbers (px)");
         }
     }
+    if let Some([first, last]) = frames {
+        if first > last {
+            bail!("--frames {first},{last}: the first frame comes after the last");
+        }
+    }
     opts.frames = frames.or(opts.frames);
     opts.pivot = pivot.or(opts.pivot);
     if a.diagnostics {

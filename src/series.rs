@@ -6,7 +6,7 @@
 //! It refuses what no series can be: times that do not strictly increase, angles that
 //! are not finite numbers, a status it does not know; each error names the line.
 
-use crate::config::excerpt;
+use crate::config::quoted;
 use crate::fsutil;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
@@ -69,11 +69,6 @@ pub struct AngleRow {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AngleTable {
     pub rows: Vec<AngleRow>,
-}
-
-/// Quoted input on one short line: control characters escaped, at most `max` characters.
-fn quoted(s: &str, max: usize) -> String {
-    excerpt(&s.escape_debug().to_string(), max)
 }
 
 impl AngleTable {

@@ -733,3 +733,22 @@ fn the_csv_reader_quotes_briefly() {
         assert!(e.len() < 300 && !e.contains('\n'), "{e}");
     }
 }
+
+/// A huge value of a key the reader quotes (found by a long run) is cut to an excerpt.
+#[test]
+fn the_experiment_reader_quotes_briefly() {
+    let long = ",".repeat(1_000_000);
+    let base = std::fs::read_to_string(root().join("experiments/glass.yaml")).unwrap();
+    for (from, to) in [
+        ("name: glass", format!("name: glass {long}")),
+        ("beta: 1", format!("beta: x{long}")),
+        ("name: glass", "name: \"a\\nb\"".to_string()),
+    ] {
+        let text = base.replace(from, &to);
+        let e = format!(
+            "{:#}",
+            Experiment::parse(Path::new("g.yaml"), &text).unwrap_err()
+        );
+        assert!(e.len() < 400 && !e.contains('\n'), "{e}");
+    }
+}

@@ -94,6 +94,11 @@ pub(crate) fn excerpt(s: &str, max: usize) -> String {
     }
 }
 
+/// Quoted input on one short line: control characters escaped, at most `max` characters.
+pub(crate) fn quoted(s: &str, max: usize) -> String {
+    excerpt(&s.escape_debug().to_string(), max)
+}
+
 /// The highest frame rate a digital twin may be asked for, frames/s.
 pub const MAX_FPS: f64 = 1000.0;
 /// The longest recording a digital twin may be asked for, s.
@@ -142,7 +147,10 @@ pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<BetaChoice> {
                 None => t.trim().parse::<f64>().ok(),
             };
             parsed.with_context(|| {
-                format!("`{key}` = `{t}`: expected a number, a fraction such as 4/3, or `free`")
+                format!(
+                    "`{key}` = `{}`: expected a number, a fraction such as 4/3, or `free`",
+                    quoted(t, 60)
+                )
             })?
         }
     };
@@ -189,7 +197,10 @@ impl Experiment {
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
         {
-            bail!("`name` = `{name}`: expected letters, digits, `-` or `_` only (it names output files)");
+            bail!(
+                "`name` = `{}`: expected letters, digits, `-` or `_` only (it names output files)",
+                quoted(&name, 60)
+            );
         }
         let material = file.material.clone().unwrap_or_else(|| name.clone());
         let pendulum = pendulum_of(&file.geometry)?;
@@ -228,14 +239,14 @@ impl Experiment {
             if !CHECKS.contains(&a.check.as_str()) {
                 bail!(
                     "`accept[{i}].check` = `{}`: expected one of {}",
-                    a.check,
+                    quoted(&a.check, 60),
                     CHECKS.join(", ")
                 );
             }
             if a.reason.trim().is_empty() {
                 bail!(
                     "`accept[{i}].reason`: accepting the `{}` warning needs a written reason",
-                    a.check
+                    quoted(&a.check, 60)
                 );
             }
         }

@@ -411,3 +411,33 @@ fn frames_beyond_the_video_are_named() {
         "{err}"
     );
 }
+
+#[test]
+fn a_video_too_large_to_hold_is_refused_before_decoding() {
+    if !common::need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let st = std::process::Command::new("ffmpeg")
+        .args([
+            "-v",
+            "error",
+            "-y",
+            "-f",
+            "lavfi",
+            "-i",
+            "color=c=gray:s=8200x8200:r=1:d=1",
+        ])
+        .args(["-c:v", "mjpeg", "-q:v", "10"])
+        .arg(d.path().join("big.avi"))
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let o = rollfric(&["detect", "big.avi", "-o", "a.csv"], d.path());
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("big.avi: the frames are 8200 x 8200 px; the detector takes at most"),
+        "{err}"
+    );
+}

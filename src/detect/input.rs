@@ -24,6 +24,10 @@ pub trait VideoInput {
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>>;
 }
 
+/// The largest frame a video may have, px: the detector's buffers (a region of a frame,
+/// a few kept for Figure 11) are sized from it before anything is decoded.
+pub const MAX_FRAME_PIXELS: u64 = 8192 * 8192;
+
 /// A video file, decoded by the `ffmpeg` program (luma plane, cropped and shrunk by
 /// ffmpeg) or, without it or when asked, by OpenCV (no shrinking).
 #[derive(Clone, Debug)]
@@ -37,6 +41,15 @@ impl VideoFile {
     /// Probe `path`; decode with OpenCV if `force_opencv` or `ffmpeg` is not installed.
     pub fn open(path: &Path, force_opencv: bool) -> Result<Self> {
         let info = video::probe(path)?;
+        let pixels = u64::from(info.width) * u64::from(info.height);
+        if pixels > MAX_FRAME_PIXELS {
+            anyhow::bail!(
+                "{}: the frames are {} x {} px; the detector takes at most {MAX_FRAME_PIXELS} px a frame (8192 x 8192)",
+                path.display(),
+                info.width,
+                info.height
+            );
+        }
         Ok(Self {
             path: path.to_path_buf(),
             info,

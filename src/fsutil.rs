@@ -10,6 +10,37 @@ pub fn read_to_string(path: &Path) -> Result<String> {
     std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))
 }
 
+/// The largest experiment or manifest file read, bytes.
+pub const MAX_YAML_BYTES: u64 = 16 << 20;
+/// The largest angle CSV read, bytes (about 8 million frames: 90 hours at 25 frames/s).
+pub const MAX_CSV_BYTES: u64 = 256 << 20;
+
+/// Read a whole file of at most `max` bytes (checked before it is read, so a huge input
+/// is refused instead of exhausting memory); the error names the file and the limit.
+pub fn read_limited(path: &Path, max: u64) -> Result<Vec<u8>> {
+    let len = std::fs::metadata(path)
+        .with_context(|| format!("{}: cannot read", path.display()))?
+        .len();
+    if len > max {
+        anyhow::bail!(
+            "{}: {len} bytes; at most {max} bytes are read from such a file",
+            path.display()
+        );
+    }
+    std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))
+}
+
+/// [`read_limited`] as UTF-8 text.
+pub fn read_text_limited(path: &Path, max: u64) -> Result<String> {
+    String::from_utf8(read_limited(path, max)?).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: not UTF-8 text (invalid byte at offset {})",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 /// Write `bytes` to `path` atomically: readers see the old file or the new one, never a
 /// torn one. Creates the parent folder when missing.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {

@@ -74,7 +74,7 @@ pub struct AngleTable {
 impl AngleTable {
     /// Read an angle CSV; errors name the file and the line.
     pub fn read_csv(path: &Path) -> Result<Self> {
-        let text = fsutil::read_to_string(path)?;
+        let text = fsutil::read_text_limited(path, fsutil::MAX_CSV_BYTES)?;
         Self::parse_csv(&text).with_context(|| format!("{}", path.display()))
     }
 

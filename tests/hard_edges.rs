@@ -441,3 +441,27 @@ fn a_video_too_large_to_hold_is_refused_before_decoding() {
         "{err}"
     );
 }
+
+#[test]
+fn a_huge_input_file_is_refused_before_it_is_read() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a")]);
+    // Sparse: no disk is used, but the size is what a reader would have to hold.
+    let f = std::fs::File::create(d.path().join("angles.csv")).unwrap();
+    f.set_len(300 << 20).unwrap();
+    let o = rollfric(&["fit", "a.yaml"], d.path());
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("angles.csv: 314572800 bytes; at most 268435456 bytes"),
+        "{err}"
+    );
+    let y = std::fs::File::create(d.path().join("big.yaml")).unwrap();
+    y.set_len(20 << 20).unwrap();
+    let o = rollfric(&["fit", "big.yaml"], d.path());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("big.yaml: 20971520 bytes; at most 16777216 bytes"),
+        "{err}"
+    );
+}

@@ -36,7 +36,7 @@ fn default_title() -> String {
 impl Manifest {
     /// Load a manifest and check that each listed file exists.
     pub fn load(path: &Path) -> Result<(Self, Vec<PathBuf>)> {
-        let text = fsutil::read_to_string(path)?;
+        let text = fsutil::read_text_limited(path, fsutil::MAX_YAML_BYTES)?;
         let m: Manifest = serde_saphyr::from_str(&text)
             .map_err(|e| yaml_error(&e, &text).context(path.display().to_string()))?;
         if m.experiments.is_empty() {
@@ -169,8 +169,7 @@ impl Experiment {
     /// [`Experiment::load`], also returning the file's bytes (for cache keys and
     /// provenance). A file that is not UTF-8 text is refused, naming the byte.
     pub fn load_with_bytes(path: &Path) -> Result<(Self, Vec<u8>)> {
-        let bytes =
-            std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let bytes = fsutil::read_limited(path, fsutil::MAX_YAML_BYTES)?;
         let text = std::str::from_utf8(&bytes).map_err(|e| {
             anyhow::anyhow!(
                 "{}: not UTF-8 text (invalid byte at offset {})",

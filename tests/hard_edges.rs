@@ -465,3 +465,17 @@ fn a_huge_input_file_is_refused_before_it_is_read() {
         "{err}"
     );
 }
+
+#[test]
+fn a_missing_angles_file_names_the_experiment_that_points_at_it() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "a")]);
+    std::fs::remove_file(d.path().join("angles.csv")).unwrap();
+    let o = rollfric(&["fit", "a.yaml"], d.path());
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("a.yaml: `angles` = angles.csv: the file does not exist"),
+        "{err}"
+    );
+}

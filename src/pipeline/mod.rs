@@ -40,7 +40,15 @@ impl Source {
             return Ok(Source::Csv(p.to_path_buf()));
         }
         if let Some(a) = &exp.file.angles {
-            return Ok(Source::Csv(exp.resolve(a)));
+            let path = exp.resolve(a);
+            if !path.is_file() {
+                bail!(
+                    "{}: `angles` = {a}: the file does not exist ({})",
+                    exp.path.display(),
+                    path.display()
+                );
+            }
+            return Ok(Source::Csv(path));
         }
         if let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) {
             let path = exp.resolve(p);

@@ -79,7 +79,7 @@ pub fn remove_stale_temporaries(dir: &Path, depth: usize) {
 pub fn relative(root: &Path, p: &Path) -> String {
     // As spelled first (a video reached through a link keeps the link's name), then
     // with links resolved (the manifest's folder itself may be spelled through one).
-    let lexical = |q: &Path| std::path::absolute(q).map(|a| normalize(&a));
+    let lexical = |q: &Path| std::path::absolute(q).map(|a| crate::sources::scan::normalize(&a));
     if let (Ok(r), Ok(a)) = (lexical(root), lexical(p)) {
         if let Ok(rel) = a.strip_prefix(&r) {
             return rel.display().to_string();
@@ -109,21 +109,6 @@ pub fn unrooted(root: &Path, text: &str) -> String {
         let p = p.display().to_string();
         if !p.is_empty() {
             out = out.replace(&format!("{p}/"), "");
-        }
-    }
-    out
-}
-
-/// `a/b/../c` -> `a/c`, `a/./b` -> `a/b`, without looking at the file system.
-fn normalize(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            std::path::Component::ParentDir => {
-                out.pop();
-            }
-            std::path::Component::CurDir => {}
-            c => out.push(c),
         }
     }
     out

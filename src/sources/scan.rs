@@ -75,8 +75,8 @@ fn rs_files(dir: &Path, out: &mut BTreeSet<PathBuf>) -> std::io::Result<()> {
     Ok(())
 }
 
-/// `a/b/../c` -> `a/c` (no file system access).
-fn normalize(p: &Path) -> PathBuf {
+/// `a/b/../c` -> `a/c`, `a/./b` -> `a/b`, without looking at the file system.
+pub fn normalize(p: &Path) -> PathBuf {
     let mut out = PathBuf::new();
     for c in p.components() {
         match c {

@@ -88,7 +88,13 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
     };
     remove_stale_temporaries(&opts.out, 2);
     remove_stale_temporaries(&opts.cache, 2);
-    let collisions = name_collisions(&root, &files);
+    // Each experiment file is read and validated once; a failure stays with its
+    // experiment.
+    let loaded: Vec<Result<(Experiment, Vec<u8>)>> = files
+        .iter()
+        .map(|f| Experiment::load_with_bytes(f))
+        .collect();
+    let collisions = name_collisions(&root, &files, &loaded);
     let progress = Arc::new(Progress::new(files.len(), opts.quiet));
     let jobs = opts
         .jobs
@@ -96,7 +102,10 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
         .clamp(1, files.len().max(1));
     // Longest first, so that the slowest experiment does not start last.
     let mut order: Vec<usize> = (0..files.len()).collect();
-    let cost: Vec<f64> = files.iter().map(|f| estimated_cost(f)).collect();
+    let cost: Vec<f64> = loaded
+        .iter()
+        .map(|l| l.as_ref().map_or(0.0, |(e, _)| estimated_cost(e)))
+        .collect();
     order.sort_by(|&a, &b| cost[b].total_cmp(&cost[a]).then(a.cmp(&b)));
     let queue = Mutex::new(order.into_iter());
     let writer = Writer::new(&opts.out);
@@ -118,10 +127,15 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
                 };
                 let r = match &collisions[i] {
                     Some(why) => Err(anyhow::anyhow!("{why}")),
-                    None => std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                        stages::run_experiment(file, &ctx)
-                    }))
-                    .unwrap_or_else(|_| Err(anyhow::anyhow!("internal error (panic)"))),
+                    None => {
+                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                            match &loaded[i] {
+                                Ok((exp, yaml)) => stages::run_experiment(file, exp, yaml, &ctx),
+                                Err(e) => Err(anyhow::anyhow!("{e:#}")),
+                            }
+                        }))
+                        .unwrap_or_else(|_| Err(anyhow::anyhow!("internal error (panic)")))
+                    }
                 };
                 let secs = t0.elapsed().as_secs_f64();
                 let outcome = match r {
@@ -182,10 +196,18 @@ const RESERVED_NAMES: [&str; 2] = ["index", "summary"];
 /// of a colliding group fails, naming the others, so none silently overwrites another's
 /// pages. A file that does not load keeps its file name here and fails later with its
 /// own error.
-fn name_collisions(root: &Path, files: &[PathBuf]) -> Vec<Option<String>> {
+fn name_collisions(
+    root: &Path,
+    files: &[PathBuf],
+    loaded: &[Result<(Experiment, Vec<u8>)>],
+) -> Vec<Option<String>> {
     let names: Vec<String> = files
         .iter()
-        .map(|f| Experiment::load(f).map_or_else(|_| display_name(f), |e| e.name))
+        .zip(loaded)
+        .map(|(f, l)| {
+            l.as_ref()
+                .map_or_else(|_| display_name(f), |(e, _)| e.name.clone())
+        })
         .collect();
     names
         .iter()
@@ -235,10 +257,7 @@ fn display_name(file: &Path) -> String {
 }
 
 /// Rough cost of an experiment (frames to render and detect), for ordering only.
-fn estimated_cost(file: &Path) -> f64 {
-    let Ok(exp) = Experiment::load(file) else {
-        return 0.0;
-    };
+fn estimated_cost(exp: &Experiment) -> f64 {
     match &exp.file.synthetic {
         Some(s) => {
             // Until the ball stops: the release amplitude over the closed-form

@@ -60,18 +60,23 @@ impl Ran {
     }
 }
 
-/// One experiment through every stage. Returns its result and how it was obtained.
-pub(super) fn run_experiment(file: &Path, ctx: &Ctx) -> Result<(ExperimentResult, String)> {
+/// One experiment (loaded from `file`, whose bytes are `yaml`) through every stage.
+/// Returns its result and how it was obtained.
+pub(super) fn run_experiment(
+    file: &Path,
+    exp: &Experiment,
+    yaml: &[u8],
+    ctx: &Ctx,
+) -> Result<(ExperimentResult, String)> {
     let mut ran = Ran::default();
-    let (exp, yaml) = Experiment::load_with_bytes(file)?;
-    let angles = match pipeline::Source::of(&exp, None)? {
-        Source::Csv(csv) => csv_stage(&exp, csv)?,
+    let angles = match pipeline::Source::of(exp, None)? {
+        Source::Csv(csv) => csv_stage(exp, csv)?,
         source => {
-            let video = video_stage(&exp, &source, ctx, &mut ran)?;
-            detect_stage(&exp, source, video, ctx, &mut ran)?
+            let video = video_stage(exp, &source, ctx, &mut ran)?;
+            detect_stage(exp, source, video, ctx, &mut ran)?
         }
     };
-    let result = analysis_stage(&exp, file, &yaml, angles, ctx, &mut ran)?;
+    let result = analysis_stage(exp, file, yaml, angles, ctx, &mut ran)?;
     Ok((result, ran.how()))
 }
 

@@ -330,14 +330,12 @@ fn a_video_is_judged_by_its_bytes_not_its_name() {
     let d = tempfile::tempdir().unwrap();
     // A swinging dark line on a light background, 3 s.
     let src = "color=c=white:s=160x120:r=25:d=3,geq=lum='if(lt(abs((X-80)*cos(0.3*sin(2*PI*T/1.5))-(Y)*sin(0.3*sin(2*PI*T/1.5))),1.5),30,220)':cb=128:cr=128";
-    let st = std::process::Command::new("ffmpeg")
-        .args([
-            "-v", "error", "-y", "-f", "lavfi", "-i", src, "-c:v", "libx264", "-pix_fmt", "yuv420p",
-        ])
-        .arg(d.path().join("mir.mp4"))
-        .status()
-        .unwrap();
-    assert!(st.success());
+    lavfi_clip(
+        d.path(),
+        "mir.mp4",
+        src,
+        &["-c:v", "libx264", "-pix_fmt", "yuv420p"],
+    );
     let named = "mirror-error-invalid-truncated.mp4";
     std::fs::copy(d.path().join("mir.mp4"), d.path().join(named)).unwrap();
     let a = rollfric(&["detect", "mir.mp4", "-o", "a.csv"], d.path());
@@ -385,21 +383,12 @@ fn frames_beyond_the_video_are_named() {
         return;
     }
     let d = tempfile::tempdir().unwrap();
-    let st = std::process::Command::new("ffmpeg")
-        .args([
-            "-v",
-            "error",
-            "-y",
-            "-f",
-            "lavfi",
-            "-i",
-            "testsrc2=duration=1:size=160x120:rate=10",
-        ])
-        .args(["-c:v", "libx264", "-pix_fmt", "yuv420p"])
-        .arg(d.path().join("v.mp4"))
-        .status()
-        .unwrap();
-    assert!(st.success());
+    lavfi_clip(
+        d.path(),
+        "v.mp4",
+        "testsrc2=duration=1:size=160x120:rate=10",
+        &["-c:v", "libx264", "-pix_fmt", "yuv420p"],
+    );
     let o = rollfric(
         &["detect", "v.mp4", "-o", "a.csv", "--frames", "500,900"],
         d.path(),
@@ -418,21 +407,12 @@ fn a_video_too_large_to_hold_is_refused_before_decoding() {
         return;
     }
     let d = tempfile::tempdir().unwrap();
-    let st = std::process::Command::new("ffmpeg")
-        .args([
-            "-v",
-            "error",
-            "-y",
-            "-f",
-            "lavfi",
-            "-i",
-            "color=c=gray:s=8200x8200:r=1:d=1",
-        ])
-        .args(["-c:v", "mjpeg", "-q:v", "10"])
-        .arg(d.path().join("big.avi"))
-        .status()
-        .unwrap();
-    assert!(st.success());
+    lavfi_clip(
+        d.path(),
+        "big.avi",
+        "color=c=gray:s=8200x8200:r=1:d=1",
+        &["-c:v", "mjpeg", "-q:v", "10"],
+    );
     let o = rollfric(&["detect", "big.avi", "-o", "a.csv"], d.path());
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
@@ -478,4 +458,15 @@ fn a_missing_angles_file_names_the_experiment_that_points_at_it() {
         err.contains("a.yaml: `angles` = angles.csv: the file does not exist"),
         "{err}"
     );
+}
+
+/// Encode the ffmpeg `lavfi` source `src` into `dir/name` with the codec `args`.
+fn lavfi_clip(dir: &Path, name: &str, src: &str, args: &[&str]) {
+    let st = std::process::Command::new("ffmpeg")
+        .args(["-v", "error", "-y", "-f", "lavfi", "-i", src])
+        .args(args)
+        .arg(dir.join(name))
+        .status()
+        .unwrap();
+    assert!(st.success(), "ffmpeg could not make {name}");
 }

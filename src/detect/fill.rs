@@ -1,12 +1,18 @@
 //! After the pass: flagged frames filled from their good neighbours, and operator
 //! marks.
 
-use super::{AngleRow, Pt, Status};
+use super::{unwrap_near, AngleRow, Pt, Status};
 use std::collections::BTreeMap;
 
 /// Operator marks replace the detection: the angle of the line through the two points,
-/// pointing away from the pivot.
-pub(super) fn apply_marks(rows: &mut [AngleRow], marks: &BTreeMap<u64, [[f64; 2]; 2]>, pivot: Pt) {
+/// pointing away from the pivot, on the branch within half a turn of `reference` (the
+/// wire's direction in the first look), as the detected angles are.
+pub(super) fn apply_marks(
+    rows: &mut [AngleRow],
+    marks: &BTreeMap<u64, [[f64; 2]; 2]>,
+    pivot: Pt,
+    reference: f64,
+) {
     for r in rows.iter_mut() {
         if let Some([[x1, y1], [x2, y2]]) = marks.get(&r.frame) {
             let (a, b) = (Pt::new(*x1, *y1), Pt::new(*x2, *y2));
@@ -16,7 +22,7 @@ pub(super) fn apply_marks(rows: &mut [AngleRow], marks: &BTreeMap<u64, [[f64; 2]
                 (b, a)
             };
             let d = far - near;
-            r.angle_rad = Some(d.y.atan2(d.x));
+            r.angle_rad = Some(unwrap_near(d.y.atan2(d.x), reference));
             r.status = Status::Manual;
             r.flag = None;
             r.quality = 1.0;
@@ -135,7 +141,7 @@ mod tests {
         }];
         let mut marks = BTreeMap::new();
         marks.insert(3, [[100.0, 300.0], [100.0, 100.0]]);
-        apply_marks(&mut rows, &marks, Pt::new(100.0, 0.0));
+        apply_marks(&mut rows, &marks, Pt::new(100.0, 0.0), 1.5);
         assert_eq!(rows[0].status, Status::Manual);
         assert!((rows[0].angle_rad.unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
     }

@@ -22,7 +22,7 @@ mod pivot;
 pub use pivot::intersect;
 use pivot::{ransac_pivot, through_tol, Seen};
 
-use super::{fit_line_weighted, full_to_shrunk, shrunk_to_full, Line, Pt};
+use super::{fit_line_weighted, full_to_shrunk, shrunk_to_full, unwrap_near, Line, Pt};
 use crate::config::Polarity;
 use crate::video::Roi;
 use anyhow::{bail, Result};
@@ -46,6 +46,11 @@ pub struct WireGeometry {
     pub initial_angles: Vec<Option<f64>>,
     /// Lines used for the pivot.
     pub lines_used: usize,
+    /// Jumps of more than half the sweep between frames looked at one after the other
+    /// ([`jumps`]).
+    pub jumps: usize,
+    /// How irregularly the wire's angle turns from frame to frame ([`roughness`]).
+    pub roughness: f64,
 }
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
@@ -152,18 +157,24 @@ pub fn noise_map(init: &InitFrames) -> Vec<u8> {
     med
 }
 
-/// Per-pixel detection threshold, `sigmas` above each pixel's noise ([`noise_map`]).
-pub fn threshold_map(init: &InitFrames, noise: &[u8], sigmas: f64) -> Result<Mat> {
+/// Per-pixel detection threshold, `sigmas` above each pixel's noise ([`noise_map`]),
+/// at least `floor` grey levels.
+pub fn threshold_map(init: &InitFrames, noise: &[u8], sigmas: f64, floor: f64) -> Result<Mat> {
     // median |I_t - I_t-1| = 0.95 sigma for Gaussian noise; the running-extreme
     // background adds about two sigma of its own.
     let t: Vec<u8> = noise
         .iter()
         .map(|&m| {
             let sigma = (m as f64 / 0.95).max(1.0);
-            ((sigmas + 2.0) * sigma).clamp(6.0, 250.0) as u8
+            ((sigmas + 2.0) * sigma).clamp(floor, 250.0) as u8
         })
         .collect();
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
+}
+
+/// Frame `k` of the first look as an image.
+pub fn frame_mat(init: &InitFrames, k: usize) -> Result<Mat> {
+    mat_of(init.w, init.h, &init.data[k])
 }
 
 /// Each pixel's maximum (`dark`) or minimum over the frames: the background of a dark
@@ -231,17 +242,61 @@ pub fn find(
     if init.data.len() < 5 {
         bail!("too few frames ({}) to find the wire", init.data.len());
     }
-    let look = Look {
-        init,
-        tmap: threshold_map(init, noise, 4.0)?,
-        full_w,
-        full_h,
-        polarity,
-        pivot_given,
-        roi_given,
+    let plausible = |g: &WireGeometry| {
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "geometry: sweep {:.1} deg, {} jumps, roughness {:.3}",
+                sweep_deg(g),
+                g.jumps,
+                g.roughness
+            );
+        }
+        pivot_given.is_some()
+            || (sweep_deg(g) <= MAX_SWEEP_DEG
+                && g.jumps <= MAX_JUMPS
+                && g.roughness <= MAX_ROUGHNESS)
     };
-    let plausible = |g: &WireGeometry| pivot_given.is_some() || sweep_deg(g) <= MAX_SWEEP_DEG;
-    let first = match find_against(&look, Background::Extreme) {
+    // A faint wire (a pixel wide, a few grey levels darker than the plate) leaves too
+    // few pixels above the first threshold to make a line, and a wire seen in a few
+    // frames only is outvoted by stray edges: when neither background finds a wire a
+    // pendulum could be, the look is repeated with a lower threshold.
+    let mut first_reason = None;
+    for (sigmas, floor, min_directions) in LOOK_THRESHOLDS {
+        let look = Look {
+            init,
+            tmap: threshold_map(init, noise, sigmas, floor)?,
+            min_directions,
+            full_w,
+            full_h,
+            polarity,
+            pivot_given,
+            roi_given,
+        };
+        match look_both(&look, &plausible) {
+            Ok(g) => return Ok(g),
+            Err(e) => {
+                if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                    eprintln!("geometry: {e:#}; now with a lower threshold");
+                }
+                first_reason.get_or_insert(e);
+            }
+        }
+    }
+    Err(first_reason.expect("one threshold tried"))
+}
+
+/// The first look's thresholds, in turn: noise sigmas above each pixel's noise, a
+/// floor in grey levels, and the directions the lines must take (a low threshold
+/// lets the noise make lines too: those do not turn with a pendulum).
+const LOOK_THRESHOLDS: [(f64, f64, usize); 2] = [(4.0, 6.0, 0), (2.0, 4.0, 8)];
+
+/// How the reason for a look that found no line at all begins.
+const NO_WIRE: &str = "no moving wire found";
+
+/// One threshold's look against the extreme, then (no wire, or an implausible one)
+/// against the median.
+fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<WireGeometry> {
+    let first = match find_against(look, Background::Extreme) {
         Ok(g) if plausible(&g) => return Ok(g),
         first => first,
     };
@@ -254,10 +309,21 @@ pub fn find(
             Err(e) => eprintln!("geometry: {e:#}; now against the median"),
         }
     }
-    match (find_against(&look, Background::Median), first) {
+    match (find_against(look, Background::Median), first) {
         (Ok(g), _) if plausible(&g) => Ok(g),
         // Neither look found a wire: the first one's reason.
         (Err(_), Err(e)) => Err(e),
+        (Ok(g), _) | (Err(_), Ok(g)) if g.jumps > MAX_JUMPS => bail!(
+            "the moving lines jump back and forth across {:.0} deg between frames ({} times), \
+             unlike a pendulum's wire; give `video.pivot`",
+            sweep_deg(&g),
+            g.jumps
+        ),
+        (Ok(g), _) | (Err(_), Ok(g)) if g.roughness > MAX_ROUGHNESS => bail!(
+            "the moving lines turn irregularly from frame to frame (roughness {:.2}, a \
+             swinging wire's is under {MAX_ROUGHNESS}); give `video.pivot`",
+            g.roughness
+        ),
         (Ok(g), _) | (Err(_), Ok(g)) => bail!(
             "the moving lines sweep {:.0} deg, more than a pendulum's wire; give `video.pivot`",
             sweep_deg(&g)
@@ -265,9 +331,68 @@ pub fn find(
     }
 }
 
-/// The range of directions the first look's wire lines cover, deg. Directions are
-/// atan2's, in (-180, 180]: the streaming pass does not follow a wire across -x (its
-/// angles would wrap), and this range refuses one as well as a bob's outline.
+/// Lines through one pivot that make a wire (with `video.pivot` given, three do).
+const MIN_WIRE_LINES: usize = 6;
+
+/// Jumps a first look may show and still be a pendulum's wire ([`jumps`]).
+const MAX_JUMPS: usize = 1;
+
+/// How often the wire's angle jumps by more than half of `sweep` between two frames
+/// looked at one after the other (`stride` frames apart). A wire does not: moving half
+/// its sweep within one look's step (at most a tenth of a second) takes a pendulum of
+/// a period under 0.7 s. Lines that alternate between two structures (the wire and a
+/// static edge, or two edges of a stripe) do, as soon as both are seen; a wire seen
+/// only near its turning points (blurred in mid swing) leaves frames without a line
+/// between the two, and no jump.
+fn jumps(angles: &[Option<f64>], stride: usize, sweep: f64) -> usize {
+    let seen: Vec<(usize, f64)> = angles
+        .iter()
+        .enumerate()
+        .filter_map(|(k, a)| a.map(|a| (k, a)))
+        .collect();
+    seen.windows(2)
+        .filter(|p| p[1].0 - p[0].0 == stride && (p[1].1 - p[0].1).abs() > 0.5 * sweep)
+        .count()
+}
+
+/// The roughness a first look may show and still be a pendulum's wire ([`roughness`]).
+const MAX_ROUGHNESS: f64 = 0.35;
+
+/// How irregularly the angle turns: the RMS second divided difference of the angles
+/// of three lines seen one after the other (at most four looks apart; in units of the
+/// look's step, `stride` frames), against the range of the middle 80 % of all the
+/// angles (one stray line does not widen it). A swinging wire turns smoothly: its
+/// second derivative is at most `omega^2` times its amplitude, so per look step
+/// (under a tenth of a second) under 0.2 of its range for any period over 1 s; lines
+/// that jitter about one direction (edges of a test pattern, a static stripe) score
+/// near 0.5 and more. `0` when fewer than five triples were seen (nothing to judge).
+fn roughness(angles: &[Option<f64>], stride: usize) -> f64 {
+    let seen: Vec<(f64, f64)> = angles
+        .iter()
+        .enumerate()
+        .filter_map(|(k, a)| a.map(|a| (k as f64 / stride as f64, a)))
+        .collect();
+    let d2: Vec<f64> = seen
+        .windows(3)
+        .filter(|w| w[2].0 - w[0].0 <= 4.0)
+        .map(|w| {
+            let (h1, h2) = (w[1].0 - w[0].0, w[2].0 - w[1].0);
+            let dd = 2.0 * ((w[2].1 - w[1].1) / h2 - (w[1].1 - w[0].1) / h1) / (h1 + h2);
+            dd * dd
+        })
+        .collect();
+    if d2.len() < 5 {
+        return 0.0;
+    }
+    let mut sorted: Vec<f64> = seen.iter().map(|s| s.1).collect();
+    sorted.sort_by(f64::total_cmp);
+    let q = |p: f64| sorted[((sorted.len() - 1) as f64 * p).round() as usize];
+    let range = (q(0.9) - q(0.1)).max(1e-9);
+    (d2.iter().sum::<f64>() / d2.len() as f64).sqrt() / range
+}
+
+/// The range of directions the first look's wire lines cover, deg, on the branch
+/// about their circular mean: a bob's outline fans out over most of the circle.
 fn sweep_deg(g: &WireGeometry) -> f64 {
     (g.theta_max - g.theta_min).to_degrees()
 }
@@ -277,6 +402,8 @@ struct Look<'a> {
     init: &'a InitFrames,
     /// Per-pixel detection threshold.
     tmap: Mat,
+    /// Directions (half-degree bins) the lines must take to be a moving wire.
+    min_directions: usize,
     full_w: u32,
     full_h: u32,
     polarity: Polarity,
@@ -289,6 +416,7 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     let Look {
         init,
         ref tmap,
+        min_directions,
         full_w,
         full_h,
         polarity,
@@ -371,12 +499,19 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
             best = Some((dark, total, lines));
         }
     }
-    let (dark, _, lines) = best.expect("one polarity tried");
+    let (dark, total, lines) = best.expect("one polarity tried");
+    let directions = (total / 1e9) as usize;
+    if directions < min_directions {
+        bail!(
+            "{NO_WIRE} in the first {} frames (the lines take only {directions} directions)",
+            init.data.len()
+        );
+    }
     let found: Vec<Seen> = lines.iter().flatten().map(Seen::of).collect();
     let with_lines = lines.iter().filter(|v| !v.is_empty()).count();
     if with_lines < 3 {
         bail!(
-            "no moving wire found in the first {} frames (lines seen in {with_lines} of them)",
+            "{NO_WIRE} in the first {} frames (lines seen in {with_lines} of them)",
             init.data.len()
         );
     }
@@ -410,6 +545,14 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     if good.len() < 3 {
         bail!("the moving lines do not share a pivot; give `video.pivot` (and `video.roi`)");
     }
+    // Too few lines to tell a swinging wire from a few stray edges that happen to meet.
+    if good.len() < MIN_WIRE_LINES && pivot_given.is_none() {
+        bail!(
+            "{NO_WIRE} in the first {} frames (only {} lines meet in a pivot)",
+            init.data.len(),
+            good.len()
+        );
+    }
     let mut radii: Vec<f64> = good
         .iter()
         .flat_map(|f| f.pts.iter().map(|(q, _)| (*q - pivot_s).norm()))
@@ -426,8 +569,22 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         };
         d.y.atan2(d.x)
     };
-    let initial_angles: Vec<Option<f64>> = per_frame.iter().map(|l| l.map(angle_of)).collect();
-    let mut thetas: Vec<f64> = good.iter().map(|f| angle_of(f)).collect();
+    // The rest direction: the circular mean of the wire's directions. Every angle is
+    // taken on its branch (within half a turn of it), so a wire that hangs towards -x
+    // (a camera at any roll) sweeps a few degrees about 180, not 359 across +-180.
+    let (sin, cos) = good.iter().fold((0.0, 0.0), |(s, c), f| {
+        let a = angle_of(f);
+        (s + a.sin(), c + a.cos())
+    });
+    let rest = sin.atan2(cos);
+    let initial_angles: Vec<Option<f64>> = per_frame
+        .iter()
+        .map(|l| l.map(|f| unwrap_near(angle_of(f), rest)))
+        .collect();
+    let mut thetas: Vec<f64> = good
+        .iter()
+        .map(|f| unwrap_near(angle_of(f), rest))
+        .collect();
     thetas.sort_by(f64::total_cmp);
     let (theta_min, theta_max) = (thetas[0], thetas[thetas.len() - 1]);
     if theta_max - theta_min < 1f64.to_radians() && pivot_given.is_none() {
@@ -489,6 +646,13 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     if roi.w == 0 || roi.h == 0 {
         bail!("the wire's region is too small at the frame's edge");
     }
+    if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "angles") {
+        for (k, a) in initial_angles.iter().enumerate() {
+            if let Some(a) = a {
+                eprintln!("look {k} {:.2}", a.to_degrees());
+            }
+        }
+    }
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(
             "geometry: pivot {pivot:?} band {r_lo_f:.1}..{r_hi_f:.1} theta {:.1}..{:.1} deg roi {roi:?} good lines {}",
@@ -505,6 +669,8 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         theta_min,
         theta_max,
         roi,
+        jumps: jumps(&initial_angles, stride, theta_max - theta_min),
+        roughness: roughness(&initial_angles, stride),
         initial_angles,
         lines_used: good.len(),
     })

@@ -27,6 +27,22 @@ impl Line {
     }
 }
 
+/// The angle `a + 2 pi k` nearest to `reference`: the branch the detector reports in.
+/// The wire's image angle is continuous over a video (a pendulum swings far less than
+/// half a turn), so every angle is taken within half a turn of a reference on its
+/// continuous branch (the prediction, or the rest direction of the first look),
+/// whatever the camera's roll: a wire that hangs towards -x reads 180 +/- its swing,
+/// never a jump from +180 to -180.
+pub fn unwrap_near(a: f64, reference: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let d = a - reference;
+    if d > PI || d <= -PI {
+        a - TAU * ((d - PI) / TAU).ceil()
+    } else {
+        a
+    }
+}
+
 /// Orthogonal (total) least-squares line through weighted points: the principal axis
 /// of the weighted pixel cloud (ERRATA §6: unlike `y = A x + B`, exact for any slope).
 pub fn fit_line_weighted(pts: &[(Pt, f64)]) -> Option<Line> {
@@ -112,6 +128,24 @@ impl Moments for [f64; 6] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn angles_unwrap_to_the_branch_of_their_reference() {
+        use std::f64::consts::PI;
+        // A wire hanging towards -x: atan2 gives -179 deg for 181 deg.
+        let a = unwrap_near((-179f64).to_radians(), PI);
+        assert!((a.to_degrees() - 181.0).abs() < 1e-9, "{a}");
+        assert!((unwrap_near(179f64.to_radians(), PI).to_degrees() - 179.0).abs() < 1e-9);
+        // Within half a turn: unchanged (bit for bit).
+        assert_eq!(unwrap_near(1.25, 0.5), 1.25);
+        // Several turns away, either side.
+        let b = unwrap_near(0.1 + 6.0 * PI, -0.2);
+        assert!((b - 0.1).abs() < 1e-9, "{b}");
+        let c = unwrap_near(0.1, 4.0 * PI + 3.0);
+        assert!((c - (0.1 + 4.0 * PI)).abs() < 1e-9, "{c}");
+        // Exactly half a turn away: the branch above (reference - pi, reference + pi].
+        assert!((unwrap_near(-PI, 0.0) - PI).abs() < 1e-12);
+    }
 
     #[test]
     fn orthogonal_fit_is_exact_for_a_vertical_line() {

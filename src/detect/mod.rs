@@ -36,6 +36,7 @@ mod figure11;
 mod fill;
 pub mod geometry;
 mod input;
+mod light;
 mod line;
 mod options;
 mod repeats;
@@ -45,7 +46,7 @@ mod track;
 
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
-pub use line::{fit_line_through, fit_line_weighted, moments, Line};
+pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
 pub use options::{DetectOptions, FrameProgress};
 pub use row::{AngleRow, Detection, Flag, Status};
 
@@ -176,6 +177,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         }
         bail!("{}: no frame could be decoded", name);
     }
+    // Every frame at the first frame's brightness (flicker, drift): see `light`.
+    let mut light = light::Brightness::new(&init.data[0]);
+    for d in &mut init.data[1..] {
+        light.normalise(d);
+    }
     let noise = geometry::noise_map(&init);
     let geo = geometry::find(
         &init,
@@ -195,12 +201,21 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         );
     }
     let init_bg = geometry::extreme_frame(&init, geo.dark)?;
-    let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma)?;
+    let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
+    let init_reference = geometry::frame_mat(&init, 0)?;
     drop(init);
 
     // 2. The streaming pass over the region of interest.
     let mut src = input.open(geo.roi, 1)?;
-    let mut tracker = Tracker::new(&geo, opts, init_bg, init_tmap, use_shrink as f64, bound)?;
+    let mut tracker = Tracker::new(
+        &geo,
+        opts,
+        init_bg,
+        init_tmap,
+        init_reference,
+        use_shrink as f64,
+        bound,
+    )?;
     // The header's count, within the frames asked for (the header may be wrong: the
     // last report below gives the frames actually measured).
     let total = info
@@ -262,7 +277,12 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     flag_repeats(&mut rows);
     let pivot = tracker.refine_pivot(&mut rows);
     fill_flagged(&mut rows);
-    apply_marks(&mut rows, &opts.marks, pivot);
+    apply_marks(
+        &mut rows,
+        &opts.marks,
+        pivot,
+        0.5 * (geo.theta_min + geo.theta_max),
+    );
     let usable = rows.iter().filter(|r| r.status != Status::Missing).count();
     if usable < rows.len() / 2 {
         bail!(

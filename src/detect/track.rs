@@ -5,8 +5,11 @@ mod diag;
 mod measure;
 
 use super::geometry::{self, WireGeometry};
+use super::light::Brightness;
 use super::line::{Line, Moments};
-use super::{full_to_shrunk, shrunk_to_full, AngleRow, DetectOptions, Flag, Pt, Status};
+use super::{
+    full_to_shrunk, shrunk_to_full, unwrap_near, AngleRow, DetectOptions, Flag, Pt, Status,
+};
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
 use opencv::core::{self, Mat, Scalar};
@@ -27,6 +30,8 @@ pub(super) struct Tracker {
     r_hi: f64,
     small: Mat,
     bg: Mat,
+    /// Each frame's brightness against the first look's first frame.
+    light: Brightness,
     tmp: Mat,
     raw_ev: Mat,
     kernel: Mat,
@@ -59,6 +64,7 @@ impl Tracker {
         opts: &DetectOptions,
         init_bg: Mat,
         init_tmap: Mat,
+        init_reference: Mat,
         shrink: f64,
         bound: Roi,
     ) -> Result<Self> {
@@ -91,6 +97,7 @@ impl Tracker {
         };
         let bg = to_roi(&init_bg)?;
         let tmap = to_roi(&init_tmap)?;
+        let reference = to_roi(&init_reference)?;
         if let Some(d) = &opts.diag_dir {
             std::fs::create_dir_all(d)
                 .with_context(|| format!("{}: cannot create folder", d.display()))?;
@@ -105,6 +112,7 @@ impl Tracker {
             r_hi: geo.r_hi / shrink,
             small: Mat::default(),
             bg,
+            light: Brightness::new(reference.data_bytes()?),
             raw_ev: Mat::default(),
             tmp: Mat::default(),
             kernel: imgproc::get_structuring_element_def(
@@ -187,13 +195,18 @@ impl Tracker {
         let flash = self
             .mean_level
             .is_some_and(|m| (level - m).abs() > 0.2 * m.max(20.0));
+        // Flicker and slow lighting changes: the frame brought to the first look's
+        // brightness before the background, the noise and the gate see it.
+        if !flash {
+            self.light.normalise(self.small.data_bytes_mut()?);
+        }
         // A repeated frame (the camera dropped one and the recorder repeated the last)
         // differs from its predecessor far less than the sensor noise makes any two
         // real frames differ.
         let mad = if self.prev.is_empty() {
             f64::NAN
         } else {
-            mean_abs_diff_sampled(&f.data, &self.prev, 5)
+            mean_abs_diff_sampled(self.small.data_bytes()?, &self.prev, 5)
         };
         let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
         let disturbed = self.mad_ref.is_some_and(|r| mad > 4.0 * r.max(0.5));
@@ -208,7 +221,7 @@ impl Tracker {
         }
 
         self.prev.clear();
-        self.prev.extend(f.data.iter().step_by(5));
+        self.prev.extend(self.small.data_bytes()?.iter().step_by(5));
         if !flash {
             self.mean_level = Some(match self.mean_level {
                 Some(m) => 0.9 * m + 0.1 * level,
@@ -399,8 +412,8 @@ impl Tracker {
         }
         for r in rows.iter_mut() {
             if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {
-                if r.angle_rad.is_some() {
-                    r.angle_rad = Some(a);
+                if let Some(old) = r.angle_rad {
+                    r.angle_rad = Some(unwrap_near(a, old));
                 }
             }
         }

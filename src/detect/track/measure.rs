@@ -3,7 +3,7 @@
 //! along it.
 
 use super::Tracker;
-use crate::detect::line::{fit_line_through, moments, Line};
+use crate::detect::line::{fit_line_through, moments, unwrap_near, Line};
 use crate::detect::Pt;
 use anyhow::Result;
 use opencv::core::{self, Point, Vector};
@@ -24,6 +24,8 @@ impl Tracker {
             }
             None => (g.theta_min - 0.35, g.theta_max + 0.35),
         };
+        // Angles on the wedge's own branch (the wire may hang across -x).
+        let mid = 0.5 * (lo + hi);
         let piv = self.piv;
         let (r_lo, r_hi) = (self.r_lo, self.r_hi);
         let r_mid = 0.5 * (r_lo + r_hi);
@@ -40,7 +42,7 @@ impl Tracker {
             if r < r_lo || r > r_hi {
                 continue;
             }
-            let th = d.y.atan2(d.x);
+            let th = unwrap_near(d.y.atan2(d.x), mid);
             if th < lo || th > hi {
                 continue;
             }
@@ -123,7 +125,11 @@ impl Tracker {
         } else {
             -line.dir
         };
-        Ok(Some((d.y.atan2(d.x), quality, moments(&sel))))
+        Ok(Some((
+            unwrap_near(d.y.atan2(d.x), mid),
+            quality,
+            moments(&sel),
+        )))
     }
 
     /// The evidence pixels within `half` px of `line` (a line through the pivot), in

@@ -1,0 +1,157 @@
+//! Brightness normalisation: each frame is scaled to the brightness of a reference
+//! frame before anything judges it, so that mains flicker (lamps pulse at twice the
+//! mains frequency, sampled by the camera at 25-60 frames/s as a beat) and slow
+//! lighting changes move neither the background, nor the noise estimate, nor the gate.
+//!
+//! Flicker and drift scale the whole scene: a pixel of the frame is `g` times the
+//! same pixel of the reference, whatever its grey level. The gain `g` is the median,
+//! over a sparse grid of pixels, of the ratio frame / reference: the moving wire and
+//! ball change a minority of the pixels and do not move the median.
+
+/// Every `SAMPLE_STEP`-th pixel votes for the gain (a few thousand votes per frame).
+const SAMPLE_STEP: usize = 7;
+/// Ratios are counted in bins of `1 / RATIO_SCALE` (0.1 %) from 0 to 4.
+const RATIO_SCALE: u32 = 1024;
+const RATIO_BINS: usize = 4 * RATIO_SCALE as usize;
+/// Reference pixels darker than this carry too little light for a ratio.
+const MIN_REFERENCE: u8 = 16;
+/// Gains closer to 1 than this leave the frame as it is (bit for bit): steadily lit
+/// footage is not touched.
+const DEAD_BAND: f64 = 0.004;
+
+/// The gain of frames against one reference frame, with buffers reused from frame to
+/// frame.
+pub(super) struct Brightness {
+    /// Per sampled pixel: its offset, and `2^20 / reference` (the reference's reciprocal
+    /// in fixed point, so that a ratio costs a multiplication).
+    samples: Vec<(u32, u32)>,
+    hist: Vec<u32>,
+    lut: [u8; 256],
+}
+
+impl Brightness {
+    /// Gains against `reference` (the bytes of one frame; later frames have the same
+    /// size).
+    pub(super) fn new(reference: &[u8]) -> Self {
+        let samples = reference
+            .iter()
+            .enumerate()
+            .step_by(SAMPLE_STEP)
+            .filter(|(_, &v)| v >= MIN_REFERENCE)
+            .map(|(i, &v)| (i as u32, (1u32 << 20) / v as u32))
+            .collect();
+        Self {
+            samples,
+            hist: vec![0; RATIO_BINS],
+            lut: [0; 256],
+        }
+    }
+
+    /// The frame's brightness against the reference's: the median ratio (`None` when
+    /// too few pixels of the reference are lit to tell, or the frame has another size).
+    pub(super) fn gain(&mut self, frame: &[u8]) -> Option<f64> {
+        if self.samples.len() < 50
+            || self
+                .samples
+                .last()
+                .is_some_and(|s| s.0 as usize >= frame.len())
+        {
+            return None;
+        }
+        self.hist.fill(0);
+        for &(i, inv) in &self.samples {
+            // ratio * RATIO_SCALE = v * 2^20 / ref / 2^10
+            let q = (frame[i as usize] as u32 * inv) >> 10;
+            self.hist[(q as usize).min(RATIO_BINS - 1)] += 1;
+        }
+        let half = self.samples.len() as u32 / 2;
+        let mut seen = 0u32;
+        for (b, &n) in self.hist.iter().enumerate() {
+            if seen + n > half {
+                // Within the bin, where the median falls (its votes spread evenly).
+                let within = (half - seen) as f64 + 0.5;
+                return Some((b as f64 + within / n as f64) / RATIO_SCALE as f64);
+            }
+            seen += n;
+        }
+        None
+    }
+
+    /// Bring `frame` to the reference's brightness (divide by its gain), in place.
+    /// Returns the gain (1 when unknown or within the dead band, and the frame is left
+    /// as it was).
+    pub(super) fn normalise(&mut self, frame: &mut [u8]) -> f64 {
+        let Some(g) = self.gain(frame).filter(|g| *g > 0.05) else {
+            return 1.0;
+        };
+        if (g - 1.0).abs() < DEAD_BAND {
+            return g;
+        }
+        for (v, out) in self.lut.iter_mut().enumerate() {
+            *out = (v as f64 / g).round().min(255.0) as u8;
+        }
+        for v in frame.iter_mut() {
+            *v = self.lut[*v as usize];
+        }
+        g
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A textured scene (grey levels 40..220), scaled by `g`, with a dark bar over
+    /// `cover` of its pixels.
+    fn scene(g: f64, cover: f64) -> Vec<u8> {
+        let n = 200 * 150;
+        (0..n)
+            .map(|i| {
+                let base = 40.0 + ((i * 37 % 181) as f64);
+                if (i as f64) < cover * n as f64 {
+                    20
+                } else {
+                    (base * g).round().min(255.0) as u8
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_gain_is_the_scene_s_scale_whatever_moves_over_a_minority_of_it() {
+        let mut b = Brightness::new(&scene(1.0, 0.0));
+        for g in [0.85, 0.97, 1.0, 1.12] {
+            // A dark object over 30 % of the frame does not move the median ratio.
+            let got = b.gain(&scene(g, 0.3)).unwrap();
+            assert!((got - g).abs() < 0.004, "gain {g}: measured {got}");
+        }
+    }
+
+    #[test]
+    fn normalising_undoes_a_flicker_and_leaves_a_steady_frame_alone() {
+        let reference = scene(1.0, 0.0);
+        let mut b = Brightness::new(&reference);
+        let mut dim = scene(0.88, 0.0);
+        let g = b.normalise(&mut dim);
+        assert!((g - 0.88).abs() < 0.004, "{g}");
+        let worst = dim
+            .iter()
+            .zip(&reference)
+            .map(|(a, r)| a.abs_diff(*r))
+            .max()
+            .unwrap();
+        assert!(worst <= 2, "worst difference after normalising: {worst}");
+        // Steady light: untouched, bit for bit.
+        let mut same = reference.clone();
+        b.normalise(&mut same);
+        assert_eq!(same, reference);
+    }
+
+    #[test]
+    fn a_dark_reference_or_a_wrong_size_gives_no_gain() {
+        let mut b = Brightness::new(&vec![3u8; 10_000]);
+        assert_eq!(b.gain(&vec![100u8; 10_000]), None);
+        let mut b = Brightness::new(&scene(1.0, 0.0));
+        assert_eq!(b.gain(&[100u8; 10]), None);
+    }
+}

@@ -4,6 +4,7 @@
 #   make check     fmt + clippy + tests (what CI runs: .ci/run)
 #   make bench     timing figures
 #   make fuzz      a long run of the property tests of the readers and the fit
+#   make robustness  the randomised sweep of twins (detected with no options, fitted)
 SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
@@ -11,7 +12,7 @@ CARGO ?= cargo
 APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/rollfric
 
-.PHONY: all deps rust-components build reports test check fmt clippy bench fuzz clean
+.PHONY: all deps rust-components build reports test check fmt clippy bench fuzz robustness clean
 
 all: build
 
@@ -74,6 +75,16 @@ FUZZ_SEED ?= 12
 fuzz: deps
 	ROLLFRIC_FUZZ_ITERS=$(FUZZ_ITERS) ROLLFRIC_FUZZ_SEED=$(FUZZ_SEED) \
 	  $(CARGO) test --release --locked --test fuzz -- --nocapture --test-threads 1
+
+# The randomised robustness sweep: ROBUSTNESS_SCENES twins drawn from ROBUSTNESS_SEED
+# (styles, sizes, frame rates, codecs, camera roll and mirroring, materials), each
+# ROBUSTNESS_SECONDS long, detected with no options and fitted from geometry only.
+ROBUSTNESS_SCENES ?= 60
+ROBUSTNESS_SEED ?= 1
+ROBUSTNESS_SECONDS ?= 40
+robustness: deps
+	$(CARGO) run --release --locked --example robustness -- \
+	  $(ROBUSTNESS_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS)
 
 clean:
 	$(CARGO) clean

@@ -1,0 +1,242 @@
+//! The randomised robustness sweep (`make robustness`): twins drawn across styles,
+//! sizes, frame rates, codecs, camera conditions and materials, each rendered, detected
+//! with no options and fitted from its geometry only. Prints the share detected, the
+//! angle RMS and s_r error percentiles, and every failure with its scene's settings.
+//!
+//! `cargo run --release --example robustness -- [SCENES] [SEED] [DURATION_S]`
+//! (defaults 60, 1 and 40). Scenes are drawn from a fixed seed: the same arguments give
+//! the same scenes.
+
+use anyhow::{Context, Result};
+use rollfric::config::Experiment;
+use rollfric::detect::{self, DetectOptions};
+use rollfric::pipeline::{self, Angles, Overrides, Source};
+use rollfric::rng::Rng;
+use rollfric::series::AngleTable;
+use std::path::Path;
+
+const MATERIALS: [&str; 7] = [
+    "steel",
+    "glass",
+    "aluminum",
+    "copper",
+    "polycarbonate",
+    "carbon-fiber",
+    "glass-fiber-fabric",
+];
+const SIZES: [(u32, u32); 4] = [(640, 480), (960, 540), (1280, 720), (1920, 1080)];
+const FPS: [f64; 4] = [25.0, 30.0, 50.0, 60.0];
+const STYLES: [&str; 3] = ["dark-wire", "light-wire", "oblique"];
+
+/// One scene's settings: the `synthetic:` keys it sets, and its video's extension.
+struct Scene {
+    material: &'static str,
+    keys: Vec<(String, String)>,
+    ext: &'static str,
+}
+
+impl Scene {
+    fn draw(rng: &mut Rng, seed: u64) -> Self {
+        let pick = |rng: &mut Rng, n: usize| ((rng.uniform() * n as f64) as usize).min(n - 1);
+        let material = MATERIALS[pick(rng, MATERIALS.len())];
+        let (w, h) = SIZES[pick(rng, SIZES.len())];
+        let fps = FPS[pick(rng, FPS.len())];
+        let style = STYLES[pick(rng, STYLES.len())];
+        let ext = if rng.uniform() < 0.5 { "mp4" } else { "avi" };
+        let keys = vec![
+            ("width".to_string(), w.to_string()),
+            ("height".to_string(), h.to_string()),
+            ("fps".to_string(), fps.to_string()),
+            ("style".to_string(), style.to_string()),
+            ("seed".to_string(), seed.to_string()),
+            // Any camera roll.
+            (
+                "rest_angle_deg".to_string(),
+                format!("{:.1}", -180.0 + 360.0 * rng.uniform()),
+            ),
+        ];
+        Scene {
+            material,
+            keys,
+            ext,
+        }
+    }
+
+    fn describe(&self) -> String {
+        let k: Vec<String> = self.keys.iter().map(|(k, v)| format!("{k}: {v}")).collect();
+        format!("{} {} {{{}}}", self.material, self.ext, k.join(", "))
+    }
+
+    /// The material's experiment with this scene's `synthetic:` keys (the block is the
+    /// last of every experiment file).
+    fn experiment(&self, root: &Path, dir: &Path, duration: f64) -> Result<Experiment> {
+        let src = root.join(format!("experiments/{}.yaml", self.material));
+        let text = std::fs::read_to_string(&src)
+            .with_context(|| format!("{}: cannot read", src.display()))?;
+        let mut set: Vec<(String, String)> = self.keys.clone();
+        set.push(("duration_s".to_string(), duration.to_string()));
+        let mut out = String::new();
+        let mut in_synth = false;
+        for line in text.lines() {
+            if !line.starts_with(' ') && !line.starts_with('#') && !line.is_empty() {
+                in_synth = line.starts_with("synthetic:");
+            }
+            let key = line.trim_start().split(':').next().unwrap_or("");
+            if in_synth && line.starts_with("  ") && set.iter().any(|(k, _)| k == key) {
+                continue;
+            }
+            out.push_str(line);
+            out.push('\n');
+        }
+        for (k, v) in &set {
+            out.push_str(&format!("  {k}: {v}\n"));
+        }
+        let path = dir.join(format!("{}.yaml", self.material));
+        std::fs::write(&path, &out)?;
+        Experiment::parse(&path, &out)
+    }
+}
+
+/// What one scene gave.
+enum Outcome {
+    Measured { angle_rms_deg: f64, s_r_err: f64 },
+    Refused(String),
+}
+
+fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome> {
+    let exp = scene.experiment(root, dir, duration)?;
+    let video = dir.join(format!("scene.{}", scene.ext));
+    rollfric::synth::render(&exp, &video, None, &mut |_, _| {})?;
+    let truth = rollfric::synth::truth(&exp, None)?;
+    let d = match detect::detect(&video, &DetectOptions::default()) {
+        Ok(d) => d,
+        Err(e) => return Ok(Outcome::Refused(format!("{e:#}"))),
+    };
+    // Angle error of the accepted frames against the truth (mirrored footage and any
+    // roll: compared modulo a turn).
+    let errs: Vec<f64> = d
+        .rows
+        .iter()
+        .zip(&truth)
+        .filter(|(r, t)| r.status == rollfric::series::Status::Ok && t.spoiled == "none")
+        .filter_map(|(r, t)| {
+            let e = r.angle_rad? - t.angle_rad;
+            Some(
+                (e + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI,
+            )
+        })
+        .collect();
+    let mean = errs.iter().sum::<f64>() / errs.len().max(1) as f64;
+    let rms = (errs.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / errs.len().max(1) as f64)
+        .sqrt()
+        .to_degrees();
+    let table = AngleTable::parse_csv(&d.to_csv())?;
+    let angles = Angles {
+        source: Source::Twin,
+        table,
+        detection: None,
+    };
+    let a = match pipeline::analyze(&exp, &angles, Overrides::default()) {
+        Ok(a) => a,
+        Err(e) => return Ok(Outcome::Refused(format!("fit: {e:#}"))),
+    };
+    let truth_s_r = exp
+        .file
+        .synthetic
+        .as_ref()
+        .map(|s| s.s_r_m)
+        .unwrap_or(f64::NAN);
+    Ok(Outcome::Measured {
+        angle_rms_deg: rms,
+        s_r_err: a.fit.s_r_m / truth_s_r - 1.0,
+    })
+}
+
+fn percentile(v: &[f64], p: f64) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    if s.is_empty() {
+        return f64::NAN;
+    }
+    s[((s.len() - 1) as f64 * p).round() as usize]
+}
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let scenes: usize = args.first().map_or(Ok(60), |a| a.parse())?;
+    let seed: u64 = args.get(1).map_or(Ok(1), |a| a.parse())?;
+    let duration: f64 = args.get(2).map_or(Ok(40.0), |a| a.parse())?;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut rng = Rng::new(seed);
+    let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());
+    let mut refused = 0;
+    for i in 0..scenes {
+        let scene = Scene::draw(&mut rng, seed * 1000 + i as u64);
+        let dir = tempfile::tempdir()?;
+        let started = std::time::Instant::now();
+        let outcome = run(&scene, root, dir.path(), duration);
+        let line = match &outcome {
+            Ok(Outcome::Measured {
+                angle_rms_deg,
+                s_r_err,
+            }) => {
+                rms.push(*angle_rms_deg);
+                errs.push(s_r_err.abs());
+                if s_r_err.abs() > 0.005 || *angle_rms_deg > 0.02 {
+                    failures.push(format!(
+                        "scene {i}: s_r {:+.2} %, angle RMS {angle_rms_deg:.4} deg: {}",
+                        100.0 * s_r_err,
+                        scene.describe()
+                    ));
+                }
+                format!(
+                    "s_r {:+.3} %, angle RMS {angle_rms_deg:.4} deg",
+                    100.0 * s_r_err
+                )
+            }
+            Ok(Outcome::Refused(why)) => {
+                refused += 1;
+                failures.push(format!("scene {i}: refused ({why}): {}", scene.describe()));
+                format!("refused: {why}")
+            }
+            Err(e) => {
+                failures.push(format!("scene {i}: ERROR {e:#}: {}", scene.describe()));
+                format!("ERROR {e:#}")
+            }
+        };
+        eprintln!(
+            "[{}/{scenes}] {:.0} s  {}  -> {line}",
+            i + 1,
+            started.elapsed().as_secs_f64(),
+            scene.describe()
+        );
+    }
+    let n = errs.len();
+    println!("robustness sweep: {scenes} scenes, seed {seed}, {duration} s each");
+    println!(
+        "  detected and fitted: {n} ({:.1} %), refused with a reason: {refused}, errors: {}",
+        100.0 * n as f64 / scenes as f64,
+        scenes - n - refused
+    );
+    println!(
+        "  angle RMS (deg): p50 {:.4}  p90 {:.4}  p95 {:.4}  max {:.4}; <= 0.02 deg: {:.1} %",
+        percentile(&rms, 0.5),
+        percentile(&rms, 0.9),
+        percentile(&rms, 0.95),
+        percentile(&rms, 1.0),
+        100.0 * rms.iter().filter(|r| **r <= 0.02).count() as f64 / n.max(1) as f64
+    );
+    println!(
+        "  |s_r error| (%): p50 {:.3}  p90 {:.3}  p95 {:.3}  max {:.3}; <= 0.5 %: {:.1} %",
+        100.0 * percentile(&errs, 0.5),
+        100.0 * percentile(&errs, 0.9),
+        100.0 * percentile(&errs, 0.95),
+        100.0 * percentile(&errs, 1.0),
+        100.0 * errs.iter().filter(|e| **e <= 0.005).count() as f64 / n.max(1) as f64
+    );
+    println!("  failures ({}):", failures.len());
+    for f in &failures {
+        println!("    {f}");
+    }
+    Ok(())
+}

@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::{have_ffmpeg, need_ffmpeg, rollfric, root};
+use common::{have_ffmpeg, need_ffmpeg, rollfric, root, simulate_csv};
 use rollfric::rng::Rng;
 use std::path::Path;
 use std::process::Command;
@@ -723,22 +723,7 @@ fn bad_inputs_fail_cleanly_naming_what_is_wrong() {
     let dir = d.path();
     let start = Instant::now();
     std::fs::create_dir(dir.join("sub")).unwrap();
-    let sim = rollfric(
-        &[
-            "simulate",
-            "glass-fiber-fabric",
-            "-o",
-            dir.join("angles.csv").to_str().unwrap(),
-            "--duration",
-            "16",
-        ],
-        &root(),
-    );
-    assert!(
-        sim.status.success(),
-        "{}",
-        String::from_utf8_lossy(&sim.stderr)
-    );
+    simulate_csv("glass-fiber-fabric", &dir.join("angles.csv"), 16.0);
     let base = base_yaml();
     write(dir, "ok.yaml", &base);
     write(dir, "ok-copy.yaml", &base);

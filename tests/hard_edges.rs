@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{rollfric, root};
+use common::{rollfric, root, simulate_csv};
 use std::path::Path;
 
 /// A folder with `manifest.yaml` listing `names` (file stems), each the glass-fiber row
@@ -15,22 +15,7 @@ fn setup(dir: &Path, experiments: &[(&str, &str)]) {
         .next()
         .unwrap()
         .to_string();
-    let out = rollfric(
-        &[
-            "simulate",
-            "glass-fiber-fabric",
-            "-o",
-            dir.join("angles.csv").to_str().unwrap(),
-            "--duration",
-            "16",
-        ],
-        &root(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    simulate_csv("glass-fiber-fabric", &dir.join("angles.csv"), 16.0);
     let mut list = String::new();
     for (file, name) in experiments {
         let text = yaml.replace("name: glass-fiber-fabric", &format!("name: {name}"))

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{fixture, rollfric_ok, root};
+use common::{fixture, rollfric_ok, root, turning_amplitudes};
 use rollfric::series::AngleSeries;
 use std::ffi::OsStr;
 use std::path::Path;
@@ -42,16 +42,6 @@ fn detect(video: &Path, extra: &[&str]) -> Detected {
         missing,
         pivot: piv,
     }
-}
-
-/// Turning-point amplitudes (deg) about the symmetric-envelope equilibrium, with times.
-fn amplitudes(s: &AngleSeries) -> Vec<(f64, f64)> {
-    let m = rollfric::fit::measure(s).expect("turning points");
-    m.extremes
-        .iter()
-        .zip(&m.amplitudes)
-        .map(|(e, a)| (e.t, a.to_degrees()))
-        .collect()
 }
 
 /// Mean amplitude of the first and of the last `k` turning points before `t_end`.
@@ -100,7 +90,7 @@ fn greenscreen_clip_ignores_the_hand_and_stopwatch() {
         (dt - 0.04).abs() < 1e-6,
         "frame times from timestamps: {dt}"
     );
-    let amps = amplitudes(&d.series);
+    let amps = turning_amplitudes(&d.series);
     // README: about ±29 deg at the start, ±25 deg at 11.6 s.
     check("greenscreen", &d, start_end(&amps, 2, 11.7), (29.0, 25.0));
 }
@@ -122,7 +112,7 @@ fn splitscreen_clip_one_panel_at_a_time_ignores_the_fan_lines() {
             "{name}: {:?}",
             d.pivot
         );
-        let amps = amplitudes(&d.series);
+        let amps = turning_amplitudes(&d.series);
         check(name, &d, start_end(&amps, 2, 11.6), want);
     }
 }
@@ -146,7 +136,7 @@ fn off_screen_pivot_clip_ignores_the_dark_stripe() {
         "ROI {:?} not in whole 3x3 blocks",
         d.roi
     );
-    let amps = amplitudes(&d.series);
+    let amps = turning_amplitudes(&d.series);
     // README: about ±12 deg at the start (+10.7/-12.8), ±10 deg at 25 s (+9.3/-11.1).
     check("fhd", &d, start_end(&amps, 2, 25.6), (11.75, 10.2));
 }

@@ -15,7 +15,7 @@
 
 mod common;
 
-use common::{fixture, need_ffmpeg, rollfric_ok, root};
+use common::{fixture, need_ffmpeg, rollfric_ok, root, turning_amplitudes};
 use rollfric::series::AngleSeries;
 use std::path::Path;
 use std::process::Command;
@@ -67,14 +67,8 @@ fn measure(video: &Path) -> Measured {
     );
     let text = std::fs::read_to_string(&csv).unwrap();
     let series = AngleSeries::parse_csv(&text).unwrap();
-    let m = rollfric::fit::measure(&series).expect("turning points");
     Measured {
-        amps: m
-            .extremes
-            .iter()
-            .zip(&m.amplitudes)
-            .map(|(e, a)| (e.t, a.to_degrees()))
-            .collect(),
+        amps: turning_amplitudes(&series),
         frames: text.lines().count() - 1,
         missing: text.lines().filter(|l| l.contains(",missing,")).count(),
         flagged: text

@@ -345,14 +345,19 @@ const MAX_JUMPS: usize = 1;
 /// only near its turning points (blurred in mid swing) leaves frames without a line
 /// between the two, and no jump.
 fn jumps(angles: &[Option<f64>], stride: usize, sweep: f64) -> usize {
-    let seen: Vec<(usize, f64)> = angles
+    seen_in_steps(angles, stride)
+        .windows(2)
+        .filter(|p| p[1].0 - p[0].0 == 1.0 && (p[1].1 - p[0].1).abs() > 0.5 * sweep)
+        .count()
+}
+
+/// The frames that gave a line, as (time in look steps of `stride` frames, angle).
+fn seen_in_steps(angles: &[Option<f64>], stride: usize) -> Vec<(f64, f64)> {
+    angles
         .iter()
         .enumerate()
-        .filter_map(|(k, a)| a.map(|a| (k, a)))
-        .collect();
-    seen.windows(2)
-        .filter(|p| p[1].0 - p[0].0 == stride && (p[1].1 - p[0].1).abs() > 0.5 * sweep)
-        .count()
+        .filter_map(|(k, a)| a.map(|a| (k as f64 / stride as f64, a)))
+        .collect()
 }
 
 /// The roughness a first look may show and still be a pendulum's wire ([`roughness`]).
@@ -367,11 +372,7 @@ const MAX_ROUGHNESS: f64 = 0.35;
 /// that jitter about one direction (edges of a test pattern, a static stripe) score
 /// near 0.5 and more. `0` when fewer than five triples were seen (nothing to judge).
 fn roughness(angles: &[Option<f64>], stride: usize) -> f64 {
-    let seen: Vec<(f64, f64)> = angles
-        .iter()
-        .enumerate()
-        .filter_map(|(k, a)| a.map(|a| (k as f64 / stride as f64, a)))
-        .collect();
+    let seen = seen_in_steps(angles, stride);
     let d2: Vec<f64> = seen
         .windows(3)
         .filter(|w| w[2].0 - w[0].0 <= 4.0)

@@ -48,6 +48,33 @@ pub fn rollfric_ok<S: AsRef<OsStr>>(args: &[S], dir: &Path) -> (String, String) 
     (stdout, stderr)
 }
 
+/// `rollfric simulate NAME -o CSV --duration SECONDS` (asserted to succeed): a twin's
+/// angle series to fit.
+pub fn simulate_csv(name: &str, csv: &Path, seconds: f64) {
+    rollfric_ok(
+        &[
+            OsStr::new("simulate"),
+            OsStr::new(name),
+            OsStr::new("-o"),
+            csv.as_os_str(),
+            OsStr::new("--duration"),
+            OsStr::new(&seconds.to_string()),
+        ],
+        &root(),
+    );
+}
+
+/// Turning points of an angle series: their times (s) and amplitudes (deg) about the
+/// symmetric-envelope equilibrium.
+pub fn turning_amplitudes(s: &rollfric::series::AngleSeries) -> Vec<(f64, f64)> {
+    let m = rollfric::fit::measure(s).expect("turning points");
+    m.extremes
+        .iter()
+        .zip(&m.amplitudes)
+        .map(|(e, a)| (e.t, a.to_degrees()))
+        .collect()
+}
+
 fn shown<S: AsRef<OsStr>>(args: &[S]) -> String {
     let args: Vec<_> = args.iter().map(|a| a.as_ref().to_string_lossy()).collect();
     args.join(" ")

@@ -251,8 +251,11 @@ pub struct Synthetic {
     /// Camera frame rate, frames/s. Default 60.
     #[serde(default = "default_fps")]
     pub fps: f64,
-    /// Angle of the wire at rest, from the image x axis, degrees. Default 91.7
-    /// (a camera turned 1.7 degrees).
+    /// Angle of the wire at rest, from the image x axis (y down), degrees: any angle,
+    /// the camera's roll over the full circle (the plate, the protractor and the wire
+    /// turn with it; the style's own turn is added). Taken into (-180, 180] for the
+    /// truth, whose angles stay continuous around it (within `psi0_deg` of it, so they
+    /// may pass 180). Default 91.7 (a camera turned 1.7 degrees).
     #[serde(default = "default_rest_angle")]
     pub rest_angle_deg: f64,
     /// Random seed for noise. Default 1.
@@ -279,6 +282,13 @@ pub struct Synthetic {
     /// debugging the detector. Default false.
     #[serde(default)]
     pub clean: bool,
+    /// The image mirrored left-right, as a phone's front camera or a view in a mirror
+    /// films it: the whole frame is flipped (the numerals read backwards, the light
+    /// comes from the other side), so a wire at image angle `theta` is seen at
+    /// `pi - theta`, and the truth (`rest_angle_rad`, every frame's angle, the pivot)
+    /// is the mirrored one. Default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mirror: bool,
 }
 
 /// Look of the digital twin's video.

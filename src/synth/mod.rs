@@ -55,7 +55,8 @@ use yuv::bgr_to_yuv420;
 pub struct TruthRow {
     /// Mid-exposure time of the frame, `i / fps`, s.
     pub t_s: f64,
-    /// True image angle of the wire at `t_s`, from the image x axis (y down), rad. For a
+    /// True image angle of the wire at `t_s`, from the image x axis (y down), rad: the
+    /// rest angle (in (-pi, pi]) minus the swing, continuous (not wrapped). For a
     /// duplicated frame this is still the true angle at `t_s`, not the repeated content.
     pub angle_rad: f64,
     /// `none`, `hand`, `flash` or `duplicate`.
@@ -82,7 +83,8 @@ pub struct SynthReport {
     pub wire_width_px: f64,
     /// Radius of the ball drawn at the wire's end, px.
     pub ball_radius_px: f64,
-    /// Image angle of the wire at rest (`rest_angle_deg` plus the style's turn), rad.
+    /// Image angle of the wire at rest (`rest_angle_deg` plus the style's turn, taken
+    /// into (-pi, pi]; `pi` minus that when mirrored, likewise taken), rad.
     pub rest_angle_rad: f64,
     pub style: Style,
     /// Rendered without camera defects.
@@ -262,11 +264,11 @@ fn render_inner(
         width: g.w as u32,
         height: g.h as u32,
         fps: twin.plan.fps,
-        pivot_px: g.pivot,
+        pivot_px: twin.plan.image_pivot(),
         wire_length_px: g.d_px,
         wire_width_px: g.wire_w,
         ball_radius_px: g.ball_r,
-        rest_angle_rad: g.theta_rest,
+        rest_angle_rad: twin.plan.image_rest,
         style: twin.plan.s.style,
         clean: twin.plan.s.clean,
         truth: std::mem::take(&mut twin.plan.truth),

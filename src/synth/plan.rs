@@ -46,7 +46,10 @@ pub(super) fn stream(seed: u64, k: u64) -> u64 {
 pub(super) struct Plan {
     pub(super) s: Synthetic,
     pub(super) look: Look,
+    /// Where things are in the scene as drawn, before any mirroring.
     pub(super) geo: Geometry,
+    /// The wire's rest angle as the image shows it (mirrored if `s.mirror`), rad.
+    pub(super) image_rest: f64,
     pub(super) fps: f64,
     trajectory: crate::physics::ode::Trajectory,
     pub(super) truth: Vec<TruthRow>,
@@ -70,7 +73,8 @@ impl Plan {
         cam.noise_rad = 0.0;
         let rec = simulate::record(exp, &cam)?;
         let look = Look::of(s.style);
-        let theta_rest = (s.rest_angle_deg + look.turn_deg).to_radians();
+        let rest_deg = wrap_deg(s.rest_angle_deg + look.turn_deg);
+        let theta_rest = rest_deg.to_radians();
         let geo = Geometry::new(
             s.width as usize,
             s.height as usize,
@@ -78,6 +82,12 @@ impl Plan {
             s.psi0_deg.to_radians(),
             exp.pendulum.r / exp.pendulum.d,
         );
+        // The image's own rest angle and sense of rotation: mirrored, `pi - theta`.
+        let image_rest = if s.mirror {
+            wrap_deg(180.0 - rest_deg).to_radians()
+        } else {
+            theta_rest
+        };
         let n = rec.series.t.len();
         let spoils = if s.clean {
             vec![Spoil::None; n]
@@ -94,10 +104,17 @@ impl Plan {
             .t
             .iter()
             .zip(&spoils)
-            .map(|(&t, sp)| TruthRow {
-                t_s: t,
-                angle_rad: theta_rest - rec.trajectory.state(t)[0],
-                spoiled: sp.tag(),
+            .map(|(&t, sp)| {
+                let psi = rec.trajectory.state(t)[0];
+                TruthRow {
+                    t_s: t,
+                    angle_rad: if s.mirror {
+                        image_rest + psi
+                    } else {
+                        theta_rest - psi
+                    },
+                    spoiled: sp.tag(),
+                }
             })
             .collect();
         Ok(Self {
@@ -105,15 +122,39 @@ impl Plan {
             s,
             look,
             geo,
+            image_rest,
             trajectory: rec.trajectory,
             truth,
             spoils,
         })
     }
 
-    /// Image angle of the wire at time `t`.
+    /// Angle of the wire at time `t` in the scene as drawn (before any mirroring).
     pub(super) fn theta(&self, t: f64) -> f64 {
         self.geo.theta_rest - self.trajectory.state(t)[0]
+    }
+
+    /// The pivot as the image shows it (mirrored if `s.mirror`), px.
+    pub(super) fn image_pivot(&self) -> [f64; 2] {
+        let p = self.geo.pivot;
+        if self.s.mirror {
+            [(self.geo.w - 1) as f64 - p[0], p[1]]
+        } else {
+            p
+        }
+    }
+}
+
+/// `deg` taken into (-180, 180] (returned as is when it already lies there).
+pub(super) fn wrap_deg(deg: f64) -> f64 {
+    if deg > -180.0 && deg <= 180.0 {
+        return deg;
+    }
+    let r = deg.rem_euclid(360.0);
+    if r > 180.0 {
+        r - 360.0
+    } else {
+        r
     }
 }
 

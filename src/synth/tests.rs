@@ -6,6 +6,7 @@ use crate::rng::Rng;
 use crate::simulate;
 use opencv::core;
 use opencv::videoio;
+use std::f64::consts::PI;
 use std::process::Command;
 
 /// A 320x240, 30 frames/s twin unless `extra` sets the size.
@@ -158,6 +159,31 @@ fn spoiled_frames_are_spoiled_and_clean_renders_are_not() {
     assert_eq!(truth, self::truth(&e, Some(20.0)).unwrap());
 }
 
+/// Where the wire crosses a circle of radius `frac * d_px` around the pivot in the
+/// rendered frame: the darkest (or, `light`, brightest) pixel within 0.5 rad of `want`,
+/// as an image angle; `pivot` and the frame's size as the image has them.
+fn wire_found(frame: &Mat, pivot: [f64; 2], d_px: f64, frac: f64, want: f64, light: bool) -> f64 {
+    let buf = frame.data_bytes().unwrap();
+    let w = frame.cols() as usize;
+    let r = frac * d_px;
+    let mut best = (f64::MIN, 0.0);
+    for k in -400..=400 {
+        let a = want + (k as f64 / 400.0) * 0.5;
+        let (x, y) = (pivot[0] + r * a.cos(), pivot[1] + r * a.sin());
+        let (x, y) = (x.round(), y.round());
+        if x < 0.0 || y < 0.0 || x >= w as f64 || y >= frame.rows() as f64 {
+            continue;
+        }
+        let j = 3 * ((y as usize) * w + x as usize);
+        let v = buf[j] as f64 + buf[j + 1] as f64 + buf[j + 2] as f64;
+        let score = if light { v } else { -v };
+        if score > best.0 {
+            best = (score, a);
+        }
+    }
+    best.1
+}
+
 #[test]
 fn pixels_show_the_wire_where_the_truth_says() {
     // Clean render: the darkest pixels along a circle around the pivot lie on the
@@ -175,24 +201,67 @@ fn pixels_show_the_wire_where_the_truth_says() {
         let i = 20;
         twin.render_frame(i).unwrap();
         let want = twin.plan.truth[i].angle_rad;
-        let buf = twin.frame.data_bytes().unwrap();
         let light = style == "light-wire";
-        let r = 0.2 * g.d_px;
-        let mut best = (f64::MIN, 0.0);
-        for k in -400..=400 {
-            let a = want + (k as f64 / 400.0) * 0.5;
-            let (x, y) = (g.pivot[0] + r * a.cos(), g.pivot[1] + r * a.sin());
-            let j = 3 * ((y.round() as usize) * g.w + x.round() as usize);
-            let v = buf[j] as f64 + buf[j + 1] as f64 + buf[j + 2] as f64;
-            let score = if light { v } else { -v };
-            if score > best.0 {
-                best = (score, a);
-            }
-        }
+        let got = wire_found(&twin.frame, g.pivot, g.d_px, 0.2, want, light);
         assert!(
-            (best.1 - want).abs() < 1.5 / r,
-            "{style}: wire found at {} rad, truth {want}",
-            best.1
+            (got - want).abs() < 1.5 / (0.2 * g.d_px),
+            "{style}: wire found at {got} rad, truth {want}"
+        );
+    }
+}
+
+#[test]
+fn the_scene_turns_with_any_rest_angle() {
+    // The camera rolled over the full circle: the rest angle is taken into (-180, 180],
+    // the wire lies where the truth says, and the protractor (brighter than the plate)
+    // lies on the wire's side of the pivot, the plate on the other.
+    for (rest, want_deg) in [
+        (180.0, 180.0),
+        (270.0, -90.0),
+        (-135.0, -135.0),
+        (-180.0, 180.0),
+        (451.7, 91.7),
+    ] {
+        let e = exp(&format!(", clean: true, rest_angle_deg: {rest}"));
+        let plan = Plan::new(&e, Some(2.0)).unwrap();
+        let g = plan.geo.clone();
+        assert!(
+            (g.theta_rest - f64::to_radians(want_deg)).abs() < 1e-12,
+            "{rest}: rest {}",
+            g.theta_rest
+        );
+        let mut twin = Twin::new(plan).unwrap();
+        let i = 20;
+        twin.render_frame(i).unwrap();
+        let row = &twin.plan.truth[i];
+        assert!(
+            (row.angle_rad - g.theta_rest).abs() < 0.25,
+            "{rest}: {row:?}"
+        );
+        let got = wire_found(&twin.frame, g.pivot, g.d_px, 0.2, row.angle_rad, false);
+        assert!(
+            (got - row.angle_rad).abs() < 1.5 / (0.2 * g.d_px),
+            "{rest}: wire found at {got} rad, truth {}",
+            row.angle_rad
+        );
+        let buf = twin.frame.data_bytes().unwrap();
+        let mean_at = |dir: f64| {
+            let mut sum = 0.0;
+            // Away from the wire: 25 to 75 degrees either side of `dir`.
+            for k in -20..=20 {
+                let side = if k < 0 { -25.0 } else { 25.0 };
+                let a = dir + (side + 2.5 * k as f64).to_radians();
+                let r = 0.5 * g.rp;
+                let (x, y) = (g.pivot[0] + r * a.cos(), g.pivot[1] + r * a.sin());
+                let j = 3 * ((y.round() as usize) * g.w + x.round() as usize);
+                sum += buf[j..j + 3].iter().map(|&v| v as f64).sum::<f64>() / 3.0;
+            }
+            sum / 41.0
+        };
+        let (front, back) = (mean_at(g.theta_rest), mean_at(g.theta_rest + PI));
+        assert!(
+            front > back + 15.0,
+            "{rest}: protractor {front}, plate {back}"
         );
     }
 }
@@ -325,4 +394,46 @@ fn ffmpeg_writes_every_frame_the_same_way_twice() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(text.trim(), format!("30/1,30/1,{}", frames.len()));
+}
+
+#[test]
+fn a_mirrored_twin_is_the_twin_flipped_with_its_truth() {
+    // With and without camera defects: the mirrored frame is the plain one flipped
+    // left-right, pixel for pixel, and the truth is mirrored (pi - theta). A camera
+    // turned 30 degrees, so that the mirrored wire is far from the plain one.
+    for extra in [", clean: true, rest_angle_deg: 60", ", rest_angle_deg: 60"] {
+        let plain = Plan::new(&exp(extra), Some(2.0)).unwrap();
+        let mirrored = Plan::new(&exp(&format!("{extra}, mirror: true")), Some(2.0)).unwrap();
+        let g = plain.geo.clone();
+        assert_eq!(plain.truth.len(), mirrored.truth.len());
+        assert!((mirrored.image_rest - (PI - plain.image_rest)).abs() < 1e-12);
+        for (a, b) in plain.truth.iter().zip(&mirrored.truth) {
+            assert_eq!((a.t_s, a.spoiled), (b.t_s, b.spoiled));
+            assert!(
+                (b.angle_rad - (PI - a.angle_rad)).abs() < 1e-12,
+                "{a:?} {b:?}"
+            );
+        }
+        let pivot = mirrored.image_pivot();
+        assert_eq!(pivot, [(g.w - 1) as f64 - g.pivot[0], g.pivot[1]]);
+        let (mut a, mut b) = (Twin::new(plain).unwrap(), Twin::new(mirrored).unwrap());
+        for i in [0, 20, 45] {
+            a.render_frame(i).unwrap();
+            b.render_frame(i).unwrap();
+            let mut flipped = Mat::default();
+            core::flip(&a.frame, &mut flipped, 1).unwrap();
+            assert_eq!(
+                b.frame.data_bytes().unwrap(),
+                flipped.data_bytes().unwrap(),
+                "frame {i}{extra}"
+            );
+            if extra.contains("clean") {
+                let want = b.plan.truth[i].angle_rad;
+                let got = wire_found(&b.frame, pivot, g.d_px, 0.2, want, false);
+                assert!((got - want).abs() < 1.5 / (0.2 * g.d_px), "{got} {want}");
+                // Not where the unmirrored truth would put it.
+                assert!((got - a.plan.truth[i].angle_rad).abs() > 0.5, "{got}");
+            }
+        }
+    }
 }

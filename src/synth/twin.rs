@@ -17,6 +17,8 @@ pub(super) struct Twin {
     sensor: Option<Sensor>,
     hand: HandPainter,
     pub(super) frame: Mat,
+    /// Scratch for a mirrored frame.
+    flipped: Mat,
 }
 
 impl Twin {
@@ -43,6 +45,7 @@ impl Twin {
             sensor,
             hand: HandPainter::default(),
             frame,
+            flipped: Mat::default(),
         })
     }
 
@@ -62,7 +65,7 @@ impl Twin {
             };
             *th = plan.theta(t + f * EXPOSURE * dt);
         }
-        let theta_mid = plan.truth[i].angle_rad;
+        let theta_mid = plan.theta(t);
         {
             let buf = self.frame.data_bytes_mut()?;
             buf.copy_from_slice(&self.bg);
@@ -75,7 +78,7 @@ impl Twin {
             let dir = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
             let tilt = dir * (0.25 + 0.2 * rng.uniform());
             // Start of the event: the hand crosses the wire's middle.
-            let th0 = plan.truth[i - k as usize].angle_rad;
+            let th0 = plan.theta(plan.truth[i - k as usize].t_s);
             let mid = [
                 g.pivot[0] + 0.55 * g.d_px * th0.cos(),
                 g.pivot[1] + 0.55 * g.d_px * th0.sin(),
@@ -101,6 +104,10 @@ impl Twin {
             let buf = self.frame.data_bytes_mut()?;
             let n = buf.len();
             expose(buf, &sensor.noise[off..off + n], gain, offset);
+        }
+        if plan.s.mirror {
+            core::flip(&self.frame, &mut self.flipped, 1)?;
+            std::mem::swap(&mut self.frame, &mut self.flipped);
         }
         Ok(())
     }

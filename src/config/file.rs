@@ -289,6 +289,17 @@ pub struct Synthetic {
     /// is the mirrored one. Default false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub mirror: bool,
+    /// Width of the wire as drawn at the output resolution, px, 1 to 32 (the pixels'
+    /// own integration and, with camera defects, the defocus soften it further): 1 for
+    /// a thin wire filmed from afar. Default `height / 288` kept within 2 to 3 px (2.5
+    /// px at 720 lines, 2 px at 540 or fewer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wire_width_px: Option<f64>,
+    /// The wire's contrast against what lies behind it, as a fraction of the style's,
+    /// 0 to 1: the wire's colour is mixed with the background's in this proportion
+    /// (0.3 a faint wire, 0 none). Default 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wire_contrast: Option<f64>,
 }
 
 /// Look of the digital twin's video.

@@ -273,6 +273,12 @@ impl Experiment {
                     s.rest_angle_deg
                 );
             }
+            if let Some(w) = s.wire_width_px {
+                within("synthetic.wire_width_px", w, 1.0, 32.0, "px")?;
+            }
+            if let Some(c) = s.wire_contrast {
+                within("synthetic.wire_contrast", c, 0.0, 1.0, "")?;
+            }
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -326,6 +332,14 @@ fn bounded(key: &str, v: f64, hi: f64, unit: &str) -> Result<()> {
 fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v > lo && v < hi) {
         bail!("`{key}` = {v} {unit}: expected a value between {lo} and {hi} {unit}");
+    }
+    Ok(())
+}
+
+/// A value from `lo` to `hi`, both included.
+fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
+    if !(v.is_finite() && v >= lo && v <= hi) {
+        bail!("`{key}` = {v} {unit}: expected a value from {lo} to {hi} {unit}");
     }
     Ok(())
 }
@@ -470,6 +484,49 @@ synthetic: { s_r_m: 3.2e-6 }
         assert!(e.contains("`geometry.incline`"), "{e}");
         let e = err(&format!("{GOOD}model: {{ beta: fast }}\n"));
         assert!(e.contains("`model.beta` = `fast`"), "{e}");
+    }
+
+    /// `GOOD` with `extra` keys in its `synthetic:` block.
+    fn synthetic_with(extra: &str) -> String {
+        GOOD.replace(
+            "synthetic: { s_r_m: 3.2e-6 }",
+            &format!("synthetic: {{ s_r_m: 3.2e-6, {extra} }}"),
+        )
+    }
+
+    #[test]
+    fn other_cameras_conditions_are_checked_naming_the_key() {
+        let text = synthetic_with("mirror: true, wire_width_px: 1, wire_contrast: 0.25");
+        let e = Experiment::parse(Path::new("x/glass.yaml"), &text).unwrap();
+        let s = e.file.synthetic.unwrap();
+        assert!(s.mirror);
+        assert_eq!((s.wire_width_px, s.wire_contrast), (Some(1.0), Some(0.25)));
+        for (extra, want) in [
+            (
+                "wire_width_px: 0.5",
+                "`synthetic.wire_width_px` = 0.5 px: expected a value from 1 to 32 px",
+            ),
+            (
+                "wire_contrast: 1.5",
+                "`synthetic.wire_contrast` = 1.5 : expected a value from 0 to 1",
+            ),
+            ("wire_contrast: .nan", "`synthetic.wire_contrast` = NaN"),
+        ] {
+            let e = err(&synthetic_with(extra));
+            assert!(e.contains(want), "{extra}: {e}");
+        }
+    }
+
+    #[test]
+    fn unset_camera_conditions_leave_the_render_key_as_it_was() {
+        // The twin's render key hashes the `synthetic:` block as JSON: keys left out
+        // must not appear in it, so that adding keys does not change old blocks' JSON.
+        let e = Experiment::parse(Path::new("x/glass.yaml"), GOOD).unwrap();
+        let json = serde_json::to_string(e.file.synthetic.as_ref().unwrap()).unwrap();
+        assert_eq!(
+            json,
+            r#"{"s_r_m":3.2e-6,"beta":1.0,"psi0_deg":10.0,"duration_s":null,"fps":60.0,"rest_angle_deg":91.7,"seed":1,"angle_noise_deg":0.05,"width":1280,"height":720,"style":"dark-wire","spoiled_frames":3,"clean":false}"#
+        );
     }
 
     #[test]

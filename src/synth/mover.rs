@@ -74,6 +74,8 @@ pub(super) struct Mover {
     ball_r: f64,
     screw_r: f64,
     wire: [f32; 3],
+    /// The wire's share of its colour where it covers a pixel fully (`wire_contrast`).
+    contrast: f32,
     /// The ball's shaded colour on a `BALL_TAB` square grid over `[-1, 1]^2` (units of
     /// its radius), before illumination.
     ball_tab: Vec<[f32; 3]>,
@@ -89,7 +91,7 @@ pub(super) struct Mover {
 }
 
 impl Mover {
-    pub(super) fn new(g: &Geometry, look: &Look, sigma: f64) -> Self {
+    pub(super) fn new(g: &Geometry, look: &Look, sigma: f64, contrast: f64) -> Self {
         let hw = g.wire_w / 2.0;
         let s2 = sigma * std::f64::consts::SQRT_2;
         let reach = hw + 4.0 * sigma + 0.5;
@@ -101,6 +103,7 @@ impl Mover {
             ball_r: g.ball_r,
             screw_r: g.screw_r,
             wire: look.wire,
+            contrast: contrast as f32,
             ball_tab: ball_table(look.ball),
             profile: Table::new(0.0, reach, 64.0, |d| {
                 0.5 * (erf((hw - d) / s2) + erf((hw + d) / s2))
@@ -226,7 +229,8 @@ impl Mover {
                     } else {
                         (d2.sqrt() - self.screw_r as f32 + 0.5).clamp(0.0, 1.0)
                     };
-                    p = mix(p, scale(self.wire, il), cov.min(1.0) * under_screw);
+                    let k = cov.min(1.0) * under_screw * self.contrast;
+                    p = mix(p, scale(self.wire, il), k);
                 }
                 frame[k] = to_u8(p[0]);
                 frame[k + 1] = to_u8(p[1]);

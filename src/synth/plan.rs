@@ -81,6 +81,7 @@ impl Plan {
             theta_rest,
             s.psi0_deg.to_radians(),
             exp.pendulum.r / exp.pendulum.d,
+            s.wire_width_px,
         );
         // The image's own rest angle and sense of rotation: mirrored, `pi - theta`.
         let image_rest = if s.mirror {
@@ -221,7 +222,15 @@ pub(super) struct Geometry {
 impl Geometry {
     /// Wire length 60 % of the frame height when the swing (plus 3 degrees) with the
     /// ball fits, shorter otherwise; the swing's bounding box is centred in the frame.
-    fn new(w: usize, h: usize, theta_rest: f64, psi0: f64, ball_ratio: f64) -> Self {
+    /// The wire's width is `wire_w`, by default `h / 288` within 2 to 3 px.
+    fn new(
+        w: usize,
+        h: usize,
+        theta_rest: f64,
+        psi0: f64,
+        ball_ratio: f64,
+        wire_w: Option<f64>,
+    ) -> Self {
         let amp = psi0 + 3f64.to_radians();
         let reach = ball_ratio * 1.3;
         let (mut x0, mut x1, mut y0, mut y1) = (-0.1f64, 0.1f64, -0.1f64, 0.1f64);
@@ -249,7 +258,7 @@ impl Geometry {
             ball_r: ball_ratio * d_px,
             rp: 0.45 * d_px,
             screw_r: (0.028 * d_px).max(2.5),
-            wire_w: (hf / 288.0).clamp(2.0, 3.0),
+            wire_w: wire_w.unwrap_or((hf / 288.0).clamp(2.0, 3.0)),
             theta_rest,
         }
     }

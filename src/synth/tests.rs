@@ -437,3 +437,59 @@ fn a_mirrored_twin_is_the_twin_flipped_with_its_truth() {
         }
     }
 }
+
+/// Sum over the pixels within 6 px of the wire's middle half (a quarter to three
+/// quarters of its length) of `bg - frame`, grey levels: the darkening the wire adds.
+fn wire_darkening(frame: &Mat, bg: &Mat, pivot: [f64; 2], d_px: f64, theta: f64) -> f64 {
+    let (f, b) = (frame.data_bytes().unwrap(), bg.data_bytes().unwrap());
+    let w = frame.cols() as usize;
+    let (ux, uy) = (theta.cos(), theta.sin());
+    let mut sum = 0.0;
+    for y in 0..frame.rows() as usize {
+        for x in 0..w {
+            let (dx, dy) = (x as f64 - pivot[0], y as f64 - pivot[1]);
+            let along = dx * ux + dy * uy;
+            let across = (dx * uy - dy * ux).abs();
+            if across <= 6.0 && along > 0.25 * d_px && along < 0.75 * d_px {
+                let j = 3 * (y * w + x);
+                for c in 0..3 {
+                    sum += (b[j + c] as f64 - f[j + c] as f64) / 3.0;
+                }
+            }
+        }
+    }
+    sum
+}
+
+#[test]
+fn a_faint_thin_wire_darkens_in_proportion_to_its_width_and_contrast() {
+    // 640x480, clean: the darkening the wire adds is proportional to its width (the
+    // line-spread profile integrates to the width) and to its contrast.
+    let render = |extra: &str| {
+        let e = exp(&format!(", width: 640, height: 480, clean: true{extra}"));
+        let mut twin = Twin::new(Plan::new(&e, Some(1.0)).unwrap()).unwrap();
+        twin.render_frame(10).unwrap();
+        let g = twin.plan.geo.clone();
+        let theta = twin.plan.truth[10].angle_rad;
+        (twin.frame, g, theta)
+    };
+    let (bg, g, theta) = render(", wire_contrast: 0");
+    let dark = |extra: &str| {
+        let (f, g2, _) = render(extra);
+        assert_eq!(g2.pivot, g.pivot);
+        wire_darkening(&f, &bg, g.pivot, g.d_px, theta)
+    };
+    let default = render("").1;
+    // 480 lines: 480 / 288 px, raised to 2 px.
+    assert_eq!(default.wire_w, 2.0);
+    let (w3, w1) = (dark(", wire_width_px: 3"), dark(", wire_width_px: 1"));
+    let faint = dark(", wire_width_px: 1, wire_contrast: 0.3");
+    // The plate is ~150 grey levels lighter than the wire: 3 px over ~180 px of length.
+    assert!(w3 > 3.0 * 120.0 * 0.5 * g.d_px, "{w3}");
+    assert!((w1 / w3 - 1.0 / 3.0).abs() < 0.03, "{w1} / {w3}");
+    assert!((faint / w1 - 0.3).abs() < 0.03, "{faint} / {w1}");
+    let (f, g1, _) = render(", wire_width_px: 1, wire_contrast: 0.3");
+    assert_eq!(g1.wire_w, 1.0);
+    let got = wire_found(&f, g.pivot, g.d_px, 0.2, theta, false);
+    assert!((got - theta).abs() < 1.5 / (0.2 * g.d_px), "{got} {theta}");
+}

@@ -300,6 +300,41 @@ pub struct Synthetic {
     /// (0.3 a faint wire, 0 none). Default 1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wire_contrast: Option<f64>,
+    /// A soft shadow of the wire on the plate: a second, blurred line from the fulcrum,
+    /// as long as the wire, at a small angle from it, moving with it, darker than the
+    /// plate (whatever the wire's colour). Absent: no shadow (the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadow: Option<WireShadow>,
+}
+
+/// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:
+/// 0.5}`.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WireShadow {
+    /// The shadow's image angle minus the wire's, degrees, -45 to 45 (positive turns
+    /// from the image x axis towards y, as the image angle does; before `mirror`).
+    /// Default 3.
+    #[serde(default = "default_shadow_angle")]
+    pub angle_deg: f64,
+    /// Blur of the shadow (the standard deviation of a Gaussian across it), px, 0 to
+    /// 50, on top of the wire's own softness. Default 4.
+    #[serde(default = "default_shadow_blur")]
+    pub blur_px: f64,
+    /// How much of the plate's brightness the shadow takes along its middle, 0 to 1.
+    /// Default 0.5.
+    #[serde(default = "default_shadow_strength")]
+    pub strength: f64,
+}
+
+fn default_shadow_angle() -> f64 {
+    3.0
+}
+fn default_shadow_blur() -> f64 {
+    4.0
+}
+fn default_shadow_strength() -> f64 {
+    0.5
 }
 
 /// Look of the digital twin's video.

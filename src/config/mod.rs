@@ -279,6 +279,17 @@ impl Experiment {
             if let Some(c) = s.wire_contrast {
                 within("synthetic.wire_contrast", c, 0.0, 1.0, "")?;
             }
+            if let Some(sh) = &s.shadow {
+                within(
+                    "synthetic.shadow.angle_deg",
+                    sh.angle_deg,
+                    -45.0,
+                    45.0,
+                    "deg",
+                )?;
+                within("synthetic.shadow.blur_px", sh.blur_px, 0.0, 50.0, "px")?;
+                within("synthetic.shadow.strength", sh.strength, 0.0, 1.0, "")?;
+            }
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -496,11 +507,15 @@ synthetic: { s_r_m: 3.2e-6 }
 
     #[test]
     fn other_cameras_conditions_are_checked_naming_the_key() {
-        let text = synthetic_with("mirror: true, wire_width_px: 1, wire_contrast: 0.25");
+        let text = synthetic_with(
+            "mirror: true, wire_width_px: 1, wire_contrast: 0.25, shadow: { blur_px: 2 }",
+        );
         let e = Experiment::parse(Path::new("x/glass.yaml"), &text).unwrap();
         let s = e.file.synthetic.unwrap();
         assert!(s.mirror);
         assert_eq!((s.wire_width_px, s.wire_contrast), (Some(1.0), Some(0.25)));
+        let sh = s.shadow.unwrap();
+        assert_eq!((sh.angle_deg, sh.blur_px, sh.strength), (3.0, 2.0, 0.5));
         for (extra, want) in [
             (
                 "wire_width_px: 0.5",
@@ -511,6 +526,19 @@ synthetic: { s_r_m: 3.2e-6 }
                 "`synthetic.wire_contrast` = 1.5 : expected a value from 0 to 1",
             ),
             ("wire_contrast: .nan", "`synthetic.wire_contrast` = NaN"),
+            (
+                "shadow: { angle_deg: 60 }",
+                "`synthetic.shadow.angle_deg` = 60 deg: expected a value from -45 to 45 deg",
+            ),
+            (
+                "shadow: { blur_px: -1 }",
+                "`synthetic.shadow.blur_px` = -1 px",
+            ),
+            (
+                "shadow: { strength: 2 }",
+                "`synthetic.shadow.strength` = 2 :",
+            ),
+            ("shadow: { streng: 2 }", "unknown field `streng`"),
         ] {
             let e = err(&synthetic_with(extra));
             assert!(e.contains(want), "{extra}: {e}");

@@ -493,3 +493,57 @@ fn a_faint_thin_wire_darkens_in_proportion_to_its_width_and_contrast() {
     let got = wire_found(&f, g.pivot, g.d_px, 0.2, theta, false);
     assert!((got - theta).abs() < 1.5 / (0.2 * g.d_px), "{got} {theta}");
 }
+
+#[test]
+fn the_wire_casts_a_soft_shadow_at_its_angle_that_moves_with_it() {
+    // Clean renders with and without the shadow differ only by it: along a circle
+    // around the pivot, the darkening peaks at the wire's angle plus the shadow's,
+    // takes `strength` of the plate there, and follows the wire from frame to frame.
+    let base = exp(", clean: true, style: light-wire");
+    let shaded = exp(
+        ", clean: true, style: light-wire, shadow: { angle_deg: -6, blur_px: 1.5, strength: 0.5 }",
+    );
+    let (mut a, mut b) = (
+        Twin::new(Plan::new(&base, Some(2.0)).unwrap()).unwrap(),
+        Twin::new(Plan::new(&shaded, Some(2.0)).unwrap()).unwrap(),
+    );
+    let g = a.plan.geo.clone();
+    let r = 0.5 * g.d_px;
+    let mut peaks = Vec::new();
+    for i in [5, 20] {
+        a.render_frame(i).unwrap();
+        b.render_frame(i).unwrap();
+        let (fa, fb) = (a.frame.data_bytes().unwrap(), b.frame.data_bytes().unwrap());
+        let grey = |f: &[u8], j: usize| f[j..j + 3].iter().map(|&v| v as f64).sum::<f64>() / 3.0;
+        let theta = a.plan.truth[i].angle_rad;
+        let mut best = (0.0, 0.0, 0.0);
+        for k in -600..=600 {
+            let ang = theta + (k as f64 / 600.0) * 0.3;
+            let (x, y) = (g.pivot[0] + r * ang.cos(), g.pivot[1] + r * ang.sin());
+            let j = 3 * ((y.round() as usize) * g.w + x.round() as usize);
+            let (ga, gb) = (grey(fa, j), grey(fb, j));
+            if ga - gb > best.0 {
+                best = (ga - gb, ang, ga);
+            }
+        }
+        let (dark, at, plate) = best;
+        let want = theta - 6f64.to_radians();
+        assert!(
+            (at - want).abs() < 1.5 / r,
+            "frame {i}: shadow at {at}, want {want}"
+        );
+        assert!(
+            (dark / plate - 0.5).abs() < 0.1,
+            "frame {i}: {dark} of {plate}"
+        );
+        peaks.push(at);
+        // Nothing else changed: far from the wire, the frames are the same.
+        let far = theta + 0.8;
+        let (x, y) = (g.pivot[0] + r * far.cos(), g.pivot[1] + r * far.sin());
+        let j = 3 * ((y.round() as usize) * g.w + x.round() as usize);
+        assert_eq!(fa[j..j + 3], fb[j..j + 3]);
+    }
+    let moved = a.plan.truth[20].angle_rad - a.plan.truth[5].angle_rad;
+    assert!(moved.abs() > 0.05, "{moved}");
+    assert!((peaks[1] - peaks[0] - moved).abs() < 3.0 / r);
+}

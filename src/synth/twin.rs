@@ -30,7 +30,7 @@ impl Twin {
         // Pixel integration (~0.4 px) combined with the defocus.
         let sigma = (0.4f64.powi(2) + defocus.unwrap_or(0.0).powi(2)).sqrt();
         let contrast = plan.s.wire_contrast.unwrap_or(1.0);
-        let mover = Mover::new(&plan.geo, &plan.look, sigma, contrast);
+        let mover = Mover::new(&plan.geo, &plan.look, sigma, contrast, plan.s.shadow);
         let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, plan.s.seed));
         let frame = Mat::new_rows_cols_with_default(
             plan.geo.h as i32,

@@ -305,6 +305,23 @@ pub struct Synthetic {
     /// plate (whatever the wire's colour). Absent: no shadow (the default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shadow: Option<WireShadow>,
+    /// Frequency of the lights' flicker, Hz, more than 0 and at most 10000 (100 on
+    /// 50 Hz mains, 120 on 60 Hz). Each frame is lit as at its mid-exposure instant, so
+    /// the flicker shows as its alias at the frame rate (a beat): none at all when the
+    /// frame rate divides it (100 Hz at 25 or 50 frames/s). Camera defects only (not
+    /// with `clean`). Default 100.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flicker_hz: Option<f64>,
+    /// Depth of the flicker: the amplitude of the frame brightness's relative
+    /// modulation, 0 to 0.5 (0.15 for strong flicker), plus a random 0.4 % per frame.
+    /// Camera defects only. Default 0.012.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flicker_depth: Option<f64>,
+    /// Strength of the slow lighting drift (three sines with periods of 15 to 60 s):
+    /// the sum of their relative amplitudes, 0 to 0.5. Camera defects only. Default
+    /// 0.08.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drift_depth: Option<f64>,
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:
@@ -326,6 +343,13 @@ pub struct WireShadow {
     #[serde(default = "default_shadow_strength")]
     pub strength: f64,
 }
+
+/// `synthetic.flicker_hz` when not given.
+pub const DEFAULT_FLICKER_HZ: f64 = 100.0;
+/// `synthetic.flicker_depth` when not given.
+pub const DEFAULT_FLICKER_DEPTH: f64 = 0.012;
+/// `synthetic.drift_depth` when not given.
+pub const DEFAULT_DRIFT_DEPTH: f64 = 0.08;
 
 fn default_shadow_angle() -> f64 {
     3.0

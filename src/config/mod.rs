@@ -290,6 +290,16 @@ impl Experiment {
                 within("synthetic.shadow.blur_px", sh.blur_px, 0.0, 50.0, "px")?;
                 within("synthetic.shadow.strength", sh.strength, 0.0, 1.0, "")?;
             }
+            if let Some(f) = s.flicker_hz {
+                positive("synthetic.flicker_hz", f, "Hz")?;
+                within("synthetic.flicker_hz", f, 0.0, 10_000.0, "Hz")?;
+            }
+            if let Some(d) = s.flicker_depth {
+                within("synthetic.flicker_depth", d, 0.0, 0.5, "")?;
+            }
+            if let Some(d) = s.drift_depth {
+                within("synthetic.drift_depth", d, 0.0, 0.5, "")?;
+            }
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -539,6 +549,16 @@ synthetic: { s_r_m: 3.2e-6 }
                 "`synthetic.shadow.strength` = 2 :",
             ),
             ("shadow: { streng: 2 }", "unknown field `streng`"),
+            (
+                "flicker_hz: 0",
+                "`synthetic.flicker_hz` = 0 Hz: expected a positive number",
+            ),
+            ("flicker_hz: 2e4", "`synthetic.flicker_hz` = 20000 Hz"),
+            (
+                "flicker_depth: 0.6",
+                "`synthetic.flicker_depth` = 0.6 : expected a value from 0 to 0.5",
+            ),
+            ("drift_depth: -0.1", "`synthetic.drift_depth` = -0.1"),
         ] {
             let e = err(&synthetic_with(extra));
             assert!(e.contains(want), "{extra}: {e}");

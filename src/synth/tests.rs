@@ -9,12 +9,17 @@ use opencv::videoio;
 use std::f64::consts::PI;
 use std::process::Command;
 
-/// A 320x240, 30 frames/s twin unless `extra` sets the size.
+/// A 320x240, 30 frames/s twin unless `extra` sets the size or the rate.
 fn exp(extra: &str) -> Experiment {
     let size = if extra.contains("width") {
         ""
     } else {
         ", width: 320, height: 240"
+    };
+    let fps = if extra.contains(" fps:") {
+        ""
+    } else {
+        "fps: 30, "
     };
     let text = format!(
         "
@@ -22,7 +27,7 @@ geometry:
   incline: {{ h_m: 0.142, l_m: 1.5 }}
   pendulum: {{ d_m: 0.187 }}
   ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
-synthetic: {{ s_r_m: 4.445e-6, fps: 30, seed: 3{size}{extra} }}
+synthetic: {{ s_r_m: 4.445e-6, {fps}seed: 3{size}{extra} }}
 "
     );
     Experiment::parse(Path::new("t/twin.yaml"), &text).unwrap()
@@ -546,4 +551,109 @@ fn the_wire_casts_a_soft_shadow_at_its_angle_that_moves_with_it() {
     let moved = a.plan.truth[20].angle_rad - a.plan.truth[5].angle_rad;
     assert!(moved.abs() > 0.05, "{moved}");
     assert!((peaks[1] - peaks[0] - moved).abs() < 3.0 / r);
+}
+
+/// Least-squares amplitude `sqrt(a^2 + c^2)` of `y = b (1 + a sin(w t) + c cos(w t))`
+/// over the samples, relative to the mean `b` (fitted as `y = p + q sin + r cos`).
+fn relative_amplitude(t: &[f64], y: &[f64], w: f64) -> f64 {
+    // Normal equations of a 3-parameter linear model, solved by Gauss-Jordan.
+    let mut m = [[0.0f64; 4]; 3];
+    for (&ti, &yi) in t.iter().zip(y) {
+        let x = [1.0, (w * ti).sin(), (w * ti).cos()];
+        for (row, &xr) in m.iter_mut().zip(&x) {
+            for (v, &xc) in row.iter_mut().zip(&x) {
+                *v += xr * xc;
+            }
+            row[3] += xr * yi;
+        }
+    }
+    for k in 0..3 {
+        let pivot = m[k];
+        for (r, row) in m.iter_mut().enumerate() {
+            if r != k {
+                let f = row[k] / pivot[k];
+                for (v, p) in row.iter_mut().zip(pivot) {
+                    *v -= f * p;
+                }
+            }
+        }
+    }
+    let p: Vec<f64> = (0..3).map(|k| m[k][3] / m[k][k]).collect();
+    p[1].hypot(p[2]) / p[0]
+}
+
+#[test]
+fn flicker_modulates_the_frames_at_its_frequency_and_depth() {
+    // Strong flicker, no drift: the frames' mean brightness (over pixels far from
+    // clipping) swings at the flicker's alias by the asked depth. 100 Hz at 30 frames/s
+    // beats at 10 Hz, 120 Hz at 25 frames/s at 5 Hz; the default is a faint flicker
+    // (seen on a light plate: on the dark one, 1.2 % is less than half a grey level).
+    for (fps, hz, depth, extra) in [
+        (30.0, 100.0, 0.15, "light-wire, flicker_depth: 0.15"),
+        (
+            25.0,
+            120.0,
+            0.15,
+            "light-wire, flicker_hz: 120, flicker_depth: 0.15",
+        ),
+        (30.0, 100.0, 0.012, "dark-wire"),
+    ] {
+        let e = exp(&format!(
+            ", fps: {fps}, spoiled_frames: 0, drift_depth: 0, style: {extra}"
+        ));
+        let mut twin = Twin::new(Plan::new(&e, Some(1.5)).unwrap()).unwrap();
+        twin.render_frame(0).unwrap();
+        // Pixels far from clipping, away from where the wire and the ball swing.
+        let g = twin.plan.geo.clone();
+        let mask: Vec<bool> = (twin.frame.data_bytes().unwrap().chunks(3).enumerate())
+            .map(|(j, p)| {
+                let (dx, dy) = ((j % g.w) as f64 - g.pivot[0], (j / g.w) as f64 - g.pivot[1]);
+                let off = (dy.atan2(dx) - g.theta_rest).abs();
+                let swept = dx.hypot(dy) < g.d_px + 2.5 * g.ball_r && off < 0.7;
+                !swept && p.iter().all(|&v| (25..200).contains(&v))
+            })
+            .collect();
+        let (mut t, mut y) = (Vec::new(), Vec::new());
+        for i in 0..twin.plan.truth.len() {
+            twin.render_frame(i).unwrap();
+            let buf = twin.frame.data_bytes().unwrap();
+            let (mut sum, mut n) = (0.0, 0.0);
+            for (p, _) in buf.chunks(3).zip(&mask).filter(|(_, &m)| m) {
+                sum += p.iter().map(|&v| v as f64).sum::<f64>();
+                n += 3.0;
+            }
+            t.push(twin.plan.truth[i].t_s);
+            y.push(sum / n);
+        }
+        let got = relative_amplitude(&t, &y, 2.0 * PI * hz);
+        assert!(
+            (got - depth).abs() < 0.1 * depth + 0.002,
+            "{fps} fps, {hz} Hz: depth {got}, want {depth}"
+        );
+    }
+}
+
+#[test]
+fn lighting_drift_follows_its_strength() {
+    // No flicker: frames 3 s apart over 30 s stay within the per-frame jitter without
+    // drift, and wander by several percent with a strong one.
+    let spread = |drift: &str| {
+        let e = exp(&format!(
+            ", style: light-wire, spoiled_frames: 0, flicker_depth: 0, drift_depth: {drift}"
+        ));
+        let mut twin = Twin::new(Plan::new(&e, Some(30.0)).unwrap()).unwrap();
+        let b: Vec<f64> = (0..=10)
+            .map(|k| {
+                twin.render_frame(90 * k).unwrap();
+                brightness(&twin.frame)
+            })
+            .collect();
+        let (lo, hi) = b
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        hi / lo - 1.0
+    };
+    let (none, strong) = (spread("0"), spread("0.3"));
+    assert!(none < 0.02, "{none}");
+    assert!(strong > 0.08, "{strong}");
 }

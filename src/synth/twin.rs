@@ -1,9 +1,10 @@
 //! The twin: everything prepared once, then frames on demand.
 
-use super::camera::{expose, HandPainter, Sensor};
+use super::camera::{expose, HandPainter, Lights, Sensor};
 use super::mover::Mover;
 use super::plan::{stream, Plan, Spoil, EXPOSURE, SUBSAMPLES};
 use super::scene::build_background;
+use crate::config::{DEFAULT_DRIFT_DEPTH, DEFAULT_FLICKER_DEPTH, DEFAULT_FLICKER_HZ};
 use crate::rng::Rng;
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar};
@@ -31,7 +32,13 @@ impl Twin {
         let sigma = (0.4f64.powi(2) + defocus.unwrap_or(0.0).powi(2)).sqrt();
         let contrast = plan.s.wire_contrast.unwrap_or(1.0);
         let mover = Mover::new(&plan.geo, &plan.look, sigma, contrast, plan.s.shadow);
-        let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, plan.s.seed));
+        let s = &plan.s;
+        let lights = Lights {
+            flicker_hz: s.flicker_hz.unwrap_or(DEFAULT_FLICKER_HZ),
+            flicker_depth: s.flicker_depth.unwrap_or(DEFAULT_FLICKER_DEPTH),
+            drift_depth: s.drift_depth.unwrap_or(DEFAULT_DRIFT_DEPTH),
+        };
+        let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, s.seed, lights));
         let frame = Mat::new_rows_cols_with_default(
             plan.geo.h as i32,
             plan.geo.w as i32,

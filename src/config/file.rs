@@ -322,6 +322,14 @@ pub struct Synthetic {
     /// 0.08.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub drift_depth: Option<f64>,
+    /// The operator holds the ball at its release angle `psi0_deg` for this long from
+    /// the start of the recording, s, then lets go: the wire stands still until
+    /// `hold_s`, and the motion (the same as without a hold, `s_r_m` unchanged) starts
+    /// from rest there. Zero or more, less than `duration_s`; a default duration (until
+    /// the ball stops plus 2 s, at most 120 s) counts from the start, hold included.
+    /// Also shifts the angle series `rollfric simulate` writes. Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_s: Option<f64>,
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:

@@ -300,6 +300,13 @@ impl Experiment {
             if let Some(d) = s.drift_depth {
                 within("synthetic.drift_depth", d, 0.0, 0.5, "")?;
             }
+            if let Some(h) = s.hold_s {
+                non_negative("synthetic.hold_s", h, "s")?;
+                let most = s.duration_s.unwrap_or(DEFAULT_MAX_DURATION_S);
+                if h >= most {
+                    bail!("`synthetic.hold_s` = {h} s: expected less than the recording's {most} s (`synthetic.duration_s`)");
+                }
+            }
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -559,6 +566,14 @@ synthetic: { s_r_m: 3.2e-6 }
                 "`synthetic.flicker_depth` = 0.6 : expected a value from 0 to 0.5",
             ),
             ("drift_depth: -0.1", "`synthetic.drift_depth` = -0.1"),
+            (
+                "hold_s: -1",
+                "`synthetic.hold_s` = -1 s: expected zero or a positive number",
+            ),
+            (
+                "hold_s: 5, duration_s: 5",
+                "`synthetic.hold_s` = 5 s: expected less than the recording's 5 s",
+            ),
         ] {
             let e = err(&synthetic_with(extra));
             assert!(e.contains(want), "{extra}: {e}");

@@ -657,3 +657,38 @@ fn lighting_drift_follows_its_strength() {
     assert!(none < 0.02, "{none}");
     assert!(strong > 0.08, "{strong}");
 }
+
+#[test]
+fn a_held_ball_stands_still_then_swings_as_released_at_the_hold() {
+    // Held for 0.5 s: the truth is the release angle until then, and afterwards the
+    // motion without a hold, shifted by 0.5 s; clean frames before the release are the
+    // same pixels, and the wire has moved in the frames after it.
+    let held = Plan::new(&exp(", clean: true, hold_s: 0.5"), Some(2.0)).unwrap();
+    let free = Plan::new(&exp(", clean: true"), Some(2.0)).unwrap();
+    let release = free.truth[0].angle_rad;
+    assert!((release - (91.7f64 - 10.0).to_radians()).abs() < 1e-12);
+    for row in &held.truth {
+        if row.t_s <= 0.5 {
+            assert_eq!(row.angle_rad, release, "{row:?}");
+        } else {
+            let want = free.theta(row.t_s - 0.5);
+            assert!((row.angle_rad - want).abs() < 1e-9, "{row:?} {want}");
+        }
+    }
+    let mut twin = Twin::new(held).unwrap();
+    twin.render_frame(0).unwrap();
+    let first = twin.frame.data_bytes().unwrap().to_vec();
+    for i in [1, 7, 15] {
+        twin.render_frame(i).unwrap();
+        assert!(twin.frame.data_bytes().unwrap() == first, "frame {i}");
+    }
+    twin.render_frame(25).unwrap();
+    let after = twin.frame.data_bytes().unwrap();
+    let moved = after.iter().zip(&first).filter(|(a, b)| a != b).count();
+    assert!(moved > 500, "{moved} pixels changed");
+    // The camera's angle series (`rollfric simulate`) holds as well.
+    let e = exp(", hold_s: 0.5, angle_noise_deg: 0");
+    let rec = simulate::record(&e, &simulate::camera_of(&e).unwrap()).unwrap();
+    assert_eq!(rec.trajectory.t0, 0.5);
+    assert_eq!(rec.trajectory.state(0.25), [10f64.to_radians(), 0.0]);
+}

@@ -330,6 +330,15 @@ pub struct Synthetic {
     /// Also shifts the angle series `rollfric simulate` writes. Default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hold_s: Option<f64>,
+    /// Where the fulcrum is in the image, `[x, y]` as fractions of the width and the
+    /// height from the top left corner, each -1 to 2: anywhere, also outside the frame
+    /// (`[0.5, -0.05]`: just above it). The wire is then as long as keeps the ball's
+    /// swing 3 % inside the frame's edges (at most 60 % of the height), and the render
+    /// is refused when no wire of a tenth of the frame does, or when less than half of
+    /// the wire would be in the frame. Default: the wire's swing, ball included,
+    /// centred in the frame with the wire 60 % of the height or as long as fits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pivot_frac: Option<[f64; 2]>,
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:

@@ -300,6 +300,14 @@ impl Experiment {
             if let Some(d) = s.drift_depth {
                 within("synthetic.drift_depth", d, 0.0, 0.5, "")?;
             }
+            if let Some(p) = s.pivot_frac {
+                for (k, v) in ["synthetic.pivot_frac[0]", "synthetic.pivot_frac[1]"]
+                    .into_iter()
+                    .zip(p)
+                {
+                    within(k, v, -1.0, 2.0, "")?;
+                }
+            }
             if let Some(h) = s.hold_s {
                 non_negative("synthetic.hold_s", h, "s")?;
                 let most = s.duration_s.unwrap_or(DEFAULT_MAX_DURATION_S);
@@ -566,6 +574,11 @@ synthetic: { s_r_m: 3.2e-6 }
                 "`synthetic.flicker_depth` = 0.6 : expected a value from 0 to 0.5",
             ),
             ("drift_depth: -0.1", "`synthetic.drift_depth` = -0.1"),
+            (
+                "pivot_frac: [0.5, 3]",
+                "`synthetic.pivot_frac[1]` = 3 : expected a value from -1 to 2",
+            ),
+            ("pivot_frac: [0.5]", "pivot_frac"),
             (
                 "hold_s: -1",
                 "`synthetic.hold_s` = -1 s: expected zero or a positive number",

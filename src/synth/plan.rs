@@ -82,7 +82,8 @@ impl Plan {
             s.psi0_deg.to_radians(),
             exp.pendulum.r / exp.pendulum.d,
             s.wire_width_px,
-        );
+            s.pivot_frac,
+        )?;
         // The image's own rest angle and sense of rotation: mirrored, `pi - theta`.
         let image_rest = if s.mirror {
             wrap_deg(180.0 - rest_deg).to_radians()
@@ -221,8 +222,10 @@ pub(super) struct Geometry {
 
 impl Geometry {
     /// Wire length 60 % of the frame height when the swing (plus 3 degrees) with the
-    /// ball fits, shorter otherwise; the swing's bounding box is centred in the frame.
-    /// The wire's width is `wire_w`, by default `h / 288` within 2 to 3 px.
+    /// ball fits, shorter otherwise; the swing's bounding box is centred in the frame,
+    /// or the pivot is at `pivot_frac` of the width and height (then the ball's swing
+    /// is kept 3 % inside the frame's edges, and at least half of the wire must be in
+    /// the frame). The wire's width is `wire_w`, by default `h / 288` within 2 to 3 px.
     fn new(
         w: usize,
         h: usize,
@@ -230,27 +233,35 @@ impl Geometry {
         psi0: f64,
         ball_ratio: f64,
         wire_w: Option<f64>,
-    ) -> Self {
+        pivot_frac: Option<[f64; 2]>,
+    ) -> Result<Self> {
         let amp = psi0 + 3f64.to_radians();
         let reach = ball_ratio * 1.3;
-        let (mut x0, mut x1, mut y0, mut y1) = (-0.1f64, 0.1f64, -0.1f64, 0.1f64);
-        for j in 0..=64 {
-            let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
-            let (cx, cy) = (th.cos(), th.sin());
-            x0 = x0.min(cx - reach);
-            x1 = x1.max(cx + reach);
-            y0 = y0.min(cy - reach);
-            y1 = y1.max(cy + reach);
-        }
         let (wf, hf) = (w as f64, h as f64);
-        let d_px = (0.6 * hf)
-            .min(0.94 * wf / (x1 - x0))
-            .min(0.94 * hf / (y1 - y0));
-        let pivot = [
-            wf / 2.0 - d_px * (x0 + x1) / 2.0,
-            hf / 2.0 - d_px * (y0 + y1) / 2.0,
-        ];
-        Self {
+        let (pivot, d_px) = match pivot_frac {
+            None => {
+                let (mut x0, mut x1, mut y0, mut y1) = (-0.1f64, 0.1f64, -0.1f64, 0.1f64);
+                for j in 0..=64 {
+                    let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
+                    let (cx, cy) = (th.cos(), th.sin());
+                    x0 = x0.min(cx - reach);
+                    x1 = x1.max(cx + reach);
+                    y0 = y0.min(cy - reach);
+                    y1 = y1.max(cy + reach);
+                }
+                let d_px = (0.6 * hf)
+                    .min(0.94 * wf / (x1 - x0))
+                    .min(0.94 * hf / (y1 - y0));
+                let pivot = [
+                    wf / 2.0 - d_px * (x0 + x1) / 2.0,
+                    hf / 2.0 - d_px * (y0 + y1) / 2.0,
+                ];
+                (pivot, d_px)
+            }
+            Some([fx, fy]) => placed(w, h, [fx * wf, fy * hf], theta_rest, amp, reach)
+                .with_context(|| format!("`synthetic.pivot_frac` = [{fx}, {fy}] at {w}x{h} px"))?,
+        };
+        Ok(Self {
             w,
             h,
             pivot,
@@ -260,6 +271,64 @@ impl Geometry {
             screw_r: (0.028 * d_px).max(2.5),
             wire_w: wire_w.unwrap_or((hf / 288.0).clamp(2.0, 3.0)),
             theta_rest,
+        })
+    }
+}
+
+/// The wire's length for a pivot placed at `pivot` (px, possibly outside the frame):
+/// the longest, up to 60 % of the height, that keeps the ball's swing (directions
+/// `theta_rest +- amp`, `reach` wire lengths around its end) 3 % inside the frame's
+/// edges, if one does and then leaves at least half of the wire in the frame.
+fn placed(
+    w: usize,
+    h: usize,
+    pivot: [f64; 2],
+    theta_rest: f64,
+    amp: f64,
+    reach: f64,
+) -> Result<([f64; 2], f64)> {
+    let size = [w as f64, h as f64];
+    let (mut lo_d, mut hi_d) = (0.0f64, 0.6 * size[1]);
+    for j in 0..=64 {
+        let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
+        for (axis, u) in [th.cos(), th.sin()].into_iter().enumerate() {
+            let (lo, hi, p) = (0.03 * size[axis], 0.97 * size[axis], pivot[axis]);
+            // The ball's far side, p + d (u + reach), at most `hi`...
+            let a = u + reach;
+            if a > 0.0 {
+                hi_d = hi_d.min((hi - p) / a);
+            } else if p > hi {
+                lo_d = lo_d.max((p - hi) / -a);
+            }
+            // ... and its near side, p + d (u - reach), at least `lo`.
+            let b = u - reach;
+            if b < 0.0 {
+                hi_d = hi_d.min((p - lo) / -b);
+            } else if p < lo {
+                lo_d = lo_d.max((lo - p) / b);
+            }
         }
     }
+    let least = 0.1 * size[0].min(size[1]);
+    ensure!(
+        hi_d >= lo_d && hi_d >= least,
+        "the ball's swing cannot be kept in the frame with a wire of {least:.0} px or more"
+    );
+    let d = hi_d;
+    // The share of the wire in the frame, at rest and at both ends of the swing.
+    for th in [theta_rest - amp, theta_rest, theta_rest + amp] {
+        let inside = (0..=200)
+            .filter(|&k| {
+                let f = d * k as f64 / 200.0;
+                let (x, y) = (pivot[0] + f * th.cos(), pivot[1] + f * th.sin());
+                (0.0..size[0]).contains(&x) && (0.0..size[1]).contains(&y)
+            })
+            .count();
+        ensure!(
+            inside >= 100,
+            "only {:.0} % of the wire would be in the frame; expected at least half",
+            inside as f64 / 2.01
+        );
+    }
+    Ok((pivot, d))
 }

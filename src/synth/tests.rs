@@ -692,3 +692,42 @@ fn a_held_ball_stands_still_then_swings_as_released_at_the_hold() {
     assert_eq!(rec.trajectory.t0, 0.5);
     assert_eq!(rec.trajectory.state(0.25), [10f64.to_radians(), 0.0]);
 }
+
+#[test]
+fn a_fulcrum_above_the_frame_still_shows_most_of_the_wire() {
+    // The pivot 5 % of the height above the frame: the ball stays inside, and the
+    // wire's pixels lie where the truth says, seen from the off-frame pivot.
+    let plan = Plan::new(&exp(", clean: true, pivot_frac: [0.5, -0.05]"), Some(2.0)).unwrap();
+    let g = plan.geo.clone();
+    assert_eq!(g.pivot, [160.0, -12.0]);
+    assert!(g.d_px > 0.5 * 240.0, "{}", g.d_px);
+    for row in &plan.truth {
+        let (x, y) = (
+            g.pivot[0] + g.d_px * row.angle_rad.cos(),
+            g.pivot[1] + g.d_px * row.angle_rad.sin(),
+        );
+        assert!(x - g.ball_r > 0.0 && x + g.ball_r < 320.0, "{row:?}");
+        assert!(y - g.ball_r > 0.0 && y + g.ball_r < 240.0, "{row:?}");
+    }
+    let mut twin = Twin::new(plan).unwrap();
+    for i in [0, 20] {
+        twin.render_frame(i).unwrap();
+        let want = twin.plan.truth[i].angle_rad;
+        for frac in [0.3, 0.6] {
+            let got = wire_found(&twin.frame, g.pivot, g.d_px, frac, want, false);
+            assert!(
+                (got - want).abs() < 1.5 / (frac * g.d_px),
+                "frame {i} at {frac}: {got} vs {want}"
+            );
+        }
+    }
+    // Mirrored, the pivot is mirrored too.
+    let m = Plan::new(&exp(", pivot_frac: [0.2, -0.05], mirror: true"), Some(1.0)).unwrap();
+    assert_eq!(m.image_pivot(), [319.0 - 64.0, -12.0]);
+    // Where no wire can be seen, the render is refused, naming the key.
+    for bad in ["[0.5, 1.5]", "[0.5, 0.97]", "[-0.9, 0.5]"] {
+        let e = exp(&format!(", pivot_frac: {bad}"));
+        let err = format!("{:#}", Plan::new(&e, Some(1.0)).err().unwrap());
+        assert!(err.contains("`synthetic.pivot_frac` = ["), "{bad}: {err}");
+    }
+}

@@ -339,6 +339,18 @@ pub struct Synthetic {
     /// centred in the frame with the wire 60 % of the height or as long as fits.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pivot_frac: Option<[f64; 2]>,
+    /// Variable frame rate, as a phone records: frame `k` is at `(k + j u_k) / fps`, `j`
+    /// this value (0 to 0.9 of a frame interval) and `u_k` in [0, 1) from the seed
+    /// (`u_0 = 0`), rounded to the millisecond; each frame is rendered at its own time,
+    /// the truth gives it, and the video carries it (a decoder that keeps timestamps,
+    /// such as ffmpeg with `-fps_mode passthrough`, returns it). Needs the `ffmpeg`
+    /// program and an even width and height. In `.avi` the stream counts milliseconds,
+    /// with empty chunks between frames, as FFmpeg writes a variable rate there (so its
+    /// header's frame count is the milliseconds'); `.mkv` and `.mp4` carry the times as
+    /// such. At least 2 ms between frames: `(1 - j) / fps` >= 0.002 s. Default 0 (a
+    /// constant rate, `k / fps`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vfr_jitter: Option<f64>,
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:

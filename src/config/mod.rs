@@ -308,6 +308,12 @@ impl Experiment {
                     within(k, v, -1.0, 2.0, "")?;
                 }
             }
+            if let Some(j) = s.vfr_jitter {
+                within("synthetic.vfr_jitter", j, 0.0, 0.9, "")?;
+                if j > 0.0 && (1.0 - j) / s.fps < 0.002 {
+                    bail!("`synthetic.vfr_jitter` = {j} at `synthetic.fps` = {}: frames would come less than 2 ms apart (the times are whole milliseconds)", s.fps);
+                }
+            }
             if let Some(h) = s.hold_s {
                 non_negative("synthetic.hold_s", h, "s")?;
                 let most = s.duration_s.unwrap_or(DEFAULT_MAX_DURATION_S);
@@ -579,6 +585,14 @@ synthetic: { s_r_m: 3.2e-6 }
                 "`synthetic.pivot_frac[1]` = 3 : expected a value from -1 to 2",
             ),
             ("pivot_frac: [0.5]", "pivot_frac"),
+            (
+                "vfr_jitter: 1",
+                "`synthetic.vfr_jitter` = 1 : expected a value from 0 to 0.9",
+            ),
+            (
+                "vfr_jitter: 0.9, fps: 60",
+                "`synthetic.vfr_jitter` = 0.9 at `synthetic.fps` = 60: frames would come less than 2 ms apart",
+            ),
             (
                 "hold_s: -1",
                 "`synthetic.hold_s` = -1 s: expected zero or a positive number",

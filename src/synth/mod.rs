@@ -34,6 +34,7 @@ mod mover;
 mod plan;
 mod scene;
 mod twin;
+mod vfr;
 mod yuv;
 
 #[cfg(test)]
@@ -53,7 +54,8 @@ use yuv::bgr_to_yuv420;
 /// One frame's truth.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TruthRow {
-    /// Mid-exposure time of the frame, `i / fps`, s.
+    /// Mid-exposure time of the frame, `i / fps` (with `vfr_jitter`, the frame's own
+    /// time, whole milliseconds, as the video carries it), s.
     pub t_s: f64,
     /// True image angle of the wire at `t_s`, from the image x axis (y down), rad: the
     /// rest angle (in (-pi, pi]) minus the swing, continuous (not wrapped). For a
@@ -215,7 +217,9 @@ fn render_inner(
     let mut twin = Twin::new(plan)?;
     let (w, h) = (twin.plan.geo.w, twin.plan.geo.h);
     twin.render_frame(0)?;
-    let (sink, mut tmp, path, codec) = open_writer(out, (w, h), twin.plan.fps, &twin.frame)?;
+    let times = twin.plan.vfr.as_ref().map(|v| v.filters());
+    let (sink, mut tmp, path, codec) =
+        open_writer(out, (w, h), twin.plan.fps, times.as_deref(), &twin.frame)?;
     let tmp_path = tmp.path();
     match sink {
         Sink::Ffmpeg(mut pipe) => {

@@ -1,6 +1,7 @@
 //! The plan: the motion, the geometry and the spoiled frames (no pixels).
 
 use super::look::Look;
+use super::vfr::Vfr;
 use super::TruthRow;
 use crate::config::{Experiment, Synthetic};
 use crate::rng::Rng;
@@ -51,6 +52,8 @@ pub(super) struct Plan {
     /// The wire's rest angle as the image shows it (mirrored if `s.mirror`), rad.
     pub(super) image_rest: f64,
     pub(super) fps: f64,
+    /// Each frame's own time, with `vfr_jitter`.
+    pub(super) vfr: Option<Vfr>,
     trajectory: crate::physics::ode::Trajectory,
     pub(super) truth: Vec<TruthRow>,
     pub(super) spoils: Vec<Spoil>,
@@ -90,7 +93,15 @@ impl Plan {
         } else {
             theta_rest
         };
-        let n = rec.series.t.len();
+        let vfr = s
+            .vfr_jitter
+            .filter(|&j| j > 0.0)
+            .map(|j| Vfr::new(j, s.fps, s.seed));
+        let times: Vec<f64> = match &vfr {
+            Some(v) => (0..rec.series.t.len()).map(|k| v.ms(k) / 1000.0).collect(),
+            None => rec.series.t.clone(),
+        };
+        let n = times.len();
         let spoils = if s.clean {
             vec![Spoil::None; n]
         } else {
@@ -101,9 +112,7 @@ impl Plan {
                 &mut Rng::new(stream(s.seed, 2)),
             )
         };
-        let truth = rec
-            .series
-            .t
+        let truth = times
             .iter()
             .zip(&spoils)
             .map(|(&t, sp)| {
@@ -125,6 +134,7 @@ impl Plan {
             look,
             geo,
             image_rest,
+            vfr,
             trajectory: rec.trajectory,
             truth,
             spoils,

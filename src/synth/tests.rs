@@ -731,3 +731,96 @@ fn a_fulcrum_above_the_frame_still_shows_most_of_the_wire() {
         assert!(err.contains("`synthetic.pivot_frac` = ["), "{bad}: {err}");
     }
 }
+
+/// Every frame's presentation time as ffprobe decodes it, s.
+fn ffprobe_times(path: &Path) -> Vec<f64> {
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-select_streams", "v:0"])
+        .args(["-show_entries", "frame=pts_time", "-of", "csv=p=0"])
+        .arg(path)
+        .output()
+        .unwrap();
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.split(',').next()?.trim().parse().ok())
+        .collect()
+}
+
+#[test]
+fn variable_frame_rate_videos_carry_each_frames_own_time() {
+    if !crate::require::require(
+        "ffmpeg",
+        crate::require::MAKE_DEPS,
+        crate::video::have_ffmpeg(),
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let e = exp(", vfr_jitter: 0.3, spoiled_frames: 0");
+    let truth = truth(&e, Some(1.0)).unwrap();
+    // Irregular, increasing, within 0.3 of a frame late, whole milliseconds.
+    let gaps: Vec<f64> = truth.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
+    assert!(gaps
+        .iter()
+        .all(|&g| g > 0.7 / 30.0 - 1e-3 && g < 1.3 / 30.0 + 1e-3));
+    let (lo, hi) = gaps
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &g| (l.min(g), h.max(g)));
+    assert!(hi - lo > 0.005, "gaps {lo}..{hi}");
+    for (k, r) in truth.iter().enumerate() {
+        assert!(r.t_s >= k as f64 / 30.0 - 5e-4 && r.t_s < (k as f64 + 0.3) / 30.0 + 5e-4);
+        assert!((r.t_s * 1000.0 - (r.t_s * 1000.0).round()).abs() < 1e-9);
+    }
+    // Rendered at its own time: the truth's angle is the motion's at that time.
+    let plan = Plan::new(&e, Some(1.0)).unwrap();
+    for r in &plan.truth {
+        assert_eq!(r.angle_rad, plan.theta(r.t_s));
+    }
+    for name in ["vfr.avi", "vfr.mp4", "vfr.mkv"] {
+        let rep = render(&e, &dir.path().join(name), Some(1.0), &mut |_, _| {}).unwrap();
+        assert!(
+            rep.codec.ends_with("ffmpeg, variable frame rate)"),
+            "{}",
+            rep.codec
+        );
+        assert_eq!(rep.truth, truth);
+        // ffprobe's times, and the detector's reader's (`-fps_mode passthrough`).
+        let probed = ffprobe_times(&rep.path);
+        let info = crate::video::probe(&rep.path).unwrap();
+        let mut src = crate::video::FfmpegSource::open(&rep.path, &info, None, 1).unwrap();
+        let mut frame = crate::video::Frame {
+            index: 0,
+            t_s: 0.0,
+            width: 0,
+            height: 0,
+            data: Vec::new(),
+        };
+        let mut decoded = Vec::new();
+        while crate::video::FrameSource::next_frame(&mut src, &mut frame).unwrap() {
+            decoded.push(frame.t_s);
+        }
+        for (what, times) in [("ffprobe", &probed), ("FfmpegSource", &decoded)] {
+            assert_eq!(times.len(), truth.len(), "{name}: {what}");
+            for (t, r) in times.iter().zip(&truth) {
+                assert!((t - r.t_s).abs() < 1e-6, "{name}: {what} {t} vs {}", r.t_s);
+            }
+        }
+    }
+    // Every frame as rendered at its own time (up to the codec's loss).
+    let frames = read_back(&dir.path().join("vfr.avi"), 320, 240);
+    let mut twin = Twin::new(plan).unwrap();
+    assert_eq!(frames.len(), twin.plan.truth.len());
+    for (i, f) in frames.iter().enumerate() {
+        twin.render_frame(i).unwrap();
+        let d = diff(f, &twin.frame);
+        assert!(d < 2.5, "frame {i}: {d}");
+    }
+    // Without ffmpeg's writer (an odd size), a variable rate is refused.
+    let odd = exp(", vfr_jitter: 0.3, width: 322, height: 241");
+    let err = render(&odd, &dir.path().join("odd.avi"), Some(1.0), &mut |_, _| {});
+    let err = format!("{:#}", err.err().unwrap());
+    assert!(
+        err.contains("`synthetic.vfr_jitter`) needs an even width"),
+        "{err}"
+    );
+}

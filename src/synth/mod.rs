@@ -13,6 +13,15 @@
 //! * Camera defects (none when `synthetic.clean`): defocus, motion blur, sensor noise
 //!   (one precomputed noise field read at a random offset per frame), slow lighting
 //!   drift and flicker, lossy compression (the codec), and spoiled frames.
+//! * Other cameras' conditions, each off unless its `synthetic:` key is set: the camera
+//!   rolled over the full circle (`rest_angle_deg`, taken into (-180, 180]), a mirrored
+//!   image (`mirror`: the finished frame flipped left-right, the truth `pi - theta`), a
+//!   thin faint wire (`wire_width_px`, `wire_contrast`), the wire's soft shadow on the
+//!   plate (`shadow`), stronger or other mains flicker and drift (`flicker_hz`,
+//!   `flicker_depth`, `drift_depth`), the ball held before its release (`hold_s`), a
+//!   fulcrum anywhere, also outside the frame (`pivot_frac`), and a variable frame rate
+//!   (`vfr_jitter`: each frame rendered at its own time, which the file carries; see
+//!   the `vfr` module).
 //! * Spoiled frames: `synthetic.spoiled_frames` counts spoiling *events*, in turn a
 //!   hand passing (1 to 3 consecutive frames, each tagged `hand`), a flash (one frame,
 //!   near white) and a duplicated frame (the recorder repeats the previous frame), one

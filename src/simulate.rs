@@ -23,6 +23,8 @@ pub struct Camera {
     pub seed: u64,
     /// Image angle of the wire at rest, rad.
     pub rest_angle_rad: f64,
+    /// The ball is held at its release angle until this time, s (`synthetic.hold_s`).
+    pub hold_s: f64,
 }
 
 /// The true motion and the camera's angle series of a synthetic experiment.
@@ -44,12 +46,14 @@ pub fn camera_of(exp: &Experiment) -> Result<Camera> {
         noise_rad: s.angle_noise_deg.to_radians(),
         seed: s.seed,
         rest_angle_rad: s.rest_angle_deg.to_radians(),
+        hold_s: s.hold_s.unwrap_or(0.0),
     })
 }
 
 /// Simulate the experiment's synthetic truth as the camera records it.
 ///
-/// The ball is released from rest at `psi_0` at `t = 0`. The image angle is
+/// The ball is released from rest at `psi_0` at `t = hold_s` (0 unless the operator
+/// holds it first: until then it stays at `psi_0`). The image angle is
 /// `rest_angle - psi` (the image y axis points down, so the image's sense of rotation is
 /// the opposite of the plate's).
 pub fn record(exp: &Experiment, cam: &Camera) -> Result<Recording> {
@@ -66,7 +70,7 @@ pub fn record(exp: &Experiment, cam: &Camera) -> Result<Recording> {
         t_end: cam.duration_s.unwrap_or(MAX_DEFAULT_DURATION_S),
         ..OdeOptions::default()
     };
-    let trajectory = integrate(p, &law, 0.0, [psi0, 0.0], &full);
+    let trajectory = integrate(p, &law, cam.hold_s, [psi0, 0.0], &full);
     let duration = cam.duration_s.unwrap_or_else(|| {
         trajectory.stopped_at.map_or(MAX_DEFAULT_DURATION_S, |t| {
             (t + 2.0).min(MAX_DEFAULT_DURATION_S)

@@ -251,8 +251,11 @@ pub struct Synthetic {
     /// Camera frame rate, frames/s. Default 60.
     #[serde(default = "default_fps")]
     pub fps: f64,
-    /// Angle of the wire at rest, from the image x axis, degrees. Default 91.7
-    /// (a camera turned 1.7 degrees).
+    /// Angle of the wire at rest, from the image x axis (y down), degrees: any angle,
+    /// the camera's roll over the full circle (the plate, the protractor and the wire
+    /// turn with it; the style's own turn is added). Taken into (-180, 180] for the
+    /// truth, whose angles stay continuous around it (within `psi0_deg` of it, so they
+    /// may pass 180). Default 91.7 (a camera turned 1.7 degrees).
     #[serde(default = "default_rest_angle")]
     pub rest_angle_deg: f64,
     /// Random seed for noise. Default 1.
@@ -279,6 +282,112 @@ pub struct Synthetic {
     /// debugging the detector. Default false.
     #[serde(default)]
     pub clean: bool,
+    /// The image mirrored left-right, as a phone's front camera or a view in a mirror
+    /// films it: the whole frame is flipped (the numerals read backwards, the light
+    /// comes from the other side), so a wire at image angle `theta` is seen at
+    /// `pi - theta`, and the truth (`rest_angle_rad`, every frame's angle, the pivot)
+    /// is the mirrored one. Default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub mirror: bool,
+    /// Width of the wire as drawn at the output resolution, px, 1 to 32 (the pixels'
+    /// own integration and, with camera defects, the defocus soften it further): 1 for
+    /// a thin wire filmed from afar. Default `height / 288` kept within 2 to 3 px (2.5
+    /// px at 720 lines, 2 px at 540 or fewer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wire_width_px: Option<f64>,
+    /// The wire's contrast against what lies behind it, as a fraction of the style's,
+    /// 0 to 1: the wire's colour is mixed with the background's in this proportion
+    /// (0.3 a faint wire, 0 none). Default 1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wire_contrast: Option<f64>,
+    /// A soft shadow of the wire on the plate: a second, blurred line from the fulcrum,
+    /// as long as the wire, at a small angle from it, moving with it, darker than the
+    /// plate (whatever the wire's colour). Absent: no shadow (the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadow: Option<WireShadow>,
+    /// Frequency of the lights' flicker, Hz, more than 0 and at most 10000 (100 on
+    /// 50 Hz mains, 120 on 60 Hz). Each frame is lit as at its mid-exposure instant, so
+    /// the flicker shows as its alias at the frame rate (a beat): none at all when the
+    /// frame rate divides it (100 Hz at 25 or 50 frames/s). Camera defects only (not
+    /// with `clean`). Default 100.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flicker_hz: Option<f64>,
+    /// Depth of the flicker: the amplitude of the frame brightness's relative
+    /// modulation, 0 to 0.5 (0.15 for strong flicker), plus a random 0.4 % per frame.
+    /// Camera defects only. Default 0.012.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flicker_depth: Option<f64>,
+    /// Strength of the slow lighting drift (three sines with periods of 15 to 60 s):
+    /// the sum of their relative amplitudes, 0 to 0.5. Camera defects only. Default
+    /// 0.08.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drift_depth: Option<f64>,
+    /// The operator holds the ball at its release angle `psi0_deg` for this long from
+    /// the start of the recording, s, then lets go: the wire stands still until
+    /// `hold_s`, and the motion (the same as without a hold, `s_r_m` unchanged) starts
+    /// from rest there. Zero or more, less than `duration_s`; a default duration (until
+    /// the ball stops plus 2 s, at most 120 s) counts from the start, hold included.
+    /// Also shifts the angle series `rollfric simulate` writes. Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_s: Option<f64>,
+    /// Where the fulcrum is in the image, `[x, y]` as fractions of the width and the
+    /// height from the top left corner, each -1 to 2: anywhere, also outside the frame
+    /// (`[0.5, -0.05]`: just above it). The wire is then as long as keeps the ball's
+    /// swing 3 % inside the frame's edges (at most 60 % of the height), and the render
+    /// is refused when no wire of a tenth of the frame does, or when less than half of
+    /// the wire would be in the frame. Default: the wire's swing, ball included,
+    /// centred in the frame with the wire 60 % of the height or as long as fits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pivot_frac: Option<[f64; 2]>,
+    /// Variable frame rate, as a phone records: frame `k` is at `(k + j u_k) / fps`, `j`
+    /// this value (0 to 0.9 of a frame interval) and `u_k` in [0, 1) from the seed
+    /// (`u_0 = 0`), rounded to the millisecond; each frame is rendered at its own time,
+    /// the truth gives it, and the video carries it (a decoder that keeps timestamps,
+    /// such as ffmpeg with `-fps_mode passthrough`, returns it). Needs the `ffmpeg`
+    /// program and an even width and height. In `.avi` the stream counts milliseconds,
+    /// with empty chunks between frames, as FFmpeg writes a variable rate there (so its
+    /// header's frame count is the milliseconds'); `.mkv` and `.mp4` carry the times as
+    /// such. At least 2 ms between frames: `(1 - j) / fps` >= 0.002 s. Default 0 (a
+    /// constant rate, `k / fps`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vfr_jitter: Option<f64>,
+}
+
+/// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:
+/// 0.5}`.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WireShadow {
+    /// The shadow's image angle minus the wire's, degrees, -45 to 45 (positive turns
+    /// from the image x axis towards y, as the image angle does; before `mirror`).
+    /// Default 3.
+    #[serde(default = "default_shadow_angle")]
+    pub angle_deg: f64,
+    /// Blur of the shadow (the standard deviation of a Gaussian across it), px, 0 to
+    /// 50, on top of the wire's own softness. Default 4.
+    #[serde(default = "default_shadow_blur")]
+    pub blur_px: f64,
+    /// How much of the plate's brightness the shadow takes along its middle, 0 to 1.
+    /// Default 0.5.
+    #[serde(default = "default_shadow_strength")]
+    pub strength: f64,
+}
+
+/// `synthetic.flicker_hz` when not given.
+pub const DEFAULT_FLICKER_HZ: f64 = 100.0;
+/// `synthetic.flicker_depth` when not given.
+pub const DEFAULT_FLICKER_DEPTH: f64 = 0.012;
+/// `synthetic.drift_depth` when not given.
+pub const DEFAULT_DRIFT_DEPTH: f64 = 0.08;
+
+fn default_shadow_angle() -> f64 {
+    3.0
+}
+fn default_shadow_blur() -> f64 {
+    4.0
+}
+fn default_shadow_strength() -> f64 {
+    0.5
 }
 
 /// Look of the digital twin's video.

@@ -273,6 +273,54 @@ impl Experiment {
                     s.rest_angle_deg
                 );
             }
+            if let Some(w) = s.wire_width_px {
+                within("synthetic.wire_width_px", w, 1.0, 32.0, "px")?;
+            }
+            if let Some(c) = s.wire_contrast {
+                within("synthetic.wire_contrast", c, 0.0, 1.0, "")?;
+            }
+            if let Some(sh) = &s.shadow {
+                within(
+                    "synthetic.shadow.angle_deg",
+                    sh.angle_deg,
+                    -45.0,
+                    45.0,
+                    "deg",
+                )?;
+                within("synthetic.shadow.blur_px", sh.blur_px, 0.0, 50.0, "px")?;
+                within("synthetic.shadow.strength", sh.strength, 0.0, 1.0, "")?;
+            }
+            if let Some(f) = s.flicker_hz {
+                positive("synthetic.flicker_hz", f, "Hz")?;
+                within("synthetic.flicker_hz", f, 0.0, 10_000.0, "Hz")?;
+            }
+            if let Some(d) = s.flicker_depth {
+                within("synthetic.flicker_depth", d, 0.0, 0.5, "")?;
+            }
+            if let Some(d) = s.drift_depth {
+                within("synthetic.drift_depth", d, 0.0, 0.5, "")?;
+            }
+            if let Some(p) = s.pivot_frac {
+                for (k, v) in ["synthetic.pivot_frac[0]", "synthetic.pivot_frac[1]"]
+                    .into_iter()
+                    .zip(p)
+                {
+                    within(k, v, -1.0, 2.0, "")?;
+                }
+            }
+            if let Some(j) = s.vfr_jitter {
+                within("synthetic.vfr_jitter", j, 0.0, 0.9, "")?;
+                if j > 0.0 && (1.0 - j) / s.fps < 0.002 {
+                    bail!("`synthetic.vfr_jitter` = {j} at `synthetic.fps` = {}: frames would come less than 2 ms apart (the times are whole milliseconds)", s.fps);
+                }
+            }
+            if let Some(h) = s.hold_s {
+                non_negative("synthetic.hold_s", h, "s")?;
+                let most = s.duration_s.unwrap_or(DEFAULT_MAX_DURATION_S);
+                if h >= most {
+                    bail!("`synthetic.hold_s` = {h} s: expected less than the recording's {most} s (`synthetic.duration_s`)");
+                }
+            }
         }
         Ok(Self {
             path: path.to_path_buf(),
@@ -326,6 +374,14 @@ fn bounded(key: &str, v: f64, hi: f64, unit: &str) -> Result<()> {
 fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v > lo && v < hi) {
         bail!("`{key}` = {v} {unit}: expected a value between {lo} and {hi} {unit}");
+    }
+    Ok(())
+}
+
+/// A value from `lo` to `hi`, both included.
+fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
+    if !(v.is_finite() && v >= lo && v <= hi) {
+        bail!("`{key}` = {v} {unit}: expected a value from {lo} to {hi} {unit}");
     }
     Ok(())
 }
@@ -470,6 +526,97 @@ synthetic: { s_r_m: 3.2e-6 }
         assert!(e.contains("`geometry.incline`"), "{e}");
         let e = err(&format!("{GOOD}model: {{ beta: fast }}\n"));
         assert!(e.contains("`model.beta` = `fast`"), "{e}");
+    }
+
+    /// `GOOD` with `extra` keys in its `synthetic:` block.
+    fn synthetic_with(extra: &str) -> String {
+        GOOD.replace(
+            "synthetic: { s_r_m: 3.2e-6 }",
+            &format!("synthetic: {{ s_r_m: 3.2e-6, {extra} }}"),
+        )
+    }
+
+    #[test]
+    fn other_cameras_conditions_are_checked_naming_the_key() {
+        let text = synthetic_with(
+            "mirror: true, wire_width_px: 1, wire_contrast: 0.25, shadow: { blur_px: 2 }",
+        );
+        let e = Experiment::parse(Path::new("x/glass.yaml"), &text).unwrap();
+        let s = e.file.synthetic.unwrap();
+        assert!(s.mirror);
+        assert_eq!((s.wire_width_px, s.wire_contrast), (Some(1.0), Some(0.25)));
+        let sh = s.shadow.unwrap();
+        assert_eq!((sh.angle_deg, sh.blur_px, sh.strength), (3.0, 2.0, 0.5));
+        for (extra, want) in [
+            (
+                "wire_width_px: 0.5",
+                "`synthetic.wire_width_px` = 0.5 px: expected a value from 1 to 32 px",
+            ),
+            (
+                "wire_contrast: 1.5",
+                "`synthetic.wire_contrast` = 1.5 : expected a value from 0 to 1",
+            ),
+            ("wire_contrast: .nan", "`synthetic.wire_contrast` = NaN"),
+            (
+                "shadow: { angle_deg: 60 }",
+                "`synthetic.shadow.angle_deg` = 60 deg: expected a value from -45 to 45 deg",
+            ),
+            (
+                "shadow: { blur_px: -1 }",
+                "`synthetic.shadow.blur_px` = -1 px",
+            ),
+            (
+                "shadow: { strength: 2 }",
+                "`synthetic.shadow.strength` = 2 :",
+            ),
+            ("shadow: { streng: 2 }", "unknown field `streng`"),
+            (
+                "flicker_hz: 0",
+                "`synthetic.flicker_hz` = 0 Hz: expected a positive number",
+            ),
+            ("flicker_hz: 2e4", "`synthetic.flicker_hz` = 20000 Hz"),
+            (
+                "flicker_depth: 0.6",
+                "`synthetic.flicker_depth` = 0.6 : expected a value from 0 to 0.5",
+            ),
+            ("drift_depth: -0.1", "`synthetic.drift_depth` = -0.1"),
+            (
+                "pivot_frac: [0.5, 3]",
+                "`synthetic.pivot_frac[1]` = 3 : expected a value from -1 to 2",
+            ),
+            ("pivot_frac: [0.5]", "pivot_frac"),
+            (
+                "vfr_jitter: 1",
+                "`synthetic.vfr_jitter` = 1 : expected a value from 0 to 0.9",
+            ),
+            (
+                "vfr_jitter: 0.9, fps: 60",
+                "`synthetic.vfr_jitter` = 0.9 at `synthetic.fps` = 60: frames would come less than 2 ms apart",
+            ),
+            (
+                "hold_s: -1",
+                "`synthetic.hold_s` = -1 s: expected zero or a positive number",
+            ),
+            (
+                "hold_s: 5, duration_s: 5",
+                "`synthetic.hold_s` = 5 s: expected less than the recording's 5 s",
+            ),
+        ] {
+            let e = err(&synthetic_with(extra));
+            assert!(e.contains(want), "{extra}: {e}");
+        }
+    }
+
+    #[test]
+    fn unset_camera_conditions_leave_the_render_key_as_it_was() {
+        // The twin's render key hashes the `synthetic:` block as JSON: keys left out
+        // must not appear in it, so that adding keys does not change old blocks' JSON.
+        let e = Experiment::parse(Path::new("x/glass.yaml"), GOOD).unwrap();
+        let json = serde_json::to_string(e.file.synthetic.as_ref().unwrap()).unwrap();
+        assert_eq!(
+            json,
+            r#"{"s_r_m":3.2e-6,"beta":1.0,"psi0_deg":10.0,"duration_s":null,"fps":60.0,"rest_angle_deg":91.7,"seed":1,"angle_noise_deg":0.05,"width":1280,"height":720,"style":"dark-wire","spoiled_frames":3,"clean":false}"#
+        );
     }
 
     #[test]

@@ -189,11 +189,23 @@ pub(super) struct Sensor {
     /// Slow drift: (amplitude, period s, phase).
     drift: [(f64, f64, f64); 3],
     flicker_phase: f64,
+    /// Flicker: frequency, Hz, and relative amplitude.
+    flicker_hz: f64,
+    flicker_depth: f64,
     seed: u64,
 }
 
+/// The lights: flicker frequency (Hz) and depth, and the slow drift's total relative
+/// amplitude.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Lights {
+    pub(super) flicker_hz: f64,
+    pub(super) flicker_depth: f64,
+    pub(super) drift_depth: f64,
+}
+
 impl Sensor {
-    pub(super) fn new(len: usize, sigma: f64, seed: u64) -> Self {
+    pub(super) fn new(len: usize, sigma: f64, seed: u64, lights: Lights) -> Self {
         let mut rng = Rng::new(stream(seed, 3));
         let pad = 8192;
         let noise = (0..len + pad)
@@ -210,13 +222,15 @@ impl Sensor {
             total += d.0;
         }
         for d in &mut drift {
-            d.0 *= 0.08 / total;
+            d.0 *= lights.drift_depth / total;
         }
         Self {
             noise,
             pad,
             drift,
             flicker_phase: 2.0 * PI * rng.uniform(),
+            flicker_hz: lights.flicker_hz,
+            flicker_depth: lights.flicker_depth,
             seed: stream(seed, 4),
         }
     }
@@ -229,9 +243,10 @@ impl Sensor {
             .iter()
             .map(|&(a, p, ph)| a * (2.0 * PI * t / p + ph).sin())
             .sum();
-        // 100 Hz mains flicker sampled at the frame rate (a beat), plus jitter.
-        let flicker =
-            0.012 * (2.0 * PI * 100.0 * t + self.flicker_phase).sin() + 0.004 * rng.normal();
+        // Mains flicker sampled at the frame rate (a beat), plus jitter.
+        let flicker = self.flicker_depth
+            * (2.0 * PI * self.flicker_hz * t + self.flicker_phase).sin()
+            + 0.004 * rng.normal();
         let off = (rng.uniform() * self.pad as f64) as usize;
         ((1.0 + drift) * (1.0 + flicker), off.min(self.pad))
     }

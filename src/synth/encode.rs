@@ -78,7 +78,9 @@ impl FfmpegCodec {
 }
 
 /// Frames piped to the `ffmpeg` program as raw planar Y'CbCr 4:2:0, one after another at
-/// a constant rate (every frame kept: `-fps_mode passthrough`). The output carries no
+/// a constant rate (every frame kept: `-fps_mode passthrough`), or at the times the
+/// `setpts` filters of a variable rate give them (then counted in milliseconds by the
+/// encoder and the container). The output carries no
 /// version strings or metadata (`bitexact`), and x264 runs a fixed number of threads,
 /// so that the same frames give the same bytes on any machine with the same FFmpeg.
 pub(super) struct FfmpegPipe {
@@ -98,6 +100,7 @@ impl FfmpegPipe {
         codec: FfmpegCodec,
         (w, h): (usize, usize),
         fps: f64,
+        times: Option<&str>,
         first: &Mat,
     ) -> Result<Option<Self>> {
         let range = codec.range();
@@ -110,6 +113,9 @@ impl FfmpegPipe {
             })
             .args(["-s", &format!("{w}x{h}"), "-r", &rate_arg(fps), "-i", "-"])
             .args(["-map", "0:v", "-an", "-fps_mode", "passthrough"]);
+        if let Some(filters) = times {
+            cmd.args(["-vf", filters, "-enc_time_base", "1/1000"]);
+        }
         match codec {
             FfmpegCodec::Mjpeg => cmd
                 .args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"])
@@ -251,6 +257,7 @@ fn try_ffmpeg(
     codec: FfmpegCodec,
     (w, h): (usize, usize),
     fps: f64,
+    times: Option<&str>,
     first: &Mat,
 ) -> Result<Option<(Sink, TempFile)>> {
     let usable = crate::video::have_ffmpeg()
@@ -259,7 +266,10 @@ fn try_ffmpeg(
         return Ok(None);
     }
     let tmp = TempFile(Some(temp_name(fin)));
-    Ok(FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, first)?.map(|p| (Sink::Ffmpeg(p), tmp)))
+    Ok(
+        FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, times, first)?
+            .map(|p| (Sink::Ffmpeg(p), tmp)),
+    )
 }
 
 /// Open a writer and give it the rendered frame 0 when it is the `ffmpeg` program.
@@ -277,12 +287,31 @@ fn try_ffmpeg(
 /// own MJPEG encoder writes an invalid DC coefficient in bright frames at some sizes (a
 /// uniform frame brighter than 200 at 640x360: FFmpeg then reports `error dc` when
 /// reading it).
+///
+/// `times`, the `setpts` filters of a variable frame rate, need ffmpeg (OpenCV's writer
+/// has a constant rate): without it, or at an odd size, the render is refused.
 pub(super) fn open_writer(
     out: &Path,
     (w, h): (usize, usize),
     fps: f64,
+    times: Option<&str>,
     first: &Mat,
 ) -> Result<(Sink, TempFile, PathBuf, String)> {
+    let vfr = if times.is_some() {
+        ", variable frame rate"
+    } else {
+        ""
+    };
+    if times.is_some() {
+        ensure!(
+            w % 2 == 0 && h % 2 == 0,
+            "a variable frame rate (`synthetic.vfr_jitter`) needs an even width and height, not {w}x{h}"
+        );
+        ensure!(
+            crate::video::have_ffmpeg(),
+            "a variable frame rate (`synthetic.vfr_jitter`) needs the ffmpeg program"
+        );
+    }
     let size = Size::new(w as i32, h as i32);
     let ext = out
         .extension()
@@ -292,14 +321,21 @@ pub(super) fn open_writer(
         let why = if w % 2 == 1 || h % 2 == 1 {
             "H.264 needs an even width and height"
         } else {
-            if let Some((sink, tmp)) = try_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, first)? {
+            if let Some((sink, tmp)) =
+                try_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, times, first)?
+            {
                 return Ok((
                     sink,
                     tmp,
                     out.to_path_buf(),
-                    format!("H.264 ({ext}, ffmpeg)"),
+                    format!("H.264 ({ext}, ffmpeg{vfr})"),
                 ));
             }
+            ensure!(
+                times.is_none(),
+                "{}: ffmpeg cannot write H.264 (no libx264?), and OpenCV's writer has no variable frame rate (`synthetic.vfr_jitter`)",
+                out.display()
+            );
             for cc in [['a', 'v', 'c', '1'], ['H', '2', '6', '4']] {
                 let tmp = TempFile(Some(temp_name(out)));
                 let path = tmp.path();
@@ -317,9 +353,14 @@ pub(super) fn open_writer(
         );
     }
     let fin = out.with_extension("avi");
-    if let Some((sink, tmp)) = try_ffmpeg(&fin, FfmpegCodec::Mjpeg, (w, h), fps, first)? {
-        return Ok((sink, tmp, fin, "MJPG (avi, ffmpeg)".into()));
+    if let Some((sink, tmp)) = try_ffmpeg(&fin, FfmpegCodec::Mjpeg, (w, h), fps, times, first)? {
+        return Ok((sink, tmp, fin, format!("MJPG (avi, ffmpeg{vfr})")));
     }
+    ensure!(
+        times.is_none(),
+        "{}: ffmpeg did not start, and OpenCV's writer has no variable frame rate (`synthetic.vfr_jitter`)",
+        fin.display()
+    );
     // FFmpeg's MJPG (4:2:0) drops the last row or column of an odd size.
     let apis = if w % 2 == 1 || h % 2 == 1 {
         [videoio::CAP_OPENCV_MJPEG, videoio::CAP_FFMPEG]

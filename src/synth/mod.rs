@@ -13,6 +13,15 @@
 //! * Camera defects (none when `synthetic.clean`): defocus, motion blur, sensor noise
 //!   (one precomputed noise field read at a random offset per frame), slow lighting
 //!   drift and flicker, lossy compression (the codec), and spoiled frames.
+//! * Other cameras' conditions, each off unless its `synthetic:` key is set: the camera
+//!   rolled over the full circle (`rest_angle_deg`, taken into (-180, 180]), a mirrored
+//!   image (`mirror`: the finished frame flipped left-right, the truth `pi - theta`), a
+//!   thin faint wire (`wire_width_px`, `wire_contrast`), the wire's soft shadow on the
+//!   plate (`shadow`), stronger or other mains flicker and drift (`flicker_hz`,
+//!   `flicker_depth`, `drift_depth`), the ball held before its release (`hold_s`), a
+//!   fulcrum anywhere, also outside the frame (`pivot_frac`), and a variable frame rate
+//!   (`vfr_jitter`: each frame rendered at its own time, which the file carries; see
+//!   the `vfr` module).
 //! * Spoiled frames: `synthetic.spoiled_frames` counts spoiling *events*, in turn a
 //!   hand passing (1 to 3 consecutive frames, each tagged `hand`), a flash (one frame,
 //!   near white) and a duplicated frame (the recorder repeats the previous frame), one
@@ -34,6 +43,7 @@ mod mover;
 mod plan;
 mod scene;
 mod twin;
+mod vfr;
 mod yuv;
 
 #[cfg(test)]
@@ -53,9 +63,11 @@ use yuv::bgr_to_yuv420;
 /// One frame's truth.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TruthRow {
-    /// Mid-exposure time of the frame, `i / fps`, s.
+    /// Mid-exposure time of the frame, `i / fps` (with `vfr_jitter`, the frame's own
+    /// time, whole milliseconds, as the video carries it), s.
     pub t_s: f64,
-    /// True image angle of the wire at `t_s`, from the image x axis (y down), rad. For a
+    /// True image angle of the wire at `t_s`, from the image x axis (y down), rad: the
+    /// rest angle (in (-pi, pi]) minus the swing, continuous (not wrapped). For a
     /// duplicated frame this is still the true angle at `t_s`, not the repeated content.
     pub angle_rad: f64,
     /// `none`, `hand`, `flash` or `duplicate`.
@@ -82,7 +94,8 @@ pub struct SynthReport {
     pub wire_width_px: f64,
     /// Radius of the ball drawn at the wire's end, px.
     pub ball_radius_px: f64,
-    /// Image angle of the wire at rest (`rest_angle_deg` plus the style's turn), rad.
+    /// Image angle of the wire at rest (`rest_angle_deg` plus the style's turn, taken
+    /// into (-pi, pi]; `pi` minus that when mirrored, likewise taken), rad.
     pub rest_angle_rad: f64,
     pub style: Style,
     /// Rendered without camera defects.
@@ -213,7 +226,9 @@ fn render_inner(
     let mut twin = Twin::new(plan)?;
     let (w, h) = (twin.plan.geo.w, twin.plan.geo.h);
     twin.render_frame(0)?;
-    let (sink, mut tmp, path, codec) = open_writer(out, (w, h), twin.plan.fps, &twin.frame)?;
+    let times = twin.plan.vfr.as_ref().map(|v| v.filters());
+    let (sink, mut tmp, path, codec) =
+        open_writer(out, (w, h), twin.plan.fps, times.as_deref(), &twin.frame)?;
     let tmp_path = tmp.path();
     match sink {
         Sink::Ffmpeg(mut pipe) => {
@@ -262,11 +277,11 @@ fn render_inner(
         width: g.w as u32,
         height: g.h as u32,
         fps: twin.plan.fps,
-        pivot_px: g.pivot,
+        pivot_px: twin.plan.image_pivot(),
         wire_length_px: g.d_px,
         wire_width_px: g.wire_w,
         ball_radius_px: g.ball_r,
-        rest_angle_rad: g.theta_rest,
+        rest_angle_rad: twin.plan.image_rest,
         style: twin.plan.s.style,
         clean: twin.plan.s.clean,
         truth: std::mem::take(&mut twin.plan.truth),

@@ -2,6 +2,7 @@
 
 use super::look::{mix, scale, to_u8, Look};
 use super::plan::Geometry;
+use crate::config::WireShadow;
 
 /// `erf` (Abramowitz & Stegun 7.1.26, |error| < 1.5e-7).
 fn erf(x: f64) -> f64 {
@@ -65,6 +66,21 @@ fn ball_table(base: [f32; 3]) -> Vec<[f32; 3]> {
     t
 }
 
+/// The wire's shadow on the plate: a blurred line from the pivot, at an angle from the
+/// wire.
+struct ShadowLine {
+    /// Image angle from the wire (before mirroring), rad.
+    offset: f64,
+    /// Darkening per unit of coverage: `strength / profile(0)`, so that the shadow's
+    /// middle takes `strength` of the plate's brightness.
+    k: f32,
+    /// Coverage against distance from its axis, px.
+    profile: Table,
+    /// Distance beyond which it covers nothing, px.
+    reach: f64,
+    acc: Vec<f32>,
+}
+
 /// Draws the wire and the ball into a frame that holds the background.
 pub(super) struct Mover {
     w: usize,
@@ -74,6 +90,8 @@ pub(super) struct Mover {
     ball_r: f64,
     screw_r: f64,
     wire: [f32; 3],
+    /// The wire's share of its colour where it covers a pixel fully (`wire_contrast`).
+    contrast: f32,
     /// The ball's shaded colour on a `BALL_TAB` square grid over `[-1, 1]^2` (units of
     /// its radius), before illumination.
     ball_tab: Vec<[f32; 3]>,
@@ -86,11 +104,31 @@ pub(super) struct Mover {
     /// Edge blur of the ball, px.
     sigma: f64,
     acc: Vec<f32>,
+    shadow: Option<ShadowLine>,
 }
 
 impl Mover {
-    pub(super) fn new(g: &Geometry, look: &Look, sigma: f64) -> Self {
+    pub(super) fn new(
+        g: &Geometry,
+        look: &Look,
+        sigma: f64,
+        contrast: f64,
+        shadow: Option<WireShadow>,
+    ) -> Self {
         let hw = g.wire_w / 2.0;
+        let shadow = shadow.map(|sh| {
+            let s = sigma.hypot(sh.blur_px);
+            let s2 = s * std::f64::consts::SQRT_2;
+            let reach = hw + 4.0 * s + 0.5;
+            let f = move |d: f64| 0.5 * (erf((hw - d) / s2) + erf((hw + d) / s2));
+            ShadowLine {
+                offset: sh.angle_deg.to_radians(),
+                k: (sh.strength / f(0.0)) as f32,
+                profile: Table::new(0.0, reach, 64.0, f),
+                reach,
+                acc: Vec::new(),
+            }
+        });
         let s2 = sigma * std::f64::consts::SQRT_2;
         let reach = hw + 4.0 * sigma + 0.5;
         Self {
@@ -101,6 +139,7 @@ impl Mover {
             ball_r: g.ball_r,
             screw_r: g.screw_r,
             wire: look.wire,
+            contrast: contrast as f32,
             ball_tab: ball_table(look.ball),
             profile: Table::new(0.0, reach, 64.0, |d| {
                 0.5 * (erf((hw - d) / s2) + erf((hw + d) / s2))
@@ -111,6 +150,7 @@ impl Mover {
             }),
             sigma,
             acc: Vec::new(),
+            shadow,
         }
     }
 
@@ -138,6 +178,15 @@ impl Mover {
             y0 = y0.min(py.min(e[1]) - self.reach);
             y1 = y1.max(py.max(e[1]) + self.reach);
         }
+        if let Some(sh) = &self.shadow {
+            for &th in thetas {
+                let e = end(th + sh.offset);
+                x0 = x0.min(px.min(e[0]) - sh.reach);
+                x1 = x1.max(px.max(e[0]) + sh.reach);
+                y0 = y0.min(py.min(e[1]) - sh.reach);
+                y1 = y1.max(py.max(e[1]) + sh.reach);
+            }
+        }
         let clip = |v: f64, n: usize| (v.max(0.0) as usize).min(n);
         let (rx0, rx1) = (clip(x0.floor(), self.w), clip(x1.ceil() + 1.0, self.w));
         let (ry0, ry1) = (clip(y0.floor(), self.h), clip(y1.ceil() + 1.0, self.h));
@@ -164,6 +213,28 @@ impl Mover {
                 weight,
             );
         }
+        let wire_shadow = match &mut self.shadow {
+            Some(sh) => {
+                if sh.acc.len() < n {
+                    sh.acc.resize(n, 0.0);
+                }
+                let sacc = &mut sh.acc[..n];
+                sacc.fill(0.0);
+                for &th in thetas {
+                    raster_segment(
+                        sacc,
+                        [rx0, rx1, ry0, ry1],
+                        self.pivot,
+                        end(th + sh.offset),
+                        sh.reach,
+                        &sh.profile,
+                        weight,
+                    );
+                }
+                Some((&sh.acc[..n], sh.k))
+            }
+            None => None,
+        };
         // The ball and its shadow (light from the upper left of the image), in units of
         // the ball's radius around its centre.
         let bx = [(c[0] - ball_reach) as f32, (c[0] + ball_reach) as f32];
@@ -181,6 +252,7 @@ impl Mover {
         for y in ry0..ry1 {
             let yf = y as f32;
             let row = &acc[(y - ry0) * rw..(y - ry0 + 1) * rw];
+            let srow = wire_shadow.map(|(a, _)| &a[(y - ry0) * rw..(y - ry0 + 1) * rw]);
             let ball_row = yf >= by[0] && yf <= by[1];
             let qy = (yf - cy) * inv_r;
             for (x, &cov) in (rx0..rx1).zip(row) {
@@ -204,13 +276,28 @@ impl Mover {
                         }
                     }
                 }
-                if cov <= 1e-4 && cb <= 1e-4 && shadow <= 1e-4 {
+                let ws = srow.map_or(0.0, |r| r[x - rx0]);
+                if cov <= 1e-4 && cb <= 1e-4 && shadow <= 1e-4 && ws <= 1e-4 {
                     continue;
                 }
                 let j = y * self.w + x;
                 let il = illum[j];
                 let k = 3 * j;
                 let mut p = [bg[k] as f32, bg[k + 1] as f32, bg[k + 2] as f32];
+                // The screw's head hides the wire, and the wire's shadow, near the pivot.
+                let under_screw = || {
+                    let (dx, dy) = (xf - pxf, yf - pyf);
+                    let d2 = dx * dx + dy * dy;
+                    if d2 >= screw2 {
+                        1.0
+                    } else {
+                        (d2.sqrt() - self.screw_r as f32 + 0.5).clamp(0.0, 1.0)
+                    }
+                };
+                if ws > 1e-4 {
+                    let dark = wire_shadow.map_or(0.0, |(_, k)| k) * ws * under_screw();
+                    p = scale(p, 1.0 - dark.min(1.0));
+                }
                 if shadow > 1e-4 {
                     p = scale(p, 1.0 - SHADOW[4] * shadow);
                 }
@@ -219,14 +306,8 @@ impl Mover {
                     p = mix(p, scale(col, il), cb);
                 }
                 if cov > 1e-4 {
-                    let (dx, dy) = (xf - pxf, yf - pyf);
-                    let d2 = dx * dx + dy * dy;
-                    let under_screw = if d2 >= screw2 {
-                        1.0
-                    } else {
-                        (d2.sqrt() - self.screw_r as f32 + 0.5).clamp(0.0, 1.0)
-                    };
-                    p = mix(p, scale(self.wire, il), cov.min(1.0) * under_screw);
+                    let k = cov.min(1.0) * under_screw() * self.contrast;
+                    p = mix(p, scale(self.wire, il), k);
                 }
                 frame[k] = to_u8(p[0]);
                 frame[k + 1] = to_u8(p[1]);

@@ -1,6 +1,7 @@
 //! The plan: the motion, the geometry and the spoiled frames (no pixels).
 
 use super::look::Look;
+use super::vfr::Vfr;
 use super::TruthRow;
 use crate::config::{Experiment, Synthetic};
 use crate::rng::Rng;
@@ -46,8 +47,13 @@ pub(super) fn stream(seed: u64, k: u64) -> u64 {
 pub(super) struct Plan {
     pub(super) s: Synthetic,
     pub(super) look: Look,
+    /// Where things are in the scene as drawn, before any mirroring.
     pub(super) geo: Geometry,
+    /// The wire's rest angle as the image shows it (mirrored if `s.mirror`), rad.
+    pub(super) image_rest: f64,
     pub(super) fps: f64,
+    /// Each frame's own time, with `vfr_jitter`.
+    pub(super) vfr: Option<Vfr>,
     trajectory: crate::physics::ode::Trajectory,
     pub(super) truth: Vec<TruthRow>,
     pub(super) spoils: Vec<Spoil>,
@@ -70,15 +76,32 @@ impl Plan {
         cam.noise_rad = 0.0;
         let rec = simulate::record(exp, &cam)?;
         let look = Look::of(s.style);
-        let theta_rest = (s.rest_angle_deg + look.turn_deg).to_radians();
+        let rest_deg = wrap_deg(s.rest_angle_deg + look.turn_deg);
+        let theta_rest = rest_deg.to_radians();
         let geo = Geometry::new(
             s.width as usize,
             s.height as usize,
             theta_rest,
             s.psi0_deg.to_radians(),
             exp.pendulum.r / exp.pendulum.d,
-        );
-        let n = rec.series.t.len();
+            s.wire_width_px,
+            s.pivot_frac,
+        )?;
+        // The image's own rest angle and sense of rotation: mirrored, `pi - theta`.
+        let image_rest = if s.mirror {
+            wrap_deg(180.0 - rest_deg).to_radians()
+        } else {
+            theta_rest
+        };
+        let vfr = s
+            .vfr_jitter
+            .filter(|&j| j > 0.0)
+            .map(|j| Vfr::new(j, s.fps, s.seed));
+        let times: Vec<f64> = match &vfr {
+            Some(v) => (0..rec.series.t.len()).map(|k| v.ms(k) / 1000.0).collect(),
+            None => rec.series.t.clone(),
+        };
+        let n = times.len();
         let spoils = if s.clean {
             vec![Spoil::None; n]
         } else {
@@ -89,15 +112,20 @@ impl Plan {
                 &mut Rng::new(stream(s.seed, 2)),
             )
         };
-        let truth = rec
-            .series
-            .t
+        let truth = times
             .iter()
             .zip(&spoils)
-            .map(|(&t, sp)| TruthRow {
-                t_s: t,
-                angle_rad: theta_rest - rec.trajectory.state(t)[0],
-                spoiled: sp.tag(),
+            .map(|(&t, sp)| {
+                let psi = rec.trajectory.state(t)[0];
+                TruthRow {
+                    t_s: t,
+                    angle_rad: if s.mirror {
+                        image_rest + psi
+                    } else {
+                        theta_rest - psi
+                    },
+                    spoiled: sp.tag(),
+                }
             })
             .collect();
         Ok(Self {
@@ -105,15 +133,40 @@ impl Plan {
             s,
             look,
             geo,
+            image_rest,
+            vfr,
             trajectory: rec.trajectory,
             truth,
             spoils,
         })
     }
 
-    /// Image angle of the wire at time `t`.
+    /// Angle of the wire at time `t` in the scene as drawn (before any mirroring).
     pub(super) fn theta(&self, t: f64) -> f64 {
         self.geo.theta_rest - self.trajectory.state(t)[0]
+    }
+
+    /// The pivot as the image shows it (mirrored if `s.mirror`), px.
+    pub(super) fn image_pivot(&self) -> [f64; 2] {
+        let p = self.geo.pivot;
+        if self.s.mirror {
+            [(self.geo.w - 1) as f64 - p[0], p[1]]
+        } else {
+            p
+        }
+    }
+}
+
+/// `deg` taken into (-180, 180] (returned as is when it already lies there).
+pub(super) fn wrap_deg(deg: f64) -> f64 {
+    if deg > -180.0 && deg <= 180.0 {
+        return deg;
+    }
+    let r = deg.rem_euclid(360.0);
+    if r > 180.0 {
+        r - 360.0
+    } else {
+        r
     }
 }
 
@@ -179,28 +232,46 @@ pub(super) struct Geometry {
 
 impl Geometry {
     /// Wire length 60 % of the frame height when the swing (plus 3 degrees) with the
-    /// ball fits, shorter otherwise; the swing's bounding box is centred in the frame.
-    fn new(w: usize, h: usize, theta_rest: f64, psi0: f64, ball_ratio: f64) -> Self {
+    /// ball fits, shorter otherwise; the swing's bounding box is centred in the frame,
+    /// or the pivot is at `pivot_frac` of the width and height (then the ball's swing
+    /// is kept 3 % inside the frame's edges, and at least half of the wire must be in
+    /// the frame). The wire's width is `wire_w`, by default `h / 288` within 2 to 3 px.
+    fn new(
+        w: usize,
+        h: usize,
+        theta_rest: f64,
+        psi0: f64,
+        ball_ratio: f64,
+        wire_w: Option<f64>,
+        pivot_frac: Option<[f64; 2]>,
+    ) -> Result<Self> {
         let amp = psi0 + 3f64.to_radians();
         let reach = ball_ratio * 1.3;
-        let (mut x0, mut x1, mut y0, mut y1) = (-0.1f64, 0.1f64, -0.1f64, 0.1f64);
-        for j in 0..=64 {
-            let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
-            let (cx, cy) = (th.cos(), th.sin());
-            x0 = x0.min(cx - reach);
-            x1 = x1.max(cx + reach);
-            y0 = y0.min(cy - reach);
-            y1 = y1.max(cy + reach);
-        }
         let (wf, hf) = (w as f64, h as f64);
-        let d_px = (0.6 * hf)
-            .min(0.94 * wf / (x1 - x0))
-            .min(0.94 * hf / (y1 - y0));
-        let pivot = [
-            wf / 2.0 - d_px * (x0 + x1) / 2.0,
-            hf / 2.0 - d_px * (y0 + y1) / 2.0,
-        ];
-        Self {
+        let (pivot, d_px) = match pivot_frac {
+            None => {
+                let (mut x0, mut x1, mut y0, mut y1) = (-0.1f64, 0.1f64, -0.1f64, 0.1f64);
+                for j in 0..=64 {
+                    let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
+                    let (cx, cy) = (th.cos(), th.sin());
+                    x0 = x0.min(cx - reach);
+                    x1 = x1.max(cx + reach);
+                    y0 = y0.min(cy - reach);
+                    y1 = y1.max(cy + reach);
+                }
+                let d_px = (0.6 * hf)
+                    .min(0.94 * wf / (x1 - x0))
+                    .min(0.94 * hf / (y1 - y0));
+                let pivot = [
+                    wf / 2.0 - d_px * (x0 + x1) / 2.0,
+                    hf / 2.0 - d_px * (y0 + y1) / 2.0,
+                ];
+                (pivot, d_px)
+            }
+            Some([fx, fy]) => placed(w, h, [fx * wf, fy * hf], theta_rest, amp, reach)
+                .with_context(|| format!("`synthetic.pivot_frac` = [{fx}, {fy}] at {w}x{h} px"))?,
+        };
+        Ok(Self {
             w,
             h,
             pivot,
@@ -208,8 +279,66 @@ impl Geometry {
             ball_r: ball_ratio * d_px,
             rp: 0.45 * d_px,
             screw_r: (0.028 * d_px).max(2.5),
-            wire_w: (hf / 288.0).clamp(2.0, 3.0),
+            wire_w: wire_w.unwrap_or((hf / 288.0).clamp(2.0, 3.0)),
             theta_rest,
+        })
+    }
+}
+
+/// The wire's length for a pivot placed at `pivot` (px, possibly outside the frame):
+/// the longest, up to 60 % of the height, that keeps the ball's swing (directions
+/// `theta_rest +- amp`, `reach` wire lengths around its end) 3 % inside the frame's
+/// edges, if one does and then leaves at least half of the wire in the frame.
+fn placed(
+    w: usize,
+    h: usize,
+    pivot: [f64; 2],
+    theta_rest: f64,
+    amp: f64,
+    reach: f64,
+) -> Result<([f64; 2], f64)> {
+    let size = [w as f64, h as f64];
+    let (mut lo_d, mut hi_d) = (0.0f64, 0.6 * size[1]);
+    for j in 0..=64 {
+        let th = theta_rest - amp + 2.0 * amp * j as f64 / 64.0;
+        for (axis, u) in [th.cos(), th.sin()].into_iter().enumerate() {
+            let (lo, hi, p) = (0.03 * size[axis], 0.97 * size[axis], pivot[axis]);
+            // The ball's far side, p + d (u + reach), at most `hi`...
+            let a = u + reach;
+            if a > 0.0 {
+                hi_d = hi_d.min((hi - p) / a);
+            } else if p > hi {
+                lo_d = lo_d.max((p - hi) / -a);
+            }
+            // ... and its near side, p + d (u - reach), at least `lo`.
+            let b = u - reach;
+            if b < 0.0 {
+                hi_d = hi_d.min((p - lo) / -b);
+            } else if p < lo {
+                lo_d = lo_d.max((lo - p) / b);
+            }
         }
     }
+    let least = 0.1 * size[0].min(size[1]);
+    ensure!(
+        hi_d >= lo_d && hi_d >= least,
+        "the ball's swing cannot be kept in the frame with a wire of {least:.0} px or more"
+    );
+    let d = hi_d;
+    // The share of the wire in the frame, at rest and at both ends of the swing.
+    for th in [theta_rest - amp, theta_rest, theta_rest + amp] {
+        let inside = (0..=200)
+            .filter(|&k| {
+                let f = d * k as f64 / 200.0;
+                let (x, y) = (pivot[0] + f * th.cos(), pivot[1] + f * th.sin());
+                (0.0..size[0]).contains(&x) && (0.0..size[1]).contains(&y)
+            })
+            .count();
+        ensure!(
+            inside >= 100,
+            "only {:.0} % of the wire would be in the frame; expected at least half",
+            inside as f64 / 2.01
+        );
+    }
+    Ok((pivot, d))
 }

@@ -1,9 +1,10 @@
 //! The twin: everything prepared once, then frames on demand.
 
-use super::camera::{expose, HandPainter, Sensor};
+use super::camera::{expose, HandPainter, Lights, Sensor};
 use super::mover::Mover;
 use super::plan::{stream, Plan, Spoil, EXPOSURE, SUBSAMPLES};
 use super::scene::build_background;
+use crate::config::{DEFAULT_DRIFT_DEPTH, DEFAULT_FLICKER_DEPTH, DEFAULT_FLICKER_HZ};
 use crate::rng::Rng;
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar};
@@ -17,6 +18,8 @@ pub(super) struct Twin {
     sensor: Option<Sensor>,
     hand: HandPainter,
     pub(super) frame: Mat,
+    /// Scratch for a mirrored frame.
+    flipped: Mat,
 }
 
 impl Twin {
@@ -27,8 +30,15 @@ impl Twin {
         let (bg, illum) = build_background(&plan, defocus)?;
         // Pixel integration (~0.4 px) combined with the defocus.
         let sigma = (0.4f64.powi(2) + defocus.unwrap_or(0.0).powi(2)).sqrt();
-        let mover = Mover::new(&plan.geo, &plan.look, sigma);
-        let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, plan.s.seed));
+        let contrast = plan.s.wire_contrast.unwrap_or(1.0);
+        let mover = Mover::new(&plan.geo, &plan.look, sigma, contrast, plan.s.shadow);
+        let s = &plan.s;
+        let lights = Lights {
+            flicker_hz: s.flicker_hz.unwrap_or(DEFAULT_FLICKER_HZ),
+            flicker_depth: s.flicker_depth.unwrap_or(DEFAULT_FLICKER_DEPTH),
+            drift_depth: s.drift_depth.unwrap_or(DEFAULT_DRIFT_DEPTH),
+        };
+        let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, s.seed, lights));
         let frame = Mat::new_rows_cols_with_default(
             plan.geo.h as i32,
             plan.geo.w as i32,
@@ -43,6 +53,7 @@ impl Twin {
             sensor,
             hand: HandPainter::default(),
             frame,
+            flipped: Mat::default(),
         })
     }
 
@@ -62,7 +73,7 @@ impl Twin {
             };
             *th = plan.theta(t + f * EXPOSURE * dt);
         }
-        let theta_mid = plan.truth[i].angle_rad;
+        let theta_mid = plan.theta(t);
         {
             let buf = self.frame.data_bytes_mut()?;
             buf.copy_from_slice(&self.bg);
@@ -75,7 +86,7 @@ impl Twin {
             let dir = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
             let tilt = dir * (0.25 + 0.2 * rng.uniform());
             // Start of the event: the hand crosses the wire's middle.
-            let th0 = plan.truth[i - k as usize].angle_rad;
+            let th0 = plan.theta(plan.truth[i - k as usize].t_s);
             let mid = [
                 g.pivot[0] + 0.55 * g.d_px * th0.cos(),
                 g.pivot[1] + 0.55 * g.d_px * th0.sin(),
@@ -101,6 +112,10 @@ impl Twin {
             let buf = self.frame.data_bytes_mut()?;
             let n = buf.len();
             expose(buf, &sensor.noise[off..off + n], gain, offset);
+        }
+        if plan.s.mirror {
+            core::flip(&self.frame, &mut self.flipped, 1)?;
+            std::mem::swap(&mut self.frame, &mut self.flipped);
         }
         Ok(())
     }

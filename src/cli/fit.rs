@@ -179,6 +179,17 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
     let _ = writeln!(o, "experiment       {} ({})", exp.name, exp.path.display());
     let _ = writeln!(o, "angles           {}", r.angles.description);
     let _ = writeln!(o, "turning points   {}", f.n_extremes);
+    if let Some(r) = &f.release {
+        let _ = writeln!(
+            o,
+            "release          t = {:.3} s, from rest at {:.4} deg: the {} frames before it \
+             (held {:.2} s) are not fitted",
+            r.t_s,
+            r.angle_rad.to_degrees(),
+            r.frame,
+            r.held_s
+        );
+    }
     let _ = writeln!(
         o,
         "equilibrium      {:.4} deg (envelope fit); {:.4} deg (Eq. 38-39, mean of extremes)",

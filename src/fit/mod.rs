@@ -18,6 +18,7 @@ use crate::numerics::{golden_section_min, linear_fit};
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
 pub use crate::physics::BetaChoice;
 use crate::physics::{FrictionLaw, Pendulum};
+pub use crate::signal::Release;
 use crate::stats::student_t_quantile;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
@@ -104,6 +105,11 @@ pub struct FitResult {
     pub residual_rms_rad: f64,
     pub iterations: usize,
     pub beta_comparison: Vec<BetaCandidate>,
+    /// The held start, when the recording begins with the ball held at its release
+    /// angle: the fit starts there from rest, and the frames before `t_s` (`frame` of
+    /// them) are not fitted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release: Option<Release>,
 }
 
 /// Options of a fit.
@@ -353,6 +359,7 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
         residuals_rad: core.residuals,
         iterations: core.iterations,
         beta_comparison,
+        release: m.release,
     })
 }
 
@@ -452,6 +459,39 @@ mod tests {
             assert!((torque / (5e-6 * n0) - 1.0).abs() < 2e-3, "{c:?}");
         }
         assert!((r.mu_r - 5e-6 / p.r).abs() < 2e-3 * r.mu_r);
+    }
+
+    /// Released from rest at 10 deg at `t_rel` (held there before), sampled from 0.
+    fn held(p: &Pendulum, law: &FrictionLaw, fps: f64, dur: f64, t_rel: f64) -> AngleSeries {
+        let opts = OdeOptions {
+            t_end: dur,
+            ..OdeOptions::default()
+        };
+        let tr = integrate(p, law, t_rel, [10f64.to_radians(), 0.0], &opts);
+        let t: Vec<f64> = (0..(dur * fps) as usize).map(|i| i as f64 / fps).collect();
+        let a = t.iter().map(|&x| 1.3 - tr.state(x)[0]).collect();
+        AngleSeries::new(t, a)
+    }
+
+    #[test]
+    fn a_held_start_is_fitted_from_the_release() {
+        let p = pendulum(0.1774);
+        let law = FrictionLaw::new(3.714e-6, 1.0);
+        let s = held(&p, &law, 60.0, 60.0, 1.0);
+        let m = analyze(&p, &s, BetaChoice::Fixed(1.0)).unwrap();
+        let r = m.release.expect("a held start");
+        assert!((r.t_s - 1.0).abs() < 1e-3, "{r:?}");
+        assert!(s.t[r.frame - 1] <= r.t_s && r.t_s < s.t[r.frame], "{r:?}");
+        assert!(m.extremes[0].release && m.extremes.iter().skip(1).all(|e| !e.release));
+        assert!((m.amplitudes[0] - 10f64.to_radians()).abs() < 1e-4);
+        let f = fit(&p, &m, &FitOptions::default()).unwrap();
+        assert!(
+            ((f.s_r_m - law.s_r) / law.s_r).abs() < 1e-3,
+            "{:e}",
+            f.s_r_m
+        );
+        assert!((f.a_start_rad - 10f64.to_radians()).abs() < 1e-4);
+        assert_eq!(f.release, m.release);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! One experiment through the stages: acquire its angles (a measured CSV, a lab video or
-//! the digital twin's video) -> extremes -> equilibrium -> fit -> checks -> torsion.
+//! the digital twin's video) -> release and extremes -> equilibrium -> fit -> checks
+//! -> torsion.
 //!
 //! Every function here returns typed values and writes no report file; `rollfric fit`,
 //! `rollfric build` and the tests all go through them, so they cannot disagree. The
@@ -229,7 +230,11 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         compare_betas: o.compare_betas || exp.file.model.compare_betas,
         ..FitOptions::default()
     };
-    let f = fit::fit(p, &m, &opts).with_context(what)?;
+    let mut f = fit::fit(p, &m, &opts).with_context(what)?;
+    if let Some(r) = f.release.as_mut() {
+        // Frames of the recording (missing ones included) before the release.
+        r.frame = angles.table.rows.partition_point(|row| row.t_s <= r.t_s);
+    }
     for (key, v) in [
         ("s_r", f.s_r_m),
         ("its standard error", f.s_r_se_m),

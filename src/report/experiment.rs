@@ -31,6 +31,7 @@ pub fn experiment_pages(
         a_start: f.a_start_rad,
         delta_rel: (3.0 * ci_rel).max(0.15),
         mu: a.sliding_mu,
+        release: f.release.map(|r| (r.t_s, r.angle_rad)),
     })?;
     let mut files: Vec<OutputFile> = figs
         .into_iter()
@@ -93,6 +94,8 @@ struct ExperimentView {
     has_detection: bool,
     has_fig11: bool,
     fit: Vec<Kv>,
+    /// What was not fitted: the hold before a release (one line each).
+    fit_notes: Vec<String>,
     checks: Vec<CheckView>,
     extremes: Vec<ExtremeView>,
     torsion: Vec<Kv>,
@@ -132,7 +135,9 @@ struct CheckView {
 
 #[derive(Serialize)]
 struct ExtremeView {
-    k: usize,
+    /// The index among the fitted turning points (`0 (release)` for a release from
+    /// rest).
+    k: String,
     t: String,
     angle: String,
     amplitude: String,
@@ -149,6 +154,24 @@ fn check_view(c: &Check) -> CheckView {
         tolerance: format!("{:.1} %", 100.0 * c.tolerance_rel),
         pass: c.verdict(),
     }
+}
+
+/// The page's lines on what was not fitted: the frames of a held start before the
+/// release.
+fn fit_notes(f: &crate::fit::FitResult) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(r) = &f.release {
+        out.push(format!(
+            "{} frames before the release at t = {:.3} s are not fitted: the recording begins \
+             with the ball held at {:.4} deg for {:.2} s. The fit starts at the release, from \
+             rest (turning point 0).",
+            r.frame,
+            r.t_s,
+            r.angle_rad.to_degrees(),
+            r.held_s
+        ));
+    }
+    out
 }
 
 fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> ExperimentView {
@@ -300,7 +323,11 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         .iter()
         .enumerate()
         .map(|(k, e)| ExtremeView {
-            k,
+            k: if e.release {
+                format!("{k} (release)")
+            } else {
+                k.to_string()
+            },
             t: format!("{:.3}", e.t),
             angle: format!("{:.4}", e.angle.to_degrees()),
             amplitude: format!("{:.4}", m.amplitudes[k].to_degrees()),
@@ -310,6 +337,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                 .map_or("-".into(), |v| format!("{:+.4}", v.to_degrees())),
         })
         .collect();
+    let fit_notes = fit_notes(f);
     let torsion = r
         .torsion
         .map(|c| {
@@ -350,6 +378,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         flagged_more,
         has_fig11,
         fit,
+        fit_notes,
         checks: r.checks.iter().map(check_view).collect(),
         extremes,
         torsion,

@@ -79,6 +79,9 @@ pub struct Inputs<'a> {
     /// Relative change of `s_r` shown in Figure 16.
     pub delta_rel: f64,
     pub mu: Option<f64>,
+    /// The release from rest after a held start, `(t, angle)` (s, rad): marked in
+    /// Figure 12.
+    pub release: Option<(f64, f64)>,
 }
 
 /// Figures 12, 14a, 14b, 15, 16a, 16b, 17 and 18 of one experiment.
@@ -122,6 +125,13 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
     ));
     if !manual.is_empty() {
         c = c.with(Series::crosses("operator mark", Rgb::GREEN, manual));
+    }
+    if let Some((t, a)) = x.release {
+        c = c.with(Series::markers(
+            "release from rest (the fit starts here)",
+            Rgb::PURPLE,
+            vec![(t, deg(a))],
+        ));
     }
     out.push(fig("fig12.svg", &c)?);
 

@@ -190,6 +190,20 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
             r.held_s
         );
     }
+    for x in &f.outliers {
+        let _ = writeln!(
+            o,
+            "outlier          t = {:.3} s, residual {:+.4} deg ({:.0} robust SD): {}",
+            x.t_s,
+            x.residual_rad.to_degrees(),
+            x.robust_z,
+            if x.dropped {
+                "dropped, not fitted"
+            } else {
+                "kept (beyond the cap)"
+            }
+        );
+    }
     let _ = writeln!(
         o,
         "equilibrium      {:.4} deg (envelope fit); {:.4} deg (Eq. 38-39, mean of extremes)",

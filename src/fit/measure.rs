@@ -95,6 +95,41 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
     })
 }
 
+impl Measurement {
+    /// The measurement without turning point `k` (an outlier): equilibrium, envelope and
+    /// period from the others, half-swing indices counted from the new first one. The
+    /// amplitudes are kept as measured (each about its own equilibrium, after
+    /// [`refine`]).
+    pub fn without(&self, k: usize) -> Result<Measurement> {
+        let mut extremes = self.extremes.clone();
+        let mut amplitudes = self.amplitudes.clone();
+        let mut index = self.index.clone();
+        extremes.remove(k);
+        amplitudes.remove(k);
+        index.remove(k);
+        if extremes.len() < MIN_EXTREMES {
+            bail!(
+                "only {} turning point(s) would be left; the fit needs at least {MIN_EXTREMES}",
+                extremes.len()
+            );
+        }
+        let i0 = index[0];
+        index.iter_mut().for_each(|i| *i -= i0);
+        let equilibrium = signal::equilibrium(&extremes)?;
+        let ts: Vec<f64> = extremes.iter().map(|e| e.t).collect();
+        let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();
+        Ok(Measurement {
+            envelope: linear_fit(&ts, &amplitudes),
+            period_s: 2.0 * linear_fit(&idx, &ts).slope,
+            extremes,
+            equilibrium,
+            amplitudes,
+            index,
+            release: self.release,
+        })
+    }
+}
+
 /// Second pass over the turning points: "fit the model itself around the extreme"
 /// (ERRATA §7). Each turning point is refitted over most of the two half swings that
 /// meet at it with the model's own shape: forward in time, the motion from rest at the

@@ -14,12 +14,15 @@
 //!   symmetric envelopes `psi_k = psi_eq ± (A_0 - a t_k)` (ERRATA §5), which has no bias
 //!   from the decay.
 //! * Envelope slope `a` from the regression of `|psi_k - psi_eq|` on `t_k`.
+//! * A held start (the ball held at its release angle before it is let go) is found
+//!   by [`find_release`]: the release is the motion's first turning point, a start from
+//!   rest with the hold on one side, not a cusp between two half swings.
 
 use crate::numerics::{golden_section_min, linear_fit, median, LineFit};
 use crate::series::AngleSeries;
 use anyhow::{bail, Result};
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One extreme elongation of the measured signal.
 #[derive(Clone, Copy, Debug, Serialize, PartialEq)]
@@ -34,6 +37,10 @@ pub struct Extreme {
     pub fit_rms: f64,
     /// Samples used by the local fit.
     pub samples: usize,
+    /// The release from rest that ends a held start ([`find_release`]): the motion's
+    /// first turning point, with the hold on one side instead of a half swing.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub release: bool,
 }
 
 /// Per-sample noise of a smooth signal, from the median absolute second difference
@@ -72,43 +79,18 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
     }
     let h = (4.0 * sigma).max(1e-3 * span);
 
-    // Lobes: maximal runs beyond +h or -h; runs of the same side separated only by the
-    // dead band are one lobe.
-    let mut lobes: Vec<(f64, usize, usize)> = Vec::new(); // (side, first, last)
-    for (i, v) in y.iter().enumerate() {
-        let side = if v - center > h {
-            1.0
-        } else if v - center < -h {
-            -1.0
-        } else {
-            continue;
-        };
-        match lobes.last_mut() {
-            Some(l) if l.0 == side => l.2 = i,
-            _ => lobes.push((side, i, i)),
-        }
-    }
-    let coarse: Vec<(f64, usize, usize, usize)> = lobes
-        .iter()
-        .map(|&(side, a, b)| {
-            let k = (a..=b)
-                .max_by(|&i, &j| (side * y[i]).total_cmp(&(side * y[j])))
-                .expect("non-empty lobe");
-            (side, a, b, k)
-        })
-        .collect();
+    let coarse = lobes(y, center, h);
     if coarse.len() < 3 {
         bail!(
             "found {} half swing(s); at least 3 are needed to measure turning points",
             coarse.len()
         );
     }
-    let mut gaps: Vec<f64> = coarse.windows(2).map(|w| t[w[1].3] - t[w[0].3]).collect();
-    let half_period = median(&mut gaps);
+    let half_period = median_gap(t, &coarse);
     let w = 0.3 * half_period;
 
     let mut out = Vec::new();
-    for &(side, _a, _b, k) in &coarse {
+    for &(side, k) in &coarse {
         // The signal must move away from the extreme on both sides within the window.
         let (lo_t, hi_t) = (t[k] - w, t[k] + w);
         if lo_t < t[0] || hi_t > t[n - 1] {
@@ -125,6 +107,188 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
         }
     }
     Ok(out)
+}
+
+/// A held start: the recording begins with the ball held at rest at its release angle
+/// (by hand or a stop) and shows it being let go.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Release {
+    /// When the ball was let go, s: between frames, from a fit of the departure.
+    pub t_s: f64,
+    /// Index of the first sample after the release; the samples before it are the hold,
+    /// which is not fitted as motion.
+    pub frame: usize,
+    /// The held angle, in the series' own frame, rad: the start from rest.
+    pub angle_rad: f64,
+    /// How long the hold was recorded, s.
+    pub held_s: f64,
+}
+
+/// Noise-band half-width of a hold, in multiples of the series' noise: the samples of a
+/// hold stay within this of their mean.
+pub const HOLD_NOISE_BAND: f64 = 5.0;
+/// ... or within this fraction of the release amplitude, whichever is wider (a hand is
+/// not a clamp: a tremor of a few percent of the swing is still a hold).
+pub const HOLD_AMPLITUDE_BAND: f64 = 0.05;
+/// A hold must last this many times longer than a turning point of the free motion stays
+/// within the band (on both sides of it), so that a series which merely begins at or
+/// near a turning point (the twins begin at the release) is not taken for a hold.
+pub const HOLD_MARGIN: f64 = 2.0;
+
+/// Find a held start: the series begins with a run of samples within its own noise of a
+/// constant ([`HOLD_NOISE_BAND`], [`HOLD_AMPLITUDE_BAND`]), lasting longer than any turning point of the free motion could, away from
+/// the centre of the swing, and ends by moving towards the centre. Returns the release
+/// and its turning point, refined between frames.
+///
+/// From rest at `A`, the free motion is `A cos(omega tau)` (Eq. 33 at small angle,
+/// ERRATA §2; `omega = pi / half swing`, measured from the motion after the hold),
+/// so it leaves a band of half-width `b` after `acos(1 - b / A) / omega`; a turning
+/// point of the free motion stays within the band twice that long. The release time is
+/// then the `t_r` of the one-sided fit `y = p` before it and
+/// `p + c tau^2 + e tau^4` after it (`tau = t - t_r`; the odd terms vanish, as at any
+/// turning point, see the module documentation); the hold's side has no curvature.
+pub fn find_release(s: &AngleSeries) -> Option<(Release, Extreme)> {
+    let (t, y) = (&s.t, &s.angle);
+    let n = y.len();
+    if n < 16 {
+        return None;
+    }
+    let sigma = noise_sigma(y);
+    let center = median(&mut y.clone());
+    let head = median(&mut y[..5].to_vec());
+    let amp = (head - center).abs();
+    if amp <= 6.0 * sigma || amp == 0.0 {
+        return None;
+    }
+    let band = (HOLD_NOISE_BAND * sigma).max(HOLD_AMPLITUDE_BAND * amp);
+    let run_of = |level: f64| y.iter().position(|v| (v - level).abs() > band).unwrap_or(n);
+    let run = run_of(head);
+    if run < 5 || run >= n {
+        return None;
+    }
+    let level = y[..run].iter().sum::<f64>() / run as f64;
+    let run = run_of(level);
+    if run < 5 || run + 8 >= n {
+        return None;
+    }
+    let side = (level - center).signum();
+    let amp = (level - center).abs();
+    // A release moves towards the centre.
+    if side * (y[run] - level) >= 0.0 {
+        return None;
+    }
+    // The half swing, from the motion after the hold.
+    let sigma_m = noise_sigma(&y[run..]);
+    let span = y[run..]
+        .iter()
+        .fold(0.0f64, |m, v| m.max((v - center).abs()));
+    let coarse = lobes(&y[run..], center, (4.0 * sigma_m).max(1e-3 * span));
+    if coarse.len() < 3 {
+        return None;
+    }
+    let half = median_gap(&t[run..], &coarse);
+    let within = half / std::f64::consts::PI * (1.0 - band / amp).max(-1.0).acos();
+    if t[run - 1] - t[0] < HOLD_MARGIN * 2.0 * within {
+        return None;
+    }
+    // Sub-frame release time: the free motion crosses the band `within` after it.
+    let dt = (t[run] - t[run - 1]).max(1e-12);
+    let (lo_t, hi_t) = (t[run] - 2.0 * within - 2.0 * dt, t[run]);
+    let guess = t[run] - within;
+    let fit_lo = t.partition_point(|&v| v < guess - 0.3 * half);
+    let fit_hi = t.partition_point(|&v| v <= guess + 0.3 * half);
+    let (ft, fy) = (&t[fit_lo..fit_hi], &y[fit_lo..fit_hi]);
+    let rss = |tr: f64| -> Option<(f64, f64)> {
+        let basis = |ti: f64| {
+            let tau = (ti - tr).max(0.0);
+            let t2 = tau * tau;
+            SVector::<f64, 3>::new(1.0, t2, t2 * t2)
+        };
+        let mut ata = SMatrix::<f64, 3, 3>::zeros();
+        let mut atb = SVector::<f64, 3>::zeros();
+        for (&ti, &yi) in ft.iter().zip(fy) {
+            let row = basis(ti);
+            ata += row * row.transpose();
+            atb += row * yi;
+        }
+        let x = ata.cholesky()?.solve(&atb);
+        let r = ft
+            .iter()
+            .zip(fy)
+            .map(|(&ti, &yi)| (yi - basis(ti).dot(&x)).powi(2))
+            .sum();
+        Some((r, x[0]))
+    };
+    let grid = 32;
+    let node = |g: usize| lo_t.max(t[0]) + (hi_t - lo_t.max(t[0])) * g as f64 / grid as f64;
+    let step = (hi_t - lo_t.max(t[0])) / grid as f64;
+    let (mut best_t, mut best) = (guess, f64::INFINITY);
+    for g in 0..=grid {
+        if let Some((r, _)) = rss(node(g)) {
+            if r < best {
+                (best_t, best) = (node(g), r);
+            }
+        }
+    }
+    let tol = 1e-6 * dt;
+    let tr = golden_section_min(
+        |x| rss(x).map(|r| r.0).ok_or(()),
+        (best_t - step, best_t + step),
+        tol,
+    )
+    .ok()?;
+    let (r, p) = rss(tr)?;
+    let frame = t.partition_point(|&v| v <= tr);
+    Some((
+        Release {
+            t_s: tr,
+            frame,
+            angle_rad: p,
+            held_s: tr - t[0],
+        },
+        Extreme {
+            t: tr,
+            angle: p,
+            side,
+            fit_rms: (r / ft.len() as f64).sqrt(),
+            samples: ft.len(),
+            release: true,
+        },
+    ))
+}
+
+/// Coarse turning points: the farthest sample of each lobe, `(side, index)`. A lobe is a
+/// maximal run of samples beyond `center + h` or `center - h`; runs of the same side
+/// separated only by the dead band are one lobe.
+fn lobes(y: &[f64], center: f64, h: f64) -> Vec<(f64, usize)> {
+    let mut runs: Vec<(f64, usize, usize)> = Vec::new(); // (side, first, last)
+    for (i, v) in y.iter().enumerate() {
+        let side = if v - center > h {
+            1.0
+        } else if v - center < -h {
+            -1.0
+        } else {
+            continue;
+        };
+        match runs.last_mut() {
+            Some(l) if l.0 == side => l.2 = i,
+            _ => runs.push((side, i, i)),
+        }
+    }
+    runs.iter()
+        .map(|&(side, a, b)| {
+            let k = (a..=b)
+                .max_by(|&i, &j| (side * y[i]).total_cmp(&(side * y[j])))
+                .expect("non-empty lobe");
+            (side, k)
+        })
+        .collect()
+}
+
+/// The median time between consecutive coarse turning points: a half swing.
+fn median_gap(t: &[f64], coarse: &[(f64, usize)]) -> f64 {
+    let mut gaps: Vec<f64> = coarse.windows(2).map(|w| t[w[1].1] - t[w[0].1]).collect();
+    median(&mut gaps)
 }
 
 /// Local cusp fit around a coarse extreme at `t_c`; see the module documentation.
@@ -185,6 +349,7 @@ fn refine(t: &[f64], y: &[f64], t_c: f64, side: f64, all_t: &[f64]) -> Option<Ex
         side,
         fit_rms: (r / t.len() as f64).sqrt(),
         samples: t.len(),
+        release: false,
     })
 }
 
@@ -256,6 +421,7 @@ mod tests {
             side,
             fit_rms: 0.0,
             samples: 0,
+            release: false,
         }
     }
 
@@ -331,6 +497,102 @@ mod tests {
                 truth.psi
             );
             assert_eq!(e.side, truth.psi.signum());
+        }
+    }
+
+    /// The glass pendulum of Table 1 (d = 0.1774 m) released from rest at 10 deg at
+    /// `t_rel`, held there before, seen from `t_start` at `fps` for `dur` seconds as
+    /// `1.6 - psi` with white noise of `noise_deg`; and its trajectory.
+    fn held(
+        t_rel: f64,
+        t_start: f64,
+        fps: f64,
+        dur: f64,
+        noise_deg: f64,
+    ) -> (AngleSeries, crate::physics::ode::Trajectory) {
+        use crate::physics::{incline_from_h_l, ode, FrictionLaw, Pendulum};
+        let p = Pendulum::solid_ball(0.03175, 1.0458, 0.1774, incline_from_h_l(0.142, 1.5), 9.81)
+            .unwrap();
+        let opts = ode::OdeOptions {
+            t_end: t_rel + dur + 1.0,
+            ..Default::default()
+        };
+        let law = FrictionLaw::new(3.714e-6, 1.0);
+        let tr = ode::integrate(&p, &law, t_rel, [10f64.to_radians(), 0.0], &opts);
+        let mut rng = crate::rng::Rng::new(7);
+        let t: Vec<f64> = (0..(dur * fps) as usize)
+            .map(|i| t_start + i as f64 / fps)
+            .collect();
+        let angle = t
+            .iter()
+            .map(|&x| 1.6 - tr.state(x)[0] + noise_deg.to_radians() * rng.normal())
+            .collect();
+        (AngleSeries::new(t, angle), tr)
+    }
+
+    #[test]
+    fn a_held_start_is_found_between_frames() {
+        // Released between frames (1.013 s at 25 frames/s), without and with noise.
+        for (noise, tol_t, tol_a) in [(0.0, 1e-3, 1e-4), (0.05, 0.02, 0.03)] {
+            let (s, _) = held(1.013, 0.0, 25.0, 30.0, noise);
+            let (r, e) = find_release(&s).expect("a held start");
+            assert!((r.t_s - 1.013).abs() < tol_t, "noise {noise}: {r:?}");
+            assert_eq!(r.frame, 26, "the first frame after the release: {r:?}");
+            assert!(
+                (r.angle_rad.to_degrees() - (1.6f64.to_degrees() - 10.0)).abs() < tol_a,
+                "noise {noise}: {r:?}"
+            );
+            assert!((r.held_s - r.t_s).abs() < 1e-12);
+            assert!(e.release && e.side == -1.0 && e.t == r.t_s, "{e:?}");
+        }
+    }
+
+    #[test]
+    fn no_hold_where_the_series_begins_at_the_release_or_near_a_turning_point() {
+        // The twins begin at the release (no hold); other recordings begin mid-swing or
+        // a little before a turning point (the first at 1.614 s).
+        for t_start in [0.0, 0.4, 1.5, 1.58] {
+            for noise in [0.0, 0.05, 0.2] {
+                let (s, _) = held(0.0, t_start, 25.0, 30.0, noise);
+                assert_eq!(
+                    find_release(&s),
+                    None,
+                    "from {t_start} s, noise {noise} deg"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_hold_is_never_a_turning_point_of_the_motion() {
+        // A 1 s hold, with noise, and with a hand's tremor of 0.3 deg at 3 Hz: the release
+        // is the first turning point, every other is one of the model's (none in the
+        // hold or at its end).
+        for tremor in [0.0, 0.3f64] {
+            let (mut s, tr) = held(1.0, 0.0, 25.0, 40.0, 0.05);
+            for (t, a) in s.t.iter().zip(s.angle.iter_mut()) {
+                if *t < 1.0 {
+                    *a += tremor.to_radians() * (std::f64::consts::TAU * 3.0 * t).sin();
+                }
+            }
+            let m = crate::fit::measure(&s).unwrap();
+            assert!(
+                m.extremes[0].release,
+                "tremor {tremor}: {:?}",
+                m.extremes[0]
+            );
+            assert!((m.extremes[0].t - 1.0).abs() < 0.04, "{:?}", m.extremes[0]);
+            let turns: Vec<f64> = tr
+                .turns
+                .iter()
+                .map(|tp| tp.t)
+                .filter(|&t| t < 39.0)
+                .collect();
+            assert_eq!(m.extremes.len(), turns.len() + 1, "tremor {tremor}");
+            for (e, t) in m.extremes[1..].iter().zip(&turns) {
+                assert!((e.t - t).abs() < 0.1, "{} vs {t}", e.t);
+                assert!(!e.release);
+            }
         }
     }
 

@@ -7,8 +7,9 @@
 //! A result is `ok` only when the data agree with the physics it was fitted with
 //! ([`assess`]): the period measured against the geometry's, the fit's residual against
 //! the angle series' own noise, the envelope's shape (linear for rolling friction,
-//! exponential for viscous damping) and the width of the interval on `s_r`. Each
-//! disagreement is a named [`Warning`]; a result with any is `suspect`.
+//! exponential for viscous damping), the width of the interval on `s_r`, and the turning
+//! points the fit dropped as outliers. Each disagreement is a named [`Warning`]; a
+//! result with any is `suspect`.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -118,6 +119,8 @@ pub struct Limits {
     pub envelope_aicc: f64,
     /// Largest relative half-width of the 95 % interval on `s_r`.
     pub interval_rel: f64,
+    /// Turning points the fit may drop as outliers without a warning.
+    pub outliers: usize,
 }
 
 /// The check names, in the order they are run.
@@ -126,7 +129,7 @@ pub use crate::config::CHECKS;
 /// One failed consistency check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
-    /// `period`, `residual`, `envelope` or `interval`.
+    /// `period`, `residual`, `envelope`, `interval` or `outliers`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -245,6 +248,12 @@ pub struct Evidence<'a> {
     pub residual_rms_rad: f64,
     pub s_r: f64,
     pub s_r_ci95: [f64; 2],
+    /// Times of the turning points dropped from the fit as outliers, s.
+    pub outliers_dropped: &'a [f64],
+    /// Times of the outliers found beyond the cap and kept in the fit, s.
+    pub outliers_kept: &'a [f64],
+    /// The most turning points the fit may drop (a tenth of them).
+    pub outlier_cap: usize,
 }
 
 /// Residual sum of squares of the best linear envelope `A0 - a t`.
@@ -404,6 +413,59 @@ pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
             accepted: None,
         });
     }
+    // outliers: every turning point found to be an outlier is said, dropped or not, beyond
+    // the allowance; more than the cap always.
+    let (dropped, kept) = (e.outliers_dropped, e.outliers_kept);
+    let found = dropped.len() + kept.len();
+    let limit = lim.outliers.min(e.outlier_cap);
+    if found > limit {
+        let times = |ts: &[f64]| {
+            ts.iter()
+                .map(|t| format!("{t:.2}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let points = |n: usize| {
+            if n == 1 {
+                "1 turning point".to_string()
+            } else {
+                format!("{n} turning points")
+            }
+        };
+        let is = |n: usize| if n == 1 { "is" } else { "are" };
+        let mut reason = String::new();
+        if !dropped.is_empty() {
+            reason = format!(
+                "{} dropped as {} (t = {} s)",
+                points(dropped.len()),
+                if dropped.len() == 1 {
+                    "an outlier"
+                } else {
+                    "outliers"
+                },
+                times(dropped)
+            );
+        }
+        if !kept.is_empty() {
+            let more = if reason.is_empty() { "" } else { "; and" };
+            reason = format!(
+                "{reason}{more}{}{} {} outlying (t = {} s) but kept in the fit: at most {} \
+                 may be dropped (a tenth of the turning points)",
+                if more.is_empty() { "" } else { " " },
+                points(kept.len()),
+                is(kept.len()),
+                times(kept),
+                e.outlier_cap
+            );
+        }
+        w.push(Warning {
+            check: "outliers".into(),
+            value: found as f64,
+            limit: limit as f64,
+            reason,
+            accepted: None,
+        });
+    }
     Verdict::of(w)
 }
 
@@ -450,6 +512,7 @@ mod tests {
         residual_factor: 5.0,
         envelope_aicc: 10.0,
         interval_rel: 0.25,
+        outliers: 0,
     };
 
     fn evidence<'a>(t: &'a [f64], amps: &'a [f64], samples: &'a [usize]) -> Evidence<'a> {
@@ -463,6 +526,9 @@ mod tests {
             residual_rms_rad: 5e-5,
             s_r: 4e-6,
             s_r_ci95: [3.9e-6, 4.1e-6],
+            outliers_dropped: &[],
+            outliers_kept: &[],
+            outlier_cap: 4,
         }
     }
 

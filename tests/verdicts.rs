@@ -1,7 +1,7 @@
 //! The twin lies in known ways, and the verdict says so: a wrong pendulum length, viscous
-//! damping instead of rolling friction, a corrupted turning point, angles in degrees and
-//! an absurd length. Each gives `suspect` with the named check (or a clear refusal), and
-//! `rollfric check` exits 1 on an unaccepted `suspect`.
+//! damping instead of rolling friction, a corrupted turning point (dropped, and said),
+//! angles in degrees and an absurd length. Each gives `suspect` with the named check (or
+//! a clear refusal), and `rollfric check` exits 1 on an unaccepted `suspect`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -216,7 +216,7 @@ fn viscous_damping_is_suspect_by_its_envelope() {
 }
 
 #[test]
-fn a_corrupted_turning_point_is_suspect_by_its_residual() {
+fn a_corrupted_turning_point_is_dropped_and_suspect_by_its_outliers_check() {
     let d = tempfile::tempdir().unwrap();
     let mut rows = simulated(d.path());
     // Push the nine samples around the maximum near t = 20 s up by 3 degrees.
@@ -232,8 +232,16 @@ fn a_corrupted_turning_point_is_suspect_by_its_residual() {
     }
     write_csv(&d.path().join("bad.csv"), &rows);
     let j = fit_json(&yaml(d.path(), "bad", "0.1774", ""));
+    // The fit drops it (so the residual agrees with the noise again) and says so.
     assert_eq!(j["verdict"], "suspect", "{j}");
-    assert_eq!(warned(&j), ["residual"], "{j}");
+    assert_eq!(warned(&j), ["outliers"], "{j}");
+    let o = &j["outliers"];
+    assert_eq!(o.as_array().unwrap().len(), 1, "{j}");
+    assert!(
+        (o[0]["t_s"].as_f64().unwrap() - rows[near].0).abs() < 0.1,
+        "{o}"
+    );
+    assert_eq!(o[0]["dropped"], true, "{o}");
 }
 
 #[test]

@@ -179,6 +179,31 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
     let _ = writeln!(o, "experiment       {} ({})", exp.name, exp.path.display());
     let _ = writeln!(o, "angles           {}", r.angles.description);
     let _ = writeln!(o, "turning points   {}", f.n_extremes);
+    if let Some(r) = &f.release {
+        let _ = writeln!(
+            o,
+            "release          t = {:.3} s, from rest at {:.4} deg: the {} frames before it \
+             (held {:.2} s) are not fitted",
+            r.t_s,
+            r.angle_rad.to_degrees(),
+            r.frame,
+            r.held_s
+        );
+    }
+    for x in &f.outliers {
+        let _ = writeln!(
+            o,
+            "outlier          t = {:.3} s, residual {:+.4} deg ({:.0} robust SD): {}",
+            x.t_s,
+            x.residual_rad.to_degrees(),
+            x.robust_z,
+            if x.dropped {
+                "dropped, not fitted"
+            } else {
+                "kept (beyond the cap)"
+            }
+        );
+    }
     let _ = writeln!(
         o,
         "equilibrium      {:.4} deg (envelope fit); {:.4} deg (Eq. 38-39, mean of extremes)",

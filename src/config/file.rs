@@ -38,13 +38,13 @@ pub struct ExperimentFile {
 }
 
 /// The consistency checks' names, as `accept[].check` names them.
-pub const CHECKS: [&str; 4] = ["period", "residual", "envelope", "interval"];
+pub const CHECKS: [&str; 5] = ["period", "residual", "envelope", "interval", "outliers"];
 
 /// One accepted consistency warning.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Accept {
-    /// The check's name: `period`, `residual`, `envelope` or `interval`.
+    /// The check's name: `period`, `residual`, `envelope`, `interval` or `outliers`.
     pub check: String,
     /// Why the warning does not invalidate the result.
     pub reason: String,
@@ -199,6 +199,15 @@ pub struct Tolerances {
     /// must also exclude zero). Default 0.25.
     #[serde(default = "default_interval_rel")]
     pub interval_rel: f64,
+    /// `outliers` check: how many turning points the fit may drop as outliers without a
+    /// warning. Default 0 (any dropped turning point is said); more than a tenth of them
+    /// always warns, whatever this says. Written out only when set.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub outliers: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl Default for Tolerances {
@@ -210,6 +219,7 @@ impl Default for Tolerances {
             residual_factor: default_residual_factor(),
             envelope_aicc: default_envelope_aicc(),
             interval_rel: default_interval_rel(),
+            outliers: 0,
         }
     }
 }

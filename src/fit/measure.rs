@@ -1,12 +1,17 @@
 //! The measured side of a fit: turning points, equilibrium, envelope and period of an
 //! angle series, first model-free, then refined with the model's own shape.
+//!
+//! A recording that begins with the ball held at its release angle ([`signal::find_release`])
+//! is measured from the release on: the hold is not motion, and the release is the first
+//! turning point, a start from rest (`psi = psi_0`, `psi' = 0`), which is exactly how the
+//! model is integrated from a turning point.
 
 use super::BetaChoice;
 use crate::numerics::{linear_fit, upper_median, LineFit};
 use crate::physics::ode::{integrate, OdeOptions};
 use crate::physics::{FrictionLaw, Pendulum};
 use crate::series::AngleSeries;
-use crate::signal::{self, envelope_line, Equilibrium, Extreme};
+use crate::signal::{self, envelope_line, Equilibrium, Extreme, Release};
 use anyhow::{bail, Result};
 use serde::Serialize;
 
@@ -23,6 +28,9 @@ pub struct Measurement {
     pub index: Vec<usize>,
     /// Measured period (twice the half-swing time, by regression of `t_k` on index), s.
     pub period_s: f64,
+    /// The held start, when the series begins with one: the samples before the release
+    /// are not measured as motion.
+    pub release: Option<Release>,
 }
 
 /// Minimum number of turning points for a fit with two parameters and a residual.
@@ -31,7 +39,26 @@ pub const MIN_EXTREMES: usize = 4;
 /// Extremes, equilibrium and envelope of an angle series (model-free: the turning
 /// points come from local cusp fits, [`signal::find_extremes`]).
 pub fn measure(series: &AngleSeries) -> Result<Measurement> {
-    from_extremes(signal::find_extremes(series)?)
+    let Some((release, start)) = signal::find_release(series) else {
+        return from_extremes(signal::find_extremes(series)?);
+    };
+    // Turning points are sought in the motion only, from the release on: there the
+    // release leaves its lobe on one side only and is not taken for one.
+    let moving = AngleSeries::new(
+        series.t[release.frame..].to_vec(),
+        series.angle[release.frame..].to_vec(),
+    );
+    let mut extremes = signal::find_extremes(&moving)?;
+    // Nothing within half a half swing of the release is a turning point.
+    let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
+    if !gaps.is_empty() {
+        let half = upper_median(&mut gaps);
+        extremes.retain(|e| e.t - start.t > 0.5 * half);
+    }
+    extremes.insert(0, start);
+    let mut m = from_extremes(extremes)?;
+    m.release = Some(release);
+    Ok(m)
 }
 
 /// Equilibrium, envelope, half-swing indices and period of a list of turning points.
@@ -64,7 +91,43 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
         envelope,
         index,
         period_s,
+        release: None,
     })
+}
+
+impl Measurement {
+    /// The measurement without turning point `k` (an outlier): equilibrium, envelope and
+    /// period from the others, half-swing indices counted from the new first one. The
+    /// amplitudes are kept as measured (each about its own equilibrium, after
+    /// [`refine`]).
+    pub fn without(&self, k: usize) -> Result<Measurement> {
+        let mut extremes = self.extremes.clone();
+        let mut amplitudes = self.amplitudes.clone();
+        let mut index = self.index.clone();
+        extremes.remove(k);
+        amplitudes.remove(k);
+        index.remove(k);
+        if extremes.len() < MIN_EXTREMES {
+            bail!(
+                "only {} turning point(s) would be left; the fit needs at least {MIN_EXTREMES}",
+                extremes.len()
+            );
+        }
+        let i0 = index[0];
+        index.iter_mut().for_each(|i| *i -= i0);
+        let equilibrium = signal::equilibrium(&extremes)?;
+        let ts: Vec<f64> = extremes.iter().map(|e| e.t).collect();
+        let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();
+        Ok(Measurement {
+            envelope: linear_fit(&ts, &amplitudes),
+            period_s: 2.0 * linear_fit(&idx, &ts).slope,
+            extremes,
+            equilibrium,
+            amplitudes,
+            index,
+            release: self.release,
+        })
+    }
 }
 
 /// Second pass over the turning points: "fit the model itself around the extreme"
@@ -99,17 +162,22 @@ pub fn refine(
         t_end: 0.9 * half,
         ..OdeOptions::default()
     };
-    // psi(tau; A) and psi'(tau; A) on both sides of a turning point at tau = 0.
-    let shape = |amp: f64| {
+    // psi(tau; A) and psi'(tau; A) on both sides of a turning point at tau = 0; before a
+    // release, the ball is at rest at A.
+    let shape = |amp: f64, release: bool| {
         let fwd = integrate(&ps, &fwd_law, 0.0, [amp, 0.0], &opts);
-        let bwd = integrate(&ps, &bwd_law, 0.0, [amp, 0.0], &opts);
+        let bwd = (!release).then(|| integrate(&ps, &bwd_law, 0.0, [amp, 0.0], &opts));
         move |tau: f64| -> (f64, f64) {
-            if tau >= 0.0 {
-                let [x, v] = fwd.state(tau);
-                (x, v)
-            } else {
-                let [x, v] = bwd.state(-tau);
-                (x, -v)
+            match &bwd {
+                _ if tau >= 0.0 => {
+                    let [x, v] = fwd.state(tau);
+                    (x, v)
+                }
+                Some(bwd) => {
+                    let [x, v] = bwd.state(-tau);
+                    (x, -v)
+                }
+                None => (amp, 0.0),
             }
         }
     };
@@ -131,7 +199,7 @@ pub fn refine(
         // the next pass removes even that).
         for _pass in 0..passes {
             let a_s = amp;
-            let cur = shape(a_s);
+            let cur = shape(a_s, e.release);
             for _ in 0..8 {
                 let scale = amp / a_s;
                 let mut ata = nalgebra::Matrix3::<f64>::zeros();
@@ -163,10 +231,21 @@ pub fn refine(
             side: e.side,
             fit_rms: (rss / (hi - lo) as f64).sqrt(),
             samples: hi - lo,
+            release: e.release,
         });
         amps.push(amp);
     }
+    let release = match (m.release, out.first()) {
+        (Some(_), Some(e)) if e.release => Some(Release {
+            t_s: e.t,
+            frame: t.partition_point(|&v| v <= e.t),
+            angle_rad: e.angle,
+            held_s: e.t - t[0],
+        }),
+        (r, _) => r,
+    };
     let mut refined = from_extremes(out)?;
+    refined.release = release;
     // The amplitudes about each turning point's own equilibrium.
     refined.envelope = linear_fit(
         &refined.extremes.iter().map(|e| e.t).collect::<Vec<_>>(),

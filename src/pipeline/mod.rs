@@ -1,5 +1,6 @@
 //! One experiment through the stages: acquire its angles (a measured CSV, a lab video or
-//! the digital twin's video) -> extremes -> equilibrium -> fit -> checks -> torsion.
+//! the digital twin's video) -> release and extremes -> equilibrium -> fit (outlying
+//! turning points dropped) -> checks -> torsion.
 //!
 //! Every function here returns typed values and writes no report file; `rollfric fit`,
 //! `rollfric build` and the tests all go through them, so they cannot disagree. The
@@ -181,6 +182,8 @@ pub struct Overrides {
 /// Everything the analysis of one experiment's angles produced.
 #[derive(Clone, Debug)]
 pub struct Analysis {
+    /// The turning points that were fitted (without any dropped as outliers; see
+    /// `fit.outliers`).
     pub measurement: Measurement,
     pub fit: FitResult,
     /// The fitted friction law.
@@ -229,7 +232,13 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         compare_betas: o.compare_betas || exp.file.model.compare_betas,
         ..FitOptions::default()
     };
-    let f = fit::fit(p, &m, &opts).with_context(what)?;
+    // The turning points that were fitted (outliers dropped) and the fit.
+    let frame_noise_rad = crate::signal::noise_sigma(&series.angle);
+    let (m, mut f) = fit::fit_robust(p, &m, &opts, frame_noise_rad).with_context(what)?;
+    if let Some(r) = f.release.as_mut() {
+        // Frames of the recording (missing ones included) before the release.
+        r.frame = angles.table.rows.partition_point(|row| row.t_s <= r.t_s);
+    }
     for (key, v) in [
         ("s_r", f.s_r_m),
         ("its standard error", f.s_r_se_m),
@@ -255,23 +264,37 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
     let tol = &exp.file.tolerances;
     let ts: Vec<f64> = m.extremes.iter().map(|e| e.t).collect();
     let samples: Vec<usize> = m.extremes.iter().map(|e| e.samples).collect();
+    let (outliers_dropped, outliers_kept): (Vec<f64>, Vec<f64>) = {
+        let times = |dropped: bool| {
+            f.outliers
+                .iter()
+                .filter(|o| o.dropped == dropped)
+                .map(|o| o.t_s)
+                .collect()
+        };
+        (times(true), times(false))
+    };
     let mut verdict = verdict::assess(
         &Evidence {
             d_m: p.d,
             d_from_period_m: f.d_from_period_m,
-            frame_noise_rad: crate::signal::noise_sigma(&series.angle),
+            frame_noise_rad,
             samples: &samples,
             t: &ts,
             amplitudes: &m.amplitudes,
             residual_rms_rad: f.residual_rms_rad,
             s_r: f.s_r_m,
             s_r_ci95: f.s_r_ci95_m,
+            outliers_dropped: &outliers_dropped,
+            outliers_kept: &outliers_kept,
+            outlier_cap: fit::outlier_cap(m.amplitudes.len() + outliers_dropped.len()),
         },
         &Limits {
             period_rel: tol.period_rel,
             residual_factor: tol.residual_factor,
             envelope_aicc: tol.envelope_aicc,
             interval_rel: tol.interval_rel,
+            outliers: tol.outliers,
         },
     );
     verdict.accept(

@@ -22,6 +22,12 @@ pub fn experiment_pages(
     let f = &a.fit;
     // Figure 16 shows s_r changed by the larger of 15 % and three times the CI.
     let ci_rel = (f.s_r_ci95_m[1] - f.s_r_m) / f.s_r_m;
+    let dropped: Vec<(f64, f64)> = f
+        .outliers
+        .iter()
+        .filter(|o| o.dropped)
+        .map(|o| (o.t_s, o.angle_rad))
+        .collect();
     let figs = figures::experiment_figures(&figures::Inputs {
         name: &exp.name,
         rows,
@@ -31,6 +37,8 @@ pub fn experiment_pages(
         a_start: f.a_start_rad,
         delta_rel: (3.0 * ci_rel).max(0.15),
         mu: a.sliding_mu,
+        release: f.release.map(|r| (r.t_s, r.angle_rad)),
+        dropped: &dropped,
     })?;
     let mut files: Vec<OutputFile> = figs
         .into_iter()
@@ -93,6 +101,8 @@ struct ExperimentView {
     has_detection: bool,
     has_fig11: bool,
     fit: Vec<Kv>,
+    /// What was not fitted: the hold before a release, dropped outliers (one line each).
+    fit_notes: Vec<String>,
     checks: Vec<CheckView>,
     extremes: Vec<ExtremeView>,
     torsion: Vec<Kv>,
@@ -132,7 +142,9 @@ struct CheckView {
 
 #[derive(Serialize)]
 struct ExtremeView {
-    k: usize,
+    /// The index among the fitted turning points (`0 (release)` for a release from
+    /// rest), or `dropped` for an outlier.
+    k: String,
     t: String,
     angle: String,
     amplitude: String,
@@ -149,6 +161,68 @@ fn check_view(c: &Check) -> CheckView {
         tolerance: format!("{:.1} %", 100.0 * c.tolerance_rel),
         pass: c.verdict(),
     }
+}
+
+/// The page's lines on what was not fitted: the frames of a held start before the
+/// release, and the turning points dropped as outliers (or found beyond the cap).
+fn fit_notes(f: &crate::fit::FitResult) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(r) = &f.release {
+        out.push(format!(
+            "{} frames before the release at t = {:.3} s are not fitted: the recording begins \
+             with the ball held at {:.4} deg for {:.2} s. The fit starts at the release, from \
+             rest (turning point 0).",
+            r.frame,
+            r.t_s,
+            r.angle_rad.to_degrees(),
+            r.held_s
+        ));
+    }
+    let list = |dropped: bool| {
+        f.outliers
+            .iter()
+            .filter(|o| o.dropped == dropped)
+            .map(|o| {
+                format!(
+                    "t = {:.3} s (residual {:+.4} deg, {:.0} robust standard deviations)",
+                    o.t_s,
+                    o.residual_rad.to_degrees(),
+                    o.robust_z
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let (dropped, kept) = (list(true), list(false));
+    if !dropped.is_empty() {
+        out.push(format!(
+            "{} dropped as {} and not fitted (marked in Figures 14a, 15 and 16): {}.",
+            if dropped.len() == 1 {
+                "1 turning point".to_string()
+            } else {
+                format!("{} turning points", dropped.len())
+            },
+            if dropped.len() == 1 {
+                "an outlier"
+            } else {
+                "outliers"
+            },
+            dropped.join("; ")
+        ));
+    }
+    if !kept.is_empty() {
+        out.push(format!(
+            "{} also outlying but kept in the fit, as at most {} may be dropped (a tenth of \
+             the turning points): {}.",
+            if kept.len() == 1 {
+                "1 turning point is".to_string()
+            } else {
+                format!("{} turning points are", kept.len())
+            },
+            crate::fit::outlier_cap(f.n_extremes + dropped.len()),
+            kept.join("; ")
+        ));
+    }
+    out
 }
 
 fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> ExperimentView {
@@ -295,21 +369,45 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             ),
         ));
     }
-    let extremes = m
+    let mut extremes: Vec<(f64, ExtremeView)> = m
         .extremes
         .iter()
         .enumerate()
-        .map(|(k, e)| ExtremeView {
-            k,
-            t: format!("{:.3}", e.t),
-            angle: format!("{:.4}", e.angle.to_degrees()),
-            amplitude: format!("{:.4}", m.amplitudes[k].to_degrees()),
-            residual: f
-                .residuals_rad
-                .get(k)
-                .map_or("-".into(), |v| format!("{:+.4}", v.to_degrees())),
+        .map(|(k, e)| {
+            let view = ExtremeView {
+                k: if e.release {
+                    format!("{k} (release)")
+                } else {
+                    k.to_string()
+                },
+                t: format!("{:.3}", e.t),
+                angle: format!("{:.4}", e.angle.to_degrees()),
+                amplitude: format!("{:.4}", m.amplitudes[k].to_degrees()),
+                residual: f
+                    .residuals_rad
+                    .get(k)
+                    .map_or("-".into(), |v| format!("{:+.4}", v.to_degrees())),
+            };
+            (e.t, view)
         })
         .collect();
+    for o in &f.outliers {
+        if o.dropped {
+            extremes.push((
+                o.t_s,
+                ExtremeView {
+                    k: "dropped".into(),
+                    t: format!("{:.3}", o.t_s),
+                    angle: format!("{:.4}", o.angle_rad.to_degrees()),
+                    amplitude: format!("{:.4}", o.amplitude_rad.to_degrees()),
+                    residual: format!("{:+.4} (not fitted)", o.residual_rad.to_degrees()),
+                },
+            ));
+        }
+    }
+    extremes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let extremes = extremes.into_iter().map(|(_, v)| v).collect();
+    let fit_notes = fit_notes(f);
     let torsion = r
         .torsion
         .map(|c| {
@@ -350,6 +448,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         flagged_more,
         has_fig11,
         fit,
+        fit_notes,
         checks: r.checks.iter().map(check_view).collect(),
         extremes,
         torsion,

@@ -79,6 +79,12 @@ pub struct Inputs<'a> {
     /// Relative change of `s_r` shown in Figure 16.
     pub delta_rel: f64,
     pub mu: Option<f64>,
+    /// The release from rest after a held start, `(t, angle)` (s, rad): marked in
+    /// Figure 12.
+    pub release: Option<(f64, f64)>,
+    /// Turning points dropped from the fit as outliers, `(t, angle)` (s, rad): marked in
+    /// Figures 14a, 15 and 16.
+    pub dropped: &'a [(f64, f64)],
 }
 
 /// Figures 12, 14a, 14b, 15, 16a, 16b, 17 and 18 of one experiment.
@@ -123,7 +129,26 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
     if !manual.is_empty() {
         c = c.with(Series::crosses("operator mark", Rgb::GREEN, manual));
     }
+    if let Some((t, a)) = x.release {
+        c = c.with(Series::markers(
+            "release from rest (the fit starts here)",
+            Rgb::PURPLE,
+            vec![(t, deg(a))],
+        ));
+    }
     out.push(fig("fig12.svg", &c)?);
+    let dropped: Vec<(f64, f64)> = x.dropped.iter().map(|&(t, a)| (t, deg(a))).collect();
+    let with_dropped = |c: Chart| {
+        if dropped.is_empty() {
+            c
+        } else {
+            c.with(Series::crosses(
+                "dropped as outlier (not fitted)",
+                Rgb::PURPLE,
+                dropped.clone(),
+            ))
+        }
+    };
 
     // Figure 14a: turning points as measured, with both equilibrium estimates.
     let maxima: Vec<(f64, f64)> = ex
@@ -139,23 +164,25 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
     let h = |v: f64| vec![(t0, deg(v)), (t1, deg(v))];
     out.push(fig(
         "fig14a.svg",
-        &Chart::new(
-            &format!("Fig. 14a - {}: extreme elongations as measured", x.name),
-            "t (s)",
-            "angle (deg)",
-        )
-        .with(Series::markers("maxima", Rgb::BLUE, maxima))
-        .with(Series::markers("minima", Rgb::ORANGE, minima))
-        .with(Series::dashed(
-            "equilibrium, Eq. 38-39 (mean of extremes)",
-            Rgb::GREY,
-            h(m.equilibrium.paper),
-        ))
-        .with(Series::line(
-            "equilibrium, envelope fit",
-            Rgb::BLACK,
-            h(m.equilibrium.envelope),
-        )),
+        &with_dropped(
+            Chart::new(
+                &format!("Fig. 14a - {}: extreme elongations as measured", x.name),
+                "t (s)",
+                "angle (deg)",
+            )
+            .with(Series::markers("maxima", Rgb::BLUE, maxima))
+            .with(Series::markers("minima", Rgb::ORANGE, minima))
+            .with(Series::dashed(
+                "equilibrium, Eq. 38-39 (mean of extremes)",
+                Rgb::GREY,
+                h(m.equilibrium.paper),
+            ))
+            .with(Series::line(
+                "equilibrium, envelope fit",
+                Rgb::BLACK,
+                h(m.equilibrium.envelope),
+            )),
+        ),
     )?);
 
     // Figure 14b: amplitudes about the equilibrium, both estimators, with the regression.
@@ -196,19 +223,21 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
     let [up, down] = envelope_lines(eq, m.equilibrium.a0, m.equilibrium.a, t0, t1);
     let points: Vec<(f64, f64)> = ex.iter().map(|e| (e.t, deg(e.angle))).collect();
     let over_extremes = |title: String, label: &str, envelope: &str, tr: &Trajectory| {
-        Chart::new(&title, "t (s)", "angle (deg)")
-            .with(Series::line(
-                label,
-                Rgb::BLUE,
-                signal(tr, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
-            ))
-            .with(Series::markers(
-                "measured extremes",
-                Rgb::RED,
-                points.clone(),
-            ))
-            .with(Series::dashed(envelope, Rgb::BLACK, up.clone()))
-            .with(Series::dashed("", Rgb::BLACK, down.clone()))
+        with_dropped(
+            Chart::new(&title, "t (s)", "angle (deg)")
+                .with(Series::line(
+                    label,
+                    Rgb::BLUE,
+                    signal(tr, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
+                ))
+                .with(Series::markers(
+                    "measured extremes",
+                    Rgb::RED,
+                    points.clone(),
+                ))
+                .with(Series::dashed(envelope, Rgb::BLACK, up.clone()))
+                .with(Series::dashed("", Rgb::BLACK, down.clone())),
+        )
     };
     out.push(fig(
         "fig15.svg",

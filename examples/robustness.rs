@@ -4,7 +4,8 @@
 //! angle RMS and s_r error percentiles, and every failure with its scene's settings.
 //!
 //! `cargo run --release --example robustness -- [SCENES] [SEED] [DURATION_S]`
-//! (defaults 60, 1 and 40). Scenes are drawn from a fixed seed: the same arguments give
+//! (defaults 60, 1 and 40); a fourth argument, a scene's number, runs that scene alone and
+//! keeps its folder. Scenes are drawn from a fixed seed: the same arguments give
 //! the same scenes.
 
 use anyhow::{Context, Result};
@@ -43,18 +44,71 @@ impl Scene {
         let fps = FPS[pick(rng, FPS.len())];
         let style = STYLES[pick(rng, STYLES.len())];
         let ext = if rng.uniform() < 0.5 { "mp4" } else { "avi" };
-        let keys = vec![
+        let rest_deg = -180.0 + 360.0 * rng.uniform();
+        let mut keys = vec![
             ("width".to_string(), w.to_string()),
             ("height".to_string(), h.to_string()),
             ("fps".to_string(), fps.to_string()),
             ("style".to_string(), style.to_string()),
             ("seed".to_string(), seed.to_string()),
             // Any camera roll.
-            (
-                "rest_angle_deg".to_string(),
-                format!("{:.1}", -180.0 + 360.0 * rng.uniform()),
-            ),
+            ("rest_angle_deg".to_string(), format!("{rest_deg:.1}")),
         ];
+        let mut set = |k: &str, v: String| keys.push((k.to_string(), v));
+        // Each of the other cameras' conditions in a share of the scenes, so that they
+        // also meet each other.
+        if rng.uniform() < 0.25 {
+            set("mirror", "true".to_string());
+        }
+        if rng.uniform() < 0.3 {
+            // A thin faint wire: 1 or 2 px, a third of the style's contrast and up.
+            set("wire_width_px", (1 + pick(rng, 2)).to_string());
+            set(
+                "wire_contrast",
+                format!("{:.2}", 0.35 + 0.65 * rng.uniform()),
+            );
+        }
+        if rng.uniform() < 0.3 {
+            let side = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+            set(
+                "shadow",
+                format!(
+                    "{{angle_deg: {:.1}, blur_px: {:.1}, strength: {:.2}}}",
+                    side * (2.0 + 4.0 * rng.uniform()),
+                    2.0 + 4.0 * rng.uniform(),
+                    0.3 + 0.3 * rng.uniform()
+                ),
+            );
+        }
+        if rng.uniform() < 0.4 {
+            // Mains flicker at twice 50 or 60 Hz, up to 15 % deep.
+            set("flicker_hz", ["100", "120"][pick(rng, 2)].to_string());
+            set(
+                "flicker_depth",
+                format!("{:.3}", 0.02 + 0.13 * rng.uniform()),
+            );
+        }
+        if rng.uniform() < 0.3 {
+            set("hold_s", format!("{:.2}", 0.5 + 1.5 * rng.uniform()));
+        }
+        if rng.uniform() < 0.2 {
+            // The fulcrum just outside the frame, on the side the wire hangs from.
+            // Beyond the edge the wire's rest direction points away from, half-way along
+            // it or a little off (a corner would leave no room for the swing).
+            let (c, s) = (rest_deg.to_radians().cos(), rest_deg.to_radians().sin());
+            let out = -(0.01 + 0.05 * rng.uniform());
+            let along = 0.5 - 0.2 * (rng.uniform() - 0.5);
+            let (x, y) = if c.abs() > s.abs() {
+                (if c > 0.0 { out } else { 1.0 - out }, along)
+            } else {
+                (along, if s > 0.0 { out } else { 1.0 - out })
+            };
+            set("pivot_frac", format!("[{x:.4}, {y:.4}]"));
+        }
+        if rng.uniform() < 0.2 {
+            // A phone's variable frame rate.
+            set("vfr_jitter", format!("{:.2}", 0.1 + 0.3 * rng.uniform()));
+        }
         Scene {
             material,
             keys,
@@ -152,6 +206,21 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
     })
 }
 
+/// A scene's folder: removed after it, or kept when the scene is run alone.
+enum Dir {
+    Temp(tempfile::TempDir),
+    Kept(std::path::PathBuf),
+}
+
+impl Dir {
+    fn path(&self) -> &Path {
+        match self {
+            Dir::Temp(t) => t.path(),
+            Dir::Kept(p) => p,
+        }
+    }
+}
+
 fn percentile(v: &[f64], p: f64) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
@@ -166,13 +235,26 @@ fn main() -> Result<()> {
     let scenes: usize = args.first().map_or(Ok(60), |a| a.parse())?;
     let seed: u64 = args.get(1).map_or(Ok(1), |a| a.parse())?;
     let duration: f64 = args.get(2).map_or(Ok(40.0), |a| a.parse())?;
+    // A fourth argument runs that scene alone and keeps its folder (video, YAML) to look at.
+    let only: Option<usize> = args.get(3).map(|a| a.parse()).transpose()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut rng = Rng::new(seed);
     let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());
     let mut refused = 0;
     for i in 0..scenes {
         let scene = Scene::draw(&mut rng, seed * 1000 + i as u64);
+        if only.is_some_and(|o| o != i) {
+            continue;
+        }
         let dir = tempfile::tempdir()?;
+        if only.is_some() {
+            eprintln!("scene {i} kept in {}", dir.path().display());
+        }
+        let dir = if only.is_some() {
+            Dir::Kept(dir.keep())
+        } else {
+            Dir::Temp(dir)
+        };
         let started = std::time::Instant::now();
         let outcome = run(&scene, root, dir.path(), duration);
         let line = match &outcome {

@@ -166,6 +166,13 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
         Ok(d) => d,
         Err(e) => return Ok(Outcome::Refused(format!("{e:#}"))),
     };
+    // Beside the video: the detector's angles and the truth, frame by frame.
+    std::fs::write(dir.join("angles.csv"), d.to_csv())?;
+    let mut t = String::from("t_s,angle_rad,spoiled\n");
+    for r in &truth {
+        t.push_str(&format!("{},{},{}\n", r.t_s, r.angle_rad, r.spoiled));
+    }
+    std::fs::write(dir.join("truth.csv"), t)?;
     // Angle error of the accepted frames against the truth (mirrored footage and any
     // roll: compared modulo a turn).
     let errs: Vec<f64> = d

@@ -21,6 +21,11 @@ struct Scene {
     rest: f64,
     amp: f64,
     period: f64,
+    /// How dark the wire's centre line is against the wall (grey levels).
+    contrast: f64,
+    /// A soft shadow of the wire: its angle from the wire (rad), its blur (Gaussian
+    /// sigma, px) and how dark its centre line is (grey levels).
+    shadow: Option<(f64, f64, f64)>,
 }
 
 impl Scene {
@@ -32,9 +37,9 @@ impl Scene {
         (self.seconds * self.fps).round() as usize
     }
 
-    /// Frame `k`: a wall at 200 (a gentle gradient), the wire 120 grey levels darker
-    /// on its centre line, fading out over 1.5 px on either side (a blurred wire about
-    /// 2 px wide), and Gaussian noise of 1.5 grey levels.
+    /// Frame `k`: a wall at 200 (a gentle gradient), the wire `contrast` grey levels
+    /// darker on its centre line, fading out over 1.5 px on either side (a blurred wire
+    /// about 2 px wide), its shadow if any, and Gaussian noise of 1.5 grey levels.
     fn draw(&self, k: usize, rng: &mut Rng) -> Vec<u8> {
         let (w, h) = (self.width as usize, self.height as usize);
         let th = self.angle(k as f64 / self.fps);
@@ -52,7 +57,20 @@ impl Scene {
                     0.0
                 };
                 let wall = 200.0 - 20.0 * y as f64 / h as f64;
-                let v = wall - 120.0 * cover + 1.5 * rng.normal();
+                let shade = match self.shadow {
+                    Some((off, sigma, depth)) => {
+                        let (sx, sy) = ((th + off).cos(), (th + off).sin());
+                        let along = vx * sx + vy * sy;
+                        let across = vx * sy - vy * sx;
+                        if (0.0..=self.length).contains(&along) {
+                            depth * (-0.5 * (across / sigma).powi(2)).exp()
+                        } else {
+                            0.0
+                        }
+                    }
+                    None => 0.0,
+                };
+                let v = wall - shade - self.contrast * cover + 1.5 * rng.normal();
                 img[y * w + x] = v.round().clamp(0.0, 255.0) as u8;
             }
         }
@@ -163,6 +181,8 @@ fn a_wire_drawn_in_memory_is_measured_back_without_a_decoder() {
         rest: PI / 2.0 + 3f64.to_radians(),
         amp: 20f64.to_radians(),
         period: 2.2,
+        contrast: 120.0,
+        shadow: None,
     };
     let (rms, max, piv) = measure("320x240", &scene);
     assert!(rms < 0.1, "angle error RMS {rms:.4} deg");
@@ -184,11 +204,39 @@ fn a_large_frame_is_looked_at_shrunk_in_memory() {
         rest: PI / 2.0 - 2f64.to_radians(),
         amp: 15f64.to_radians(),
         period: 2.2,
+        contrast: 120.0,
+        shadow: None,
     };
     let (rms, max, piv) = measure("960x720", &scene);
     assert!(rms < 0.1, "angle error RMS {rms:.4} deg");
     assert!(max < 0.5, "largest angle error {max:.4} deg");
     assert!(piv < 1.0, "pivot off by {piv:.3} px");
+}
+
+#[test]
+fn a_faint_wire_is_followed_beside_its_darker_soft_shadow() {
+    // The shadow diverges from the fulcrum 4 degrees from the wire, blurred (sigma 2.5
+    // px) and, on its centre line, twice as dark as the wire: it holds more evidence,
+    // but the wire is the sharp ridge.
+    let scene = Scene {
+        width: 320,
+        height: 240,
+        fps: 25.0,
+        seconds: 8.0,
+        pivot: (161.3, 18.6),
+        length: 200.0,
+        rest: PI / 2.0 + 3f64.to_radians(),
+        amp: 20f64.to_radians(),
+        period: 2.2,
+        contrast: 30.0,
+        shadow: Some((-4f64.to_radians(), 2.5, 60.0)),
+    };
+    // Followed, not swapped for the shadow: every error well inside the 4 degrees. The
+    // shadow's flank near the fulcrum still pulls the angle by about 0.35 degrees and
+    // the pivot by about a pixel (a known bias, not yet removed).
+    let (rms, max, piv) = measure("320x240 with a shadow", &scene);
+    assert!(max < 0.5, "largest angle error {max:.4} deg (RMS {rms:.4})");
+    assert!(piv < 2.0, "pivot off by {piv:.3} px");
 }
 
 #[test]
@@ -203,6 +251,8 @@ fn progress_ends_at_the_frames_measured() {
         rest: PI / 2.0,
         amp: 15f64.to_radians(),
         period: 1.8,
+        contrast: 120.0,
+        shadow: None,
     };
     let calls = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
     let seen = calls.clone();

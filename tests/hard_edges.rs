@@ -164,16 +164,36 @@ fn a_second_build_of_the_same_folders_waits_or_refuses() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(700));
+    // Read its messages as they come: no sleep that a loaded machine could outlast.
+    let stderr = waiting.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        use std::io::BufRead;
+        let mut all = String::new();
+        for line in std::io::BufReader::new(stderr).lines() {
+            let line = line.unwrap();
+            all.push_str(&line);
+            all.push('\n');
+            let _ = tx.send(line);
+        }
+        all
+    });
+    let said_waiting = loop {
+        match rx.recv_timeout(std::time::Duration::from_secs(120)) {
+            Ok(line) if line.contains("waiting for it to finish") => break true,
+            Ok(_) => continue,
+            Err(_) => break false,
+        }
+    };
+    assert!(said_waiting, "it says it waits while the folder is held");
     assert!(
         waiting.try_wait().unwrap().is_none(),
         "it waits while the folder is held"
     );
     held.unlock().unwrap();
-    let o = waiting.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{err}");
-    assert!(err.contains("waiting for it to finish"), "{err}");
+    let status = waiting.wait().unwrap();
+    let err = reader.join().unwrap();
+    assert!(status.success(), "{err}");
 }
 
 #[test]

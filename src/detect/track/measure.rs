@@ -62,17 +62,30 @@ impl Tracker {
         let sm: Vec<f64> = (0..nb)
             .map(|i| histo[i.saturating_sub(1)..(i + 2).min(nb)].iter().sum())
             .collect();
+        let side = |i: usize| {
+            (
+                sm.get(i.wrapping_sub(3 * k)).copied().unwrap_or(0.0),
+                sm.get(i + 3 * k).copied().unwrap_or(0.0),
+            )
+        };
         let mut best = (f64::MIN, 0usize);
-        for i in 0..nb {
-            let side = 0.5
-                * (sm.get(i.wrapping_sub(3 * k)).copied().unwrap_or(0.0)
-                    + sm.get(i + 3 * k).copied().unwrap_or(0.0));
-            let score = sm[i] - side;
+        for (i, m) in sm.iter().enumerate() {
+            let (a, b) = side(i);
+            let score = m - 0.5 * (a + b);
             if score > best.0 {
                 best = (score, i);
             }
         }
-        let th0 = lo + (best.1 as f64 + 0.5) * bin_w;
+        // Rivals are scored against their lower side: a wire beside its own shadow keeps
+        // its peak.
+        let scores: Vec<f64> = (0..nb)
+            .map(|i| {
+                let (a, b) = side(i);
+                sm[i] - a.min(b)
+            })
+            .collect();
+        let best_i = self.sharpest_ridge(&scores, best, &cand, lo, bin_w, pred)?;
+        let th0 = lo + (best_i as f64 + 0.5) * bin_w;
         let l0 = Line {
             point: piv,
             dir: Pt::new(th0.cos(), th0.sin()),
@@ -172,5 +185,123 @@ impl Tracker {
             }
         }
         Ok(out)
+    }
+}
+
+/// A rival peak must score this share of the strongest to be weighed at all.
+const RIVAL_SCORE: f64 = 0.15;
+/// ... cover this share of the band that the strongest covers (a wire runs the band's
+/// length; a scale's radial tick mark does not) ...
+const RIVAL_COVER: f64 = 0.6;
+/// ... and be this much narrower across than the strongest to win outright: a wire's soft
+/// shadow, diverging from the fulcrum beside it, can hold more evidence than a faint
+/// wire, but it is wide and the wire is a sharp ridge.
+const RIVAL_SHARPER: f64 = 0.7;
+/// Evidence within this many px of a peak's line counts towards its width.
+const WIDTH_STRIP: f64 = 4.0;
+
+impl Tracker {
+    /// The histogram bin of the wire: the strongest peak `best` (score, bin), unless a
+    /// rival peak (a local maximum of `scores`, each bin's mass against its lower side)
+    /// that runs the band is clearly sharper across, or, while tracking, lies within the
+    /// gate of the prediction `pred` when the strongest does not and is no wider. A
+    /// peak's width is the weighted RMS distance across its line of the evidence (below
+    /// the threshold too) nearer to it than to any other peak's.
+    fn sharpest_ridge(
+        &self,
+        scores: &[f64],
+        best: (f64, usize),
+        cand: &[(Pt, f64, f64)],
+        lo: f64,
+        bin_w: f64,
+        pred: Option<f64>,
+    ) -> Result<usize> {
+        let reach = 4usize;
+        let own = scores[best.1];
+        let peaks: Vec<usize> = std::iter::once(best.1)
+            .chain((0..scores.len()).filter(|&i| {
+                let s = scores[i];
+                i.abs_diff(best.1) > reach
+                    && s >= RIVAL_SCORE * own
+                    && scores[i.saturating_sub(reach)..(i + reach + 1).min(scores.len())]
+                        .iter()
+                        .all(|&o| o <= s)
+            }))
+            .collect();
+        if best.0 <= 0.0 || peaks.len() < 2 {
+            return Ok(best.1);
+        }
+        let piv = self.piv;
+        let (r_lo, r_hi) = (self.r_lo, self.r_hi);
+        let lines: Vec<Line> = peaks
+            .iter()
+            .map(|&i| {
+                let th = lo + (i as f64 + 0.5) * bin_w;
+                Line {
+                    point: piv,
+                    dir: Pt::new(th.cos(), th.sin()),
+                }
+            })
+            .collect();
+        let nearest = |q: Pt| -> (usize, f64) {
+            lines
+                .iter()
+                .map(|l| l.distance(q))
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .expect("two peaks or more")
+        };
+        // The band's bins each peak's thresholded pixels reach.
+        let nbins = 24usize;
+        let mut seen = vec![[false; 24]; peaks.len()];
+        for (q, _, _) in cand {
+            let (j, dj) = nearest(*q);
+            if dj <= WIDTH_STRIP {
+                let b = ((((*q - piv).norm() - r_lo) / (r_hi - r_lo)) * nbins as f64) as usize;
+                seen[j][b.min(nbins - 1)] = true;
+            }
+        }
+        let cover = |j: usize| seen[j].iter().filter(|c| **c).count() as f64;
+        let mut width = Vec::with_capacity(peaks.len());
+        for (j, l) in lines.iter().enumerate() {
+            let (mut s2, mut sw) = (0.0, 0.0);
+            for (q, w) in self.strip_pixels(l, WIDTH_STRIP)? {
+                let (k, d) = nearest(q);
+                if k == j {
+                    s2 += w * d * d;
+                    sw += w;
+                }
+            }
+            width.push(if sw > 0.0 {
+                (s2 / sw).sqrt()
+            } else {
+                f64::INFINITY
+            });
+        }
+        let jb = 0;
+        let rivals =
+            || (0..peaks.len()).filter(|&j| j != jb && cover(j) >= RIVAL_COVER * cover(jb));
+        let mut pick = jb;
+        for j in rivals() {
+            if width[j] < RIVAL_SHARPER * width[jb] && width[j] < width[pick] {
+                pick = j;
+            }
+        }
+        // Neither clearly sharper: while tracking, a rival within the gate of the
+        // prediction is the wire when the strongest lies outside it (the strongest would
+        // be refused, and a run of refusals would re-anchor the track on it).
+        if let Some(p) = pred.filter(|_| pick == jb && self.hist.len() >= 3) {
+            let gate = self.gate * (1.0 + self.since_good as f64);
+            let off = |j: usize| (lo + (peaks[j] as f64 + 0.5) * bin_w - p).abs();
+            if off(jb) > gate {
+                if let Some(j) = rivals()
+                    .filter(|&j| off(j) <= gate && width[j] <= width[jb])
+                    .min_by(|&a, &b| off(a).total_cmp(&off(b)))
+                {
+                    pick = j;
+                }
+            }
+        }
+        Ok(peaks[pick])
     }
 }

@@ -77,14 +77,17 @@ fuzz: deps
 	  $(CARGO) test --release --locked --test fuzz -- --nocapture --test-threads 1
 
 # The randomised robustness sweep: ROBUSTNESS_SCENES twins drawn from ROBUSTNESS_SEED
-# (styles, sizes, frame rates, codecs, camera roll and mirroring, materials), each
-# ROBUSTNESS_SECONDS long, detected with no options and fitted from geometry only.
+# (styles, sizes, frame rates, codecs, camera roll and mirroring, a thin faint wire, its
+# shadow, mains flicker, a held release, an off-frame fulcrum, a variable frame rate,
+# materials), each ROBUSTNESS_SECONDS long, detected with no options and fitted from
+# geometry only. ROBUSTNESS_ONLY=N runs scene N alone and keeps its folder (video, YAML,
+# angles.csv, truth.csv).
 ROBUSTNESS_SCENES ?= 60
 ROBUSTNESS_SEED ?= 1
 ROBUSTNESS_SECONDS ?= 40
 robustness: deps
 	$(CARGO) run --release --locked --example robustness -- \
-	  $(ROBUSTNESS_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS)
+	  $(ROBUSTNESS_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS) $(ROBUSTNESS_ONLY)
 
 clean:
 	$(CARGO) clean

@@ -191,6 +191,11 @@ impl FfmpegSource {
             filters.push_str(",extractplanes=y");
         }
         filters.push_str(",showinfo=checksum=0");
+        // After the times are read, the raw output is numbered 0, 1, 2, ...: a variable
+        // frame rate's frames (millisecond times from a phone) could otherwise land on
+        // one tick of the output's coarser time base, which the muxer refuses as out of
+        // order (and that refusal would read as a damaged video).
+        filters.push_str(",settb=1/1000000,setpts=N");
         let mut child = Command::new("ffmpeg")
             // `level+`: every line carries its severity as `[error]`, `[info]`, ...,
             // so complaints are told by the decoder's own level, not by their words.

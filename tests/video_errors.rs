@@ -125,3 +125,58 @@ fn fails_when_no_wire_can_be_found() {
     );
     assert_fails(&detect(&busy, &csv), &csv, "busy.mp4", &["no wire found"]);
 }
+
+/// A phone's variable frame rate is not damage: frames 6.7 and 26.7 ms apart in turn (in
+/// whole milliseconds, at a nominal 60 frames/s) share ticks of a 1/60 s time base, which
+/// ffmpeg's raw output refused as out of order ("non monotonically increasing dts"); the
+/// reader read that as a damaged video. Every frame is read, at its own time.
+#[test]
+fn a_variable_frame_rate_is_read_frame_by_frame() {
+    use rollfric::video::{probe, FfmpegSource, Frame, FrameSource};
+    if !need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let clip = d.path().join("vfr.mp4");
+    let st = Command::new("ffmpeg")
+        .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
+        .arg("testsrc2=size=160x120:rate=60:duration=2")
+        .arg("-vf")
+        .arg("settb=1/1000,setpts=round((N+0.3*(1-2*mod(N\\,2)))*1000/60)")
+        .args(["-fps_mode", "passthrough", "-enc_time_base", "1/1000"])
+        .args(["-c:v", "libx264", "-pix_fmt", "yuv420p"])
+        .arg(&clip)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let info = probe(&clip).unwrap();
+    let mut src = FfmpegSource::open(&clip, &info, None, 1).unwrap();
+    let mut f = Frame {
+        index: 0,
+        t_s: 0.0,
+        width: 0,
+        height: 0,
+        data: Vec::new(),
+    };
+    let mut times = Vec::new();
+    loop {
+        match src.next_frame(&mut f) {
+            Ok(true) => times.push(f.t_s),
+            Ok(false) => break,
+            Err(e) => panic!("after {} frames: {e:#}", times.len()),
+        }
+    }
+    assert_eq!(times.len(), 120, "every frame read once");
+    // Times from the first frame's (the container may start the clock at it).
+    let written = |k: usize| {
+        ((k as f64 + 0.3 * if k.is_multiple_of(2) { 1.0 } else { -1.0 }) / 60.0 * 1000.0).round()
+            / 1000.0
+    };
+    for (k, t) in times.iter().enumerate() {
+        let (got, want) = (t - times[0], written(k) - written(0));
+        assert!(
+            (got - want).abs() < 1e-6,
+            "frame {k} at {got} s, written at {want} s"
+        );
+    }
+}

@@ -218,25 +218,28 @@ impl Tracker {
     ) -> Result<usize> {
         let reach = 4usize;
         let own = scores[best.1];
-        let peaks: Vec<usize> = std::iter::once(best.1)
-            .chain((0..scores.len()).filter(|&i| {
-                let s = scores[i];
-                i.abs_diff(best.1) > reach
-                    && s >= RIVAL_SCORE * own
-                    && scores[i.saturating_sub(reach)..(i + reach + 1).min(scores.len())]
-                        .iter()
-                        .all(|&o| o <= s)
-            }))
-            .collect();
-        if best.0 <= 0.0 || peaks.len() < 2 {
+        let is_rival = |i: usize| {
+            let s = scores[i];
+            i.abs_diff(best.1) > reach
+                && s >= RIVAL_SCORE * own
+                && scores[i.saturating_sub(reach)..(i + reach + 1).min(scores.len())]
+                    .iter()
+                    .all(|&o| o <= s)
+        };
+        // Most frames have no rival: decided without collecting anything.
+        if best.0 <= 0.0 || !(0..scores.len()).any(is_rival) {
             return Ok(best.1);
         }
+        // The strongest first (index 0), then its rivals.
+        let peaks: Vec<usize> = std::iter::once(best.1)
+            .chain((0..scores.len()).filter(|&i| is_rival(i)))
+            .collect();
+        let angle_of = |j: usize| lo + (peaks[j] as f64 + 0.5) * bin_w;
         let piv = self.piv;
         let (r_lo, r_hi) = (self.r_lo, self.r_hi);
-        let lines: Vec<Line> = peaks
-            .iter()
-            .map(|&i| {
-                let th = lo + (i as f64 + 0.5) * bin_w;
+        let lines: Vec<Line> = (0..peaks.len())
+            .map(|j| {
+                let th = angle_of(j);
                 Line {
                     point: piv,
                     dir: Pt::new(th.cos(), th.sin()),
@@ -278,24 +281,22 @@ impl Tracker {
                 f64::INFINITY
             });
         }
-        let jb = 0;
-        let rivals =
-            || (0..peaks.len()).filter(|&j| j != jb && cover(j) >= RIVAL_COVER * cover(jb));
-        let mut pick = jb;
+        let rivals = || (1..peaks.len()).filter(|&j| cover(j) >= RIVAL_COVER * cover(0));
+        let mut pick = 0;
         for j in rivals() {
-            if width[j] < RIVAL_SHARPER * width[jb] && width[j] < width[pick] {
+            if width[j] < RIVAL_SHARPER * width[0] && width[j] < width[pick] {
                 pick = j;
             }
         }
         // Neither clearly sharper: while tracking, a rival within the gate of the
         // prediction is the wire when the strongest lies outside it (the strongest would
         // be refused, and a run of refusals would re-anchor the track on it).
-        if let Some(p) = pred.filter(|_| pick == jb && self.hist.len() >= 3) {
+        if let Some(p) = pred.filter(|_| pick == 0 && self.hist.len() >= 3) {
             let gate = self.gate * (1.0 + self.since_good as f64);
-            let off = |j: usize| (lo + (peaks[j] as f64 + 0.5) * bin_w - p).abs();
-            if off(jb) > gate {
+            let off = |j: usize| (angle_of(j) - p).abs();
+            if off(0) > gate {
                 if let Some(j) = rivals()
-                    .filter(|&j| off(j) <= gate && width[j] <= width[jb])
+                    .filter(|&j| off(j) <= gate && width[j] <= width[0])
                     .min_by(|&a, &b| off(a).total_cmp(&off(b)))
                 {
                     pick = j;

@@ -51,19 +51,7 @@ fn verdicts(dir: &Path) -> (Result<f64, String>, Result<f64, String>) {
     } else {
         Err(String::from_utf8_lossy(&fit.stderr).into_owned())
     };
-    let build = run(
-        &[
-            "build",
-            "--manifest",
-            "manifest.yaml",
-            "--out",
-            "reports",
-            "--cache",
-            "cache",
-            "-q",
-        ],
-        dir,
-    );
+    let build = run(&common::BUILD_INTO_REPORTS, dir);
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("reports/summary.json")).unwrap()).unwrap();
     let e = &summary["experiments"][0];

@@ -22,16 +22,7 @@ const FPS: f64 = 25.0;
 
 /// The glass twin's angles, `(t_s, angle_rad)`.
 fn twin(dir: &Path) -> Vec<(f64, f64)> {
-    std::fs::write(
-        dir.join("twin.yaml"),
-        "geometry:
-  incline: { h_m: 0.142, l_m: 1.500 }
-  pendulum: { d_m: 0.1774 }
-  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
-synthetic: { s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 80, fps: 25, angle_noise_deg: 0.05 }
-",
-    )
-    .unwrap();
+    std::fs::write(dir.join("twin.yaml"), common::GLASS_TWIN_YAML).unwrap();
     rollfric_ok(&["simulate", "twin.yaml", "-o", "twin.csv"], dir);
     std::fs::read_to_string(dir.join("twin.csv"))
         .unwrap()
@@ -266,19 +257,7 @@ fn a_held_start_on_the_page_and_in_the_summary() {
     );
 
     std::fs::write(dir.join("manifest.yaml"), "experiments: [held.yaml]\n").unwrap();
-    rollfric_ok(
-        &[
-            "build",
-            "-q",
-            "--manifest",
-            "manifest.yaml",
-            "--out",
-            "reports",
-            "--cache",
-            "cache",
-        ],
-        dir,
-    );
+    rollfric_ok(&common::BUILD_INTO_REPORTS, dir);
     let page = std::fs::read_to_string(dir.join("reports/held.html")).unwrap();
     let md = std::fs::read_to_string(dir.join("reports/held.md")).unwrap();
     for p in [&page, &md] {
@@ -325,19 +304,7 @@ fn a_held_start_and_a_bad_turning_point_together() {
     assert!(text.contains("dropped, not fitted"), "{text}");
 
     std::fs::write(dir.join("manifest.yaml"), "experiments: [both.yaml]\n").unwrap();
-    let build = common::rollfric(
-        &[
-            "build",
-            "-q",
-            "--manifest",
-            "manifest.yaml",
-            "--out",
-            "reports",
-            "--cache",
-            "cache",
-        ],
-        dir,
-    );
+    let build = common::rollfric(&common::BUILD_INTO_REPORTS, dir);
     assert!(
         build.status.success(),
         "{}",

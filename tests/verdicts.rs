@@ -3,12 +3,11 @@
 //! angles in degrees and an absurd length. Each gives `suspect` with the named check (or
 //! a clear refusal), and `rollfric check` exits 1 on an unaccepted `suspect`.
 
+mod common;
+
+use common::root;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn rollfric(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rollfric"))
@@ -39,16 +38,7 @@ angles: {name}.csv
 fn simulated(dir: &Path) -> Vec<(f64, f64)> {
     let csv = dir.join("twin.csv");
     let exp = dir.join("twin.yaml");
-    std::fs::write(
-        &exp,
-        "geometry:
-  incline: { h_m: 0.142, l_m: 1.500 }
-  pendulum: { d_m: 0.1774 }
-  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
-synthetic: { s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 80, fps: 25, angle_noise_deg: 0.05 }
-",
-    )
-    .unwrap();
+    std::fs::write(&exp, common::GLASS_TWIN_YAML).unwrap();
     let out = rollfric(&[
         "simulate",
         exp.to_str().unwrap(),

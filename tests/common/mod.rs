@@ -11,6 +11,27 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// `rollfric build` of `manifest.yaml` in the working folder into `reports/` and `cache/`.
+pub const BUILD_INTO_REPORTS: [&str; 8] = [
+    "build",
+    "-q",
+    "--manifest",
+    "manifest.yaml",
+    "--out",
+    "reports",
+    "--cache",
+    "cache",
+];
+
+/// The glass twin as an experiment file: Table 1's glass geometry, 80 s at 25 frames/s
+/// with 0.05 deg of angle noise, s_r = 3.714e-6 m.
+pub const GLASS_TWIN_YAML: &str = "geometry:
+  incline: { h_m: 0.142, l_m: 1.500 }
+  pendulum: { d_m: 0.1774 }
+  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
+synthetic: { s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 80, fps: 25, angle_noise_deg: 0.05 }
+";
+
 /// The crate's folder (where `experiments/` and `tests/` are).
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -220,15 +220,11 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
         angle_rms_deg: rms,
         s_r_err: a.fit.s_r_m / truth_s_r - 1.0,
         verdict: {
-            // The residual check's ratio (amplitude residual RMS against the scatter the
-            // per-frame noise explains), shown for every result.
-            let series = angles.table.series();
-            let noise = rollfric::signal::noise_sigma(&series.angle);
-            let ex = &a.measurement.extremes;
-            let mean_samples = (ex.iter().map(|e| e.samples).sum::<usize>() as f64
-                / ex.len().max(1) as f64)
-                .max(1.0);
-            let ratio = a.fit.residual_rms_rad / (noise / mean_samples.sqrt()).max(1e-5);
+            // The residual check's ratio, shown for every result.
+            let noise = rollfric::signal::noise_sigma(&angles.table.series().angle);
+            let samples: Vec<usize> = a.measurement.extremes.iter().map(|e| e.samples).collect();
+            let (ratio, _) =
+                rollfric::verdict::residual_ratio(a.fit.residual_rms_rad, noise, &samples);
             format!("{} [residual ratio {ratio:.1}]", a.verdict.label())
         },
         suspect: a.verdict.blocks(),

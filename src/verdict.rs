@@ -316,6 +316,20 @@ pub fn exponential_rss(t: &[f64], y: &[f64]) -> (f64, f64) {
     (best, best_k)
 }
 
+/// The `residual` check's ratio: the amplitudes' RMS residual about the model against
+/// the scatter the per-frame noise alone explains (each amplitude averages its window's
+/// frames, so about `sigma_frame / sqrt(samples)`), and the mean window it assumed.
+pub fn residual_ratio(
+    residual_rms_rad: f64,
+    frame_noise_rad: f64,
+    samples: &[usize],
+) -> (f64, f64) {
+    let n = samples.len().max(1) as f64;
+    let mean_samples = (samples.iter().sum::<usize>() as f64 / n).max(1.0);
+    let expected = (frame_noise_rad / mean_samples.sqrt()).max(1e-5);
+    (residual_rms_rad / expected, mean_samples)
+}
+
 /// `v <= limit`, false when either is NaN (a NaN never passes a check).
 fn within(v: f64, limit: f64) -> bool {
     v <= limit
@@ -343,12 +357,7 @@ pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
             accepted: None,
         });
     }
-    // residual: each amplitude averages its window's frames, so the noise alone scatters
-    // it by about sigma_frame / sqrt(samples).
-    let n = e.samples.len().max(1) as f64;
-    let mean_samples = (e.samples.iter().sum::<usize>() as f64 / n).max(1.0);
-    let expected = (e.frame_noise_rad / mean_samples.sqrt()).max(1e-5);
-    let ratio = e.residual_rms_rad / expected;
+    let (ratio, mean_samples) = residual_ratio(e.residual_rms_rad, e.frame_noise_rad, e.samples);
     if !within(ratio, lim.residual_factor) {
         w.push(Warning {
             check: "residual".into(),

@@ -155,3 +155,68 @@ fn every_experiment_measures_back_its_s_r_from_video() {
         );
     }
 }
+
+/// The paper's operator holds the ball at its release angle for a second or two before
+/// letting go. A first look spent on the held ball sees too little of the swing: this
+/// twin (a faint 1 px light wire, 640x480 at 30 frames/s, held for 2 s) was refused
+/// with "the moving lines turn irregularly". The look keeps a few frames of the still
+/// start and spans the motion after it; every frame, held or swinging, is measured
+/// (angle RMS 0.028 deg).
+#[test]
+fn a_ball_held_for_two_seconds_is_measured_in_every_frame() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let glass = std::fs::read_to_string(root().join("experiments/glass.yaml")).unwrap();
+    let head = &glass[..glass
+        .find("\nsynthetic:")
+        .expect("glass.yaml has `synthetic:`")];
+    let text = format!(
+        "{head}\nsynthetic:\n  s_r_m: 3.714e-6\n  psi0_deg: 10\n  width: 640\n  height: 480\n  \
+         fps: 30\n  style: light-wire\n  seed: 1042\n  rest_angle_deg: -95.6\n  \
+         wire_width_px: 1\n  wire_contrast: 0.45\n  hold_s: 2\n  duration_s: 10\n"
+    );
+    std::fs::write(d.join("held.yaml"), text).unwrap();
+    rollfric_ok(
+        &[
+            "synth",
+            "held.yaml",
+            "-o",
+            "held.mp4",
+            "--truth",
+            "truth.csv",
+        ],
+        d,
+    );
+    let video = if d.join("held.mp4").exists() {
+        "held.mp4"
+    } else {
+        "held.avi"
+    };
+    rollfric_ok(&["detect", video, "-o", "angles.csv"], d);
+    let t = read(&d.join("truth.csv"), "spoiled");
+    let a = read(&d.join("angles.csv"), "status");
+    assert_eq!(t.len(), a.len(), "one row per frame");
+    let diffs: Vec<f64> = t
+        .iter()
+        .zip(&a)
+        .filter(|(_, de)| de.tag == "ok")
+        .map(|(tr, de)| de.angle.unwrap() - tr.angle.unwrap())
+        .collect();
+    // Four of the frames are spoiled on purpose (a hand, a flash): filled, not lost.
+    assert!(
+        a.iter().all(|r| r.tag != "missing") && diffs.len() * 100 >= a.len() * 95,
+        "{} of {} frames ok",
+        diffs.len(),
+        a.len()
+    );
+    let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+    let rms = (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / diffs.len() as f64)
+        .sqrt()
+        .to_degrees();
+    // As every style's bar: 10 s leave the pivot a few hundredths of a degree of
+    // amplitude scale (40 s of the same scene: 0.010 deg).
+    assert!(rms <= 0.05, "angle RMS {rms:.4} deg");
+}

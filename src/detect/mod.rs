@@ -1,9 +1,10 @@
 //! The wire detector (the paper's section 2.3.2, done right): per frame, the angle of
 //! the wire from the image x axis (Eq. 35 via an orthogonal line fit, ERRATA §6).
 //!
-//! 1. [`geometry`] finds, from the first seconds, the wire's polarity, its pivot, the
-//!    band of radii where it is visible and a region of interest (or takes them from
-//!    the experiment's `video:` block).
+//! 1. [`geometry`] finds, from the first seconds of motion, the wire's polarity, its
+//!    pivot, the band of radii where it is visible and a region of interest (or takes
+//!    them from the experiment's `video:` block). Of a still start (the ball held
+//!    before its release) the look keeps only its last frames: see `still`.
 //! 2. Frames stream through once, cropped to the region: the moving-object evidence is
 //!    the difference from a background that follows the scene (the running maximum for
 //!    a dark wire, minimum for a light one, decaying slowly with the lighting; frames
@@ -41,6 +42,7 @@ mod line;
 mod options;
 mod repeats;
 mod row;
+mod still;
 pub mod summary;
 mod track;
 
@@ -78,6 +80,15 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
 /// Length of the first look at the video (geometry and background), s: more than half
 /// a swing of any pendulum up to a 5 s period.
 const INIT_SECONDS: f64 = 2.5;
+
+/// Of a still start (a held ball, see [`still`]), the first look keeps the last this
+/// many frames and starts its clock at the first of them. A release from an extreme
+/// without a hold moves the wire visibly within a few frames at any frame rate.
+const STILL_KEEP: usize = 8;
+
+/// A still start longer than this (s) is taken as the motion's start: the look does
+/// not wait for ever on a wire it cannot see move.
+const STILL_MAX_SECONDS: f64 = 10.0;
 
 /// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`, or by
 /// OpenCV without it or with `opts.force_opencv`).
@@ -139,7 +150,14 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         height: 0,
         data: Vec::new(),
     };
-    let mut t_start = None;
+    // Every frame at the first frame's brightness (flicker, drift): see `light`.
+    let mut light: Option<light::Brightness> = None;
+    let mut still: Option<still::Stillness> = None;
+    // The times of the kept frames, and how many frames of a still start were dropped
+    // from the front.
+    let mut times = std::collections::VecDeque::new();
+    let mut dropped = 0usize;
+    let mut t_first = None;
     let mut decoded = 0u64;
     while src
         .next_frame(&mut frame)
@@ -152,18 +170,35 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         if frame.index > last {
             break;
         }
-        let t0 = *t_start.get_or_insert(frame.t_s);
         init.w = frame.width;
         init.h = frame.height;
+        let t_first = *t_first.get_or_insert(frame.t_s);
         init.data.push(frame.data.clone());
-        if frame.t_s - t0 >= INIT_SECONDS || init.data.len() >= 300 {
+        times.push_back(frame.t_s);
+        let newest = init.data.last_mut().expect("just pushed");
+        match (&mut light, &mut still) {
+            (Some(l), Some(s)) => {
+                l.normalise(newest);
+                let held = frame.t_s - t_first < STILL_MAX_SECONDS;
+                if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
+                    init.data.remove(0);
+                    times.pop_front();
+                    dropped += 1;
+                }
+            }
+            _ => {
+                light = Some(light::Brightness::new(newest));
+                still = Some(still::Stillness::new(newest));
+            }
+        }
+        if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= 300 {
             break;
         }
     }
     drop(src);
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(
-            "timing: first look decoded at {:.2} s ({} frames)",
+            "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
             started.elapsed().as_secs_f64(),
             init.data.len()
         );
@@ -176,11 +211,6 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
             );
         }
         bail!("{}: no frame could be decoded", name);
-    }
-    // Every frame at the first frame's brightness (flicker, drift): see `light`.
-    let mut light = light::Brightness::new(&init.data[0]);
-    for d in &mut init.data[1..] {
-        light.normalise(d);
     }
     let noise = geometry::noise_map(&init);
     let geo = geometry::find(
@@ -239,7 +269,12 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         if frame.index > last {
             break;
         }
-        let hint = init_angles.get(k).copied().flatten();
+        // The frames of a still start the look dropped held the wire where its first
+        // kept frame has it.
+        let hint = init_angles
+            .get(k.saturating_sub(dropped))
+            .copied()
+            .flatten();
 
         let row = tracker.step(&frame, hint)?;
         keeper.offer(&row, &frame);

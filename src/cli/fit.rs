@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct FitArgs {
-    /// Experiment file, or its name in experiments/.
+    /// Experiment file, or its name: NAME.yaml here, then in experiments/.
     experiment: String,
     /// Angle CSV with `t_s` and `angle_rad` columns (default: the experiment's).
     #[arg(long)]

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct SimulateArgs {
-    /// Experiment file, or its name in experiments/.
+    /// Experiment file, or its name: NAME.yaml here, then in experiments/.
     experiment: String,
     /// Output CSV.
     #[arg(short, long)]
@@ -75,7 +75,7 @@ pub fn simulate(a: SimulateArgs) -> Result<String> {
 
 #[derive(clap::Args)]
 pub struct SynthArgs {
-    /// Experiment file, or its name in experiments/.
+    /// Experiment file, or its name: NAME.yaml here, then in experiments/.
     experiment: String,
     /// Output video.
     #[arg(short, long)]
@@ -128,7 +128,7 @@ pub fn synth(a: SynthArgs) -> Result<String> {
 
 #[derive(clap::Args)]
 pub struct TorsionArgs {
-    /// Experiment file, or its name in experiments/.
+    /// Experiment file, or its name: NAME.yaml here, then in experiments/.
     experiment: String,
     /// Rolling-friction coefficient to compare with, m (default: the synthetic truth).
     #[arg(long)]

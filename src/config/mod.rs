@@ -436,13 +436,23 @@ fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
     Pendulum::solid_ball(r, m, d, alpha, g.g_m_s2)
 }
 
-/// Find an experiment by path, or by name in `experiments/`.
+/// Find an experiment by path, or by name: `NAME.yaml` in the working folder first,
+/// then in `experiments/`.
 pub fn locate(arg: &str) -> PathBuf {
-    let p = PathBuf::from(arg);
+    locate_in(Path::new(""), arg)
+}
+
+/// [`locate`] from the folder `base` (the paths returned are `base` joined).
+fn locate_in(base: &Path, arg: &str) -> PathBuf {
+    let p = base.join(arg);
     if p.exists() || arg.ends_with(".yaml") || arg.ends_with(".yml") || arg.contains('/') {
         return p;
     }
-    PathBuf::from("experiments").join(format!("{arg}.yaml"))
+    let here = base.join(format!("{arg}.yaml"));
+    if here.exists() {
+        return here;
+    }
+    base.join("experiments").join(format!("{arg}.yaml"))
 }
 
 #[cfg(test)]
@@ -456,6 +466,20 @@ geometry:
   ball: { radius_m: 0.03175, mass_kg: 1.0458 }
 synthetic: { s_r_m: 3.2e-6 }
 ";
+
+    #[test]
+    fn a_name_is_a_file_here_first_then_one_in_experiments() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::fs::create_dir(d.join("experiments")).unwrap();
+        std::fs::write(d.join("experiments/green.yaml"), "").unwrap();
+        assert_eq!(locate_in(d, "green"), d.join("experiments/green.yaml"));
+        std::fs::write(d.join("green.yaml"), "").unwrap();
+        assert_eq!(locate_in(d, "green"), d.join("green.yaml"));
+        // A path is taken as given, found or not.
+        assert_eq!(locate_in(d, "lab/blue.yaml"), d.join("lab/blue.yaml"));
+        assert_eq!(locate_in(d, "red"), d.join("experiments/red.yaml"));
+    }
 
     fn err(text: &str) -> String {
         format!(

@@ -151,8 +151,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         data: Vec::new(),
     };
     // Every frame at the first frame's brightness (flicker, drift): see `light`.
-    let mut light: Option<light::Brightness> = None;
-    let mut still: Option<still::Stillness> = None;
+    // Both against the first frame, made when it arrives.
+    let mut against_first: Option<(light::Brightness, still::Stillness)> = None;
     // The times of the kept frames, and how many frames of a still start were dropped
     // from the front.
     let mut times = std::collections::VecDeque::new();
@@ -176,8 +176,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         init.data.push(frame.data.clone());
         times.push_back(frame.t_s);
         let newest = init.data.last_mut().expect("just pushed");
-        match (&mut light, &mut still) {
-            (Some(l), Some(s)) => {
+        match &mut against_first {
+            Some((l, s)) => {
                 l.normalise(newest);
                 let held = frame.t_s - t_first < STILL_MAX_SECONDS;
                 if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
@@ -186,9 +186,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                     dropped += 1;
                 }
             }
-            _ => {
-                light = Some(light::Brightness::new(newest));
-                still = Some(still::Stillness::new(newest));
+            None => {
+                against_first = Some((
+                    light::Brightness::new(newest),
+                    still::Stillness::new(newest),
+                ))
             }
         }
         if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= 300 {

@@ -227,6 +227,11 @@ impl FfmpegSource {
         let mut stdout = child.stdout.take().expect("piped");
         let stderr = child.stderr.take().expect("piped");
         let frame_len = width * height;
+        // A pipe holds 64 KiB by default: a frame of the region crossed it in several
+        // writes, each waking the reader and the decoder in turn. Room for a frame or
+        // two (up to the system's limit for an unprivileged pipe) halves the handovers.
+        // Best effort: a kernel that refuses keeps the default, and the data is the same.
+        let _ = rustix::pipe::fcntl_setpipe_size(&stdout, (2 * frame_len).clamp(1 << 16, PIPE_MAX));
         let (frames_tx, frames) = mpsc::sync_channel::<Chunk>(READ_AHEAD);
         let (spent, spent_rx) = mpsc::channel::<Vec<u8>>();
         std::thread::spawn(move || loop {
@@ -356,6 +361,10 @@ enum Chunk {
 
 /// Frames read ahead of the detector (flat memory: a few frames of the cropped region).
 const READ_AHEAD: usize = 6;
+
+/// The largest pipe buffer asked of the kernel for the decoder's output, bytes: Linux's
+/// default `/proc/sys/fs/pipe-max-size` (what an unprivileged process may ask).
+const PIPE_MAX: usize = 1 << 20;
 
 impl FrameSource for FfmpegSource {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {

@@ -2,6 +2,7 @@
 //! scene, the wire's angle in a wedge around the prediction, and the gate.
 
 mod diag;
+mod evidence;
 mod measure;
 
 use super::geometry::{self, WireGeometry};
@@ -37,8 +38,14 @@ pub(super) struct Tracker {
     kernel: Mat,
     /// Per-pixel detection threshold (grey levels).
     tmap: Mat,
+    /// The evidence, exact in `rect` (around the wedge `wedge` searched this frame)
+    /// and zero elsewhere; `ev_outer` is the top-hat's working area around `rect`.
     ev: Mat,
+    ev_outer: Mat,
+    rect: core::Rect,
+    wedge: (f64, f64),
     bin: Mat,
+    scratch: measure::Scratch,
     prev: Vec<u8>,
     mean_level: Option<f64>,
     gate: f64,
@@ -56,6 +63,8 @@ pub(super) struct Tracker {
     decay_every: u64,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
+    /// `ROLLFRIC_DEBUG=frames` or `=mad`: a line per frame on stderr (read once).
+    debug: Option<String>,
 }
 
 impl Tracker {
@@ -121,7 +130,11 @@ impl Tracker {
             )?,
             tmap,
             ev: Mat::default(),
+            ev_outer: Mat::default(),
+            rect: core::Rect::default(),
+            wedge: (0.0, 0.0),
             bin: Mat::default(),
+            scratch: measure::Scratch::default(),
             prev: Vec::new(),
             mean_level: None,
             gate: opts.gate_deg.to_radians(),
@@ -134,6 +147,7 @@ impl Tracker {
             decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
+            debug: std::env::var("ROLLFRIC_DEBUG").ok(),
         })
     }
 
@@ -210,7 +224,7 @@ impl Tracker {
         };
         let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
         let disturbed = self.mad_ref.is_some_and(|r| mad > 4.0 * r.max(0.5));
-        if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "mad") {
+        if self.debug.as_deref() == Some("mad") {
             eprintln!("mad {} {mad:.3} ref {:?}", f.index, self.mad_ref);
         }
         if mad.is_finite() && !duplicate {
@@ -228,19 +242,16 @@ impl Tracker {
                 None => level,
             });
         }
-        // Evidence (thin structures only: a top-hat removes the bob and a hand's
-        // palm), then the background follows the scene.
-        if self.geo.dark {
-            core::subtract_def(&self.bg, &self.small, &mut self.raw_ev)?;
+        // During the first seconds the geometry pass's angle of this very frame is the
+        // better guess until three frames have been accepted.
+        let pred = if self.hist.len() < 3 {
+            hint.or(self.predict(f.t_s))
         } else {
-            core::subtract_def(&self.small, &self.bg, &mut self.raw_ev)?;
-        }
-        imgproc::morphology_ex_def(
-            &self.raw_ev,
-            &mut self.ev,
-            imgproc::MORPH_TOPHAT,
-            &self.kernel,
-        )?;
+            self.predict(f.t_s).or(hint)
+        };
+        // Evidence (thin structures only: a top-hat removes the bob and a hand's
+        // palm) where the wire can be, then the background follows the scene.
+        self.evidence(pred)?;
         if !flash {
             if self.geo.dark {
                 core::max(&self.bg, &self.small, &mut self.tmp)?;
@@ -258,13 +269,6 @@ impl Tracker {
                 std::mem::swap(&mut self.bg, &mut self.tmp);
             }
         }
-        // During the first seconds the geometry pass's angle of this very frame is the
-        // better guess until three frames have been accepted.
-        let pred = if self.hist.len() < 3 {
-            hint.or(self.predict(f.t_s))
-        } else {
-            self.predict(f.t_s).or(hint)
-        };
         let mut row = AngleRow {
             frame: f.index,
             t_s: f.t_s,
@@ -319,7 +323,7 @@ impl Tracker {
         if angle.is_finite() {
             row.angle_rad = Some(angle);
         }
-        if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "frames") {
+        if self.debug.as_deref() == Some("frames") {
             eprintln!(
                 "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?}",
                 f.index,

@@ -9,21 +9,50 @@ use anyhow::Result;
 use opencv::core::{self, Point, Vector};
 use opencv::prelude::*;
 
+/// The per-frame buffers of [`Tracker::measure`], kept from frame to frame so that a
+/// frame allocates nothing (a frame with rival peaks aside, see `sharpest_ridge`).
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// Evidence pixels above the threshold, in the wedge's rectangle.
+    nz: Vector<Point>,
+    /// (point, weight, angle) of the evidence pixels in the wedge and the band.
+    cand: Vec<(Pt, f64, f64)>,
+    /// Evidence per angle bin, then smoothed over three bins, then scored.
+    histo: Vec<f64>,
+    sm: Vec<f64>,
+    scores: Vec<f64>,
+    /// The pixels the line is fitted to, and the strip being walked.
+    sel: Vec<(Pt, f64)>,
+    strip: Vec<(Pt, f64)>,
+}
+
 impl Tracker {
-    /// The wire's angle and coverage in the current evidence image, searching a wedge
-    /// around `pred` (or every angle the wire was seen at, without a prediction).
+    /// The wire's angle and coverage in the current evidence image, searching the
+    /// wedge `evidence` prepared around `pred` (or every angle the wire was seen at,
+    /// without a prediction).
     pub(super) fn measure(&mut self, pred: Option<f64>) -> Result<Option<(f64, f64, [f64; 6])>> {
-        core::compare(&self.ev, &self.tmap, &mut self.bin, core::CMP_GT)?;
-        let mut nz = Vector::<Point>::new();
-        core::find_non_zero(&self.bin, &mut nz)?;
-        let g = &self.geo;
-        let (lo, hi) = match pred {
-            Some(p) => {
-                let wdg = (3.0 * self.gate * (1.0 + self.since_good as f64)).max(2f64.to_radians());
-                (p - wdg, p + wdg)
-            }
-            None => (g.theta_min - 0.35, g.theta_max + 0.35),
-        };
+        let mut b = std::mem::take(&mut self.scratch);
+        let found = self.measure_with(&mut b, pred);
+        self.scratch = b;
+        found
+    }
+
+    fn measure_with(
+        &mut self,
+        b: &mut Scratch,
+        pred: Option<f64>,
+    ) -> Result<Option<(f64, f64, [f64; 6])>> {
+        // Only the wedge's rectangle holds evidence this frame (see `evidence`).
+        let rect = self.rect;
+        if rect.width > 0 && rect.height > 0 {
+            let ev = Mat::roi(&self.ev, rect)?;
+            let tmap = Mat::roi(&self.tmap, rect)?;
+            core::compare(&ev, &tmap, &mut self.bin, core::CMP_GT)?;
+            core::find_non_zero(&self.bin, &mut b.nz)?;
+        } else {
+            b.nz.clear();
+        }
+        let (lo, hi) = self.wedge;
         // Angles on the wedge's own branch (the wire may hang across -x).
         let mid = 0.5 * (lo + hi);
         let piv = self.piv;
@@ -31,12 +60,14 @@ impl Tracker {
         let r_mid = 0.5 * (r_lo + r_hi);
         let bin_w = (0.75 / r_mid).max(1e-4);
         let nb = (((hi - lo) / bin_w).ceil() as usize).clamp(8, 20_000);
-        let mut histo = vec![0.0f64; nb];
+        b.histo.clear();
+        b.histo.resize(nb, 0.0);
+        b.cand.clear();
         let ev = self.ev.data_bytes()?;
         let stride = self.ev.cols() as usize;
-        let mut cand: Vec<(Pt, f64, f64)> = Vec::new(); // (point, weight, angle)
-        for p in nz.iter() {
-            let q = Pt::new(p.x as f64, p.y as f64);
+        for p in b.nz.iter() {
+            let (x, y) = (p.x + rect.x, p.y + rect.y);
+            let q = Pt::new(x as f64, y as f64);
             let d = q - piv;
             let r = d.norm();
             if r < r_lo || r > r_hi {
@@ -46,22 +77,25 @@ impl Tracker {
             if th < lo || th > hi {
                 continue;
             }
-            let wgt = ev[p.y as usize * stride + p.x as usize] as f64;
-            let b = (((th - lo) / bin_w) as usize).min(nb - 1);
-            histo[b] += wgt;
-            cand.push((q, wgt, th));
-            if cand.len() > 200_000 {
+            let wgt = ev[y as usize * stride + x as usize] as f64;
+            let k = (((th - lo) / bin_w) as usize).min(nb - 1);
+            b.histo[k] += wgt;
+            b.cand.push((q, wgt, th));
+            if b.cand.len() > 200_000 {
                 break;
             }
         }
-        if cand.len() < 5 {
+        if b.cand.len() < 5 {
             return Ok(None);
         }
         // Sharpest peak: a bin's mass against its neighbourhood (a broad blob scores low).
         let k = 4usize;
-        let sm: Vec<f64> = (0..nb)
-            .map(|i| histo[i.saturating_sub(1)..(i + 2).min(nb)].iter().sum())
-            .collect();
+        let histo = &b.histo;
+        b.sm.clear();
+        b.sm.extend(
+            (0..nb).map(|i| -> f64 { histo[i.saturating_sub(1)..(i + 2).min(nb)].iter().sum() }),
+        );
+        let sm = &b.sm;
         let side = |i: usize| {
             (
                 sm.get(i.wrapping_sub(3 * k)).copied().unwrap_or(0.0),
@@ -70,64 +104,64 @@ impl Tracker {
         };
         let mut best = (f64::MIN, 0usize);
         for (i, m) in sm.iter().enumerate() {
-            let (a, b) = side(i);
-            let score = m - 0.5 * (a + b);
+            let (a, c) = side(i);
+            let score = m - 0.5 * (a + c);
             if score > best.0 {
                 best = (score, i);
             }
         }
         // Rivals are scored against their lower side: a wire beside its own shadow keeps
         // its peak.
-        let scores: Vec<f64> = (0..nb)
-            .map(|i| {
-                let (a, b) = side(i);
-                sm[i] - a.min(b)
-            })
-            .collect();
-        let best_i = self.sharpest_ridge(&scores, best, &cand, lo, bin_w, pred)?;
+        b.scores.clear();
+        b.scores.extend((0..nb).map(|i| {
+            let (a, c) = side(i);
+            sm[i] - a.min(c)
+        }));
+        let best_i = self.sharpest_ridge(&b.scores, best, &b.cand, lo, bin_w, pred)?;
         let th0 = lo + (best_i as f64 + 0.5) * bin_w;
-        let l0 = Line {
+        let mut line = Line {
             point: piv,
             dir: Pt::new(th0.cos(), th0.sin()),
         };
         // Pixels along that line, then the orthogonal fit constrained to the pivot
         // (twice, tightening the strip).
-        let mut line = l0;
-        let mut sel: Vec<(Pt, f64)> = Vec::new();
         for strip in [4.0, 2.5] {
-            sel = cand
-                .iter()
-                .filter(|(q, _, _)| line.distance(*q) <= strip)
-                .map(|(q, w, _)| (*q, *w))
-                .collect();
-            match fit_line_through(piv, &sel) {
+            b.sel.clear();
+            b.sel.extend(
+                b.cand
+                    .iter()
+                    .filter(|(q, _, _)| line.distance(*q) <= strip)
+                    .map(|(q, w, _)| (*q, *w)),
+            );
+            match fit_line_through(piv, &b.sel) {
                 Some(l) => line = l,
                 None => return Ok(None),
             }
         }
-        if sel.len() < 5 {
+        if b.sel.len() < 5 {
             return Ok(None);
         }
         // Coverage of the band by the selected pixels.
         let nbins = 24usize;
-        let mut cov = vec![false; nbins];
-        for (q, _) in &sel {
+        let mut cov = [false; 24];
+        for (q, _) in &b.sel {
             let r = (q - piv).norm();
-            let b = (((r - r_lo) / (r_hi - r_lo)) * nbins as f64) as usize;
-            cov[b.min(nbins - 1)] = true;
+            let k = (((r - r_lo) / (r_hi - r_lo)) * nbins as f64) as usize;
+            cov[k.min(nbins - 1)] = true;
         }
         let quality = cov.iter().filter(|c| **c).count() as f64 / nbins as f64;
         // The angle itself from every pixel of the strip, below the threshold too: the
         // threshold, which differs from pixel to pixel, would cut the blurred wire's
         // flanks unevenly and tilt the fit (by about 0.4 % of the swing on a light wire).
         for _ in 0..2 {
-            let px = self.strip_pixels(&line, 2.5)?;
-            match fit_line_through(piv, &px) {
+            self.strip_pixels(&line, 2.5, &mut b.strip)?;
+            match fit_line_through(piv, &b.strip) {
                 Some(l) => line = l,
                 None => return Ok(None),
             }
-            sel = px;
+            std::mem::swap(&mut b.sel, &mut b.strip);
         }
+        let sel = &b.sel;
         if sel.len() < 5 {
             return Ok(None);
         }
@@ -141,14 +175,14 @@ impl Tracker {
         Ok(Some((
             unwrap_near(d.y.atan2(d.x), mid),
             quality,
-            moments(&sel),
+            moments(sel),
         )))
     }
 
     /// The evidence pixels within `half` px of `line` (a line through the pivot), in
     /// the band, with their weights. Walks the strip row by row (or column by column
     /// for a line closer to horizontal), so only the strip's own pixels are visited.
-    fn strip_pixels(&self, line: &Line, half: f64) -> Result<Vec<(Pt, f64)>> {
+    fn strip_pixels(&self, line: &Line, half: f64, out: &mut Vec<(Pt, f64)>) -> Result<()> {
         let (cols, rows) = (self.ev.cols() as usize, self.ev.rows() as usize);
         let ev = self.ev.data_bytes()?;
         let (piv, d) = (self.piv, line.dir);
@@ -166,7 +200,7 @@ impl Tracker {
         let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
         let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
         let (r_lo2, r_hi2) = (self.r_lo * self.r_lo, self.r_hi * self.r_hi);
-        let mut out = Vec::new();
+        out.clear();
         for u in u0..u1 {
             let vc = pv + (u as f64 - pu) * dv / du;
             let v0 = (vc - span).ceil().max(0.0) as usize;
@@ -184,7 +218,7 @@ impl Tracker {
                 }
             }
         }
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -266,9 +300,11 @@ impl Tracker {
         }
         let cover = |j: usize| seen[j].iter().filter(|c| **c).count() as f64;
         let mut width = Vec::with_capacity(peaks.len());
+        let mut px = Vec::new();
         for (j, l) in lines.iter().enumerate() {
             let (mut s2, mut sw) = (0.0, 0.0);
-            for (q, w) in self.strip_pixels(l, WIDTH_STRIP)? {
+            self.strip_pixels(l, WIDTH_STRIP, &mut px)?;
+            for &(q, w) in &px {
                 let (k, d) = nearest(q);
                 if k == j {
                     s2 += w * d * d;

@@ -1,7 +1,9 @@
 //! `make bench`: timing figures (medians of several runs), printed, not asserted.
 //!
 //! * one fit: turning points + equilibrium + s_r of a 60 fps angle series;
-//! * one simulated 60 s camera series of the digital twin.
+//! * one simulated 60 s camera series of the digital twin;
+//! * `make reports` from scratch and unchanged;
+//! * the detector against the decoder (`ffmpeg -f null`) on six twins, paired rounds.
 
 use rollfric::config::Experiment;
 use rollfric::fit::{self, FitOptions};
@@ -106,81 +108,149 @@ fn reports_bench(root: &Path) {
     );
 }
 
-/// Video figures on one 1280x720 H.264 file, side by side in one run: decode only
-/// (`ffmpeg -f null`), OpenCV `read()` only, OpenCV `read()` + grey, and the detector;
-/// then the detector's peak memory on a 10 s and a 60 s cut of the same video.
-fn video_bench(root: &Path) {
+/// One twin of the video benchmark.
+struct BenchVideo {
+    /// File name under `target/bench`.
+    file: &'static str,
+    /// The experiment rendered (its own scene and seed), at this size, rate and length.
+    experiment: &'static str,
+    width: u32,
+    height: u32,
+    fps: f64,
+    seconds: f64,
+    /// H.264 (`.mp4`, encoded by ffmpeg from the rendered MJPG) or MJPG (`.avi`).
+    h264: bool,
+}
+
+/// The detector against the decoder on six twins from 640x480 to 1920x1080, MJPG and
+/// H.264, 25 to 60 frames/s, 12 to 80 s.
+const VIDEOS: [BenchVideo; 6] = [
+    BenchVideo {
+        file: "twin-640x480-30fps-80s.mp4",
+        experiment: "glass",
+        width: 640,
+        height: 480,
+        fps: 30.0,
+        seconds: 80.0,
+        h264: true,
+    },
+    BenchVideo {
+        file: "twin-960x540-25fps-12s.avi",
+        experiment: "glass",
+        width: 960,
+        height: 540,
+        fps: 25.0,
+        seconds: 12.0,
+        h264: false,
+    },
+    BenchVideo {
+        file: "twin-1280x720-30fps-49s.mp4",
+        experiment: "steel",
+        width: 1280,
+        height: 720,
+        fps: 30.0,
+        seconds: 49.0,
+        h264: true,
+    },
+    BenchVideo {
+        file: "twin-1280x720-60fps-69s.avi",
+        experiment: "glass",
+        width: 1280,
+        height: 720,
+        fps: 60.0,
+        seconds: 69.0,
+        h264: false,
+    },
+    BenchVideo {
+        file: "twin-1280x720-60s.mp4",
+        experiment: "glass",
+        width: 1280,
+        height: 720,
+        fps: 60.0,
+        seconds: 60.0,
+        h264: true,
+    },
+    BenchVideo {
+        file: "twin-1920x1080-25fps-60s.mp4",
+        experiment: "steel",
+        width: 1920,
+        height: 1080,
+        fps: 25.0,
+        seconds: 60.0,
+        h264: true,
+    },
+];
+
+/// Render a benchmark twin (once; later runs reuse the file).
+fn bench_video(root: &Path, dir: &Path, v: &BenchVideo) -> std::path::PathBuf {
     use std::process::Command;
-    let dir = root.join("target/bench");
-    std::fs::create_dir_all(&dir).unwrap();
-    let long = dir.join("twin-1280x720-60s.mp4");
-    let short = dir.join("twin-1280x720-10s.mp4");
-    if !long.exists() {
-        // Render the glass twin at 1280x720, 60 fps, 60 s (MJPG is fast to write), then
-        // encode it to H.264 with ffmpeg.
-        let mut exp = Experiment::load(&root.join("experiments/glass.yaml")).unwrap();
-        let s = exp.file.synthetic.as_mut().unwrap();
-        s.width = 1280;
-        s.height = 720;
-        s.fps = 60.0;
-        let avi = dir.join("twin-1280x720-60s.avi");
-        rollfric::synth::render(&exp, &avi, Some(60.0), &mut |_, _| {}).unwrap();
+    let out = dir.join(v.file);
+    if out.exists() {
+        return out;
+    }
+    let mut exp =
+        Experiment::load(&root.join(format!("experiments/{}.yaml", v.experiment))).unwrap();
+    let s = exp.file.synthetic.as_mut().unwrap();
+    s.width = v.width;
+    s.height = v.height;
+    s.fps = v.fps;
+    let avi = dir.join(format!("{}.rendering.avi", v.file));
+    rollfric::synth::render(&exp, &avi, Some(v.seconds), &mut |_, _| {}).unwrap();
+    if v.h264 {
         let st = Command::new("ffmpeg")
             .args(["-v", "error", "-y", "-i"])
             .arg(&avi)
             .args([
                 "-c:v", "libx264", "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p",
             ])
-            .arg(&long)
+            .arg(&out)
             .status()
             .unwrap();
         assert!(st.success());
         let _ = std::fs::remove_file(&avi);
+    } else {
+        std::fs::rename(&avi, &out).unwrap();
     }
-    if !short.exists() {
-        let st = Command::new("ffmpeg")
-            .args(["-v", "error", "-y", "-i"])
-            .arg(&long)
-            .args(["-t", "10", "-c", "copy"])
-            .arg(&short)
-            .status()
-            .unwrap();
-        assert!(st.success());
-    }
-    let frames = {
-        let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
-        let mut n = 0u64;
-        while cap.read_only().unwrap() {
-            n += 1;
-        }
-        n as f64
+    out
+}
+
+/// What `rollfric detect` says of its own run: peak memory (MiB) and CPU besides the
+/// decoder (s), from its summary line.
+fn detect_figures(stderr: &str) -> (f64, f64) {
+    let after = |key: &str| -> f64 {
+        stderr
+            .rsplit(key)
+            .next()
+            .and_then(|s| s.split_whitespace().next())
+            .and_then(|s| s.trim_end_matches([',', ')']).parse().ok())
+            .unwrap_or(f64::NAN)
     };
-    let decode = || {
+    (after("peak memory "), after("CPU besides the decoder "))
+}
+
+/// Video figures: per twin, rounds of decode only (`ffmpeg -f null`, the floor) and the
+/// detector back to back, alternating which goes first; the walls (median), the ratio
+/// decode-only / detector of each round (median and range: 1 means the detector keeps
+/// the decoder's pace), the detector's own CPU per frame besides the decoder, and its
+/// peak memory. Then the peak memory on a 10 s and a 60 s 1920x1080 video.
+fn video_bench(root: &Path) {
+    use std::process::Command;
+    let dir = root.join("target/bench");
+    std::fs::create_dir_all(&dir).unwrap();
+    let rounds: usize = std::env::var("ROLLFRIC_BENCH_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(3);
+    let csv = dir.join("angles.csv");
+    let decode = |video: &Path| {
         let st = Command::new("ffmpeg")
             .args(["-v", "error", "-i"])
-            .arg(&long)
+            .arg(video)
             .args(["-f", "null", "-"])
             .status()
             .unwrap();
         assert!(st.success());
     };
-    let cv_read = || {
-        let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
-        while cap.read_only().unwrap() {}
-    };
-    let cv_gray = || {
-        use rollfric::video::FrameSource;
-        let mut cap = rollfric::video::OpenCvSource::open(&long, None).unwrap();
-        let mut f = rollfric::video::Frame {
-            index: 0,
-            t_s: 0.0,
-            width: 0,
-            height: 0,
-            data: Vec::new(),
-        };
-        while cap.next_frame(&mut f).unwrap() {}
-    };
-    let csv = dir.join("angles.csv");
     let run_detect = |video: &Path| -> String {
         let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
             .arg("detect")
@@ -196,66 +266,82 @@ fn video_bench(root: &Path) {
         );
         String::from_utf8_lossy(&out.stderr).to_string()
     };
-    // Rounds of the four, back to back: the machine's load drifts, so each round's
-    // ratios compare runs seconds apart, and the figures are medians over the rounds.
-    const ROUNDS: usize = 5;
-    let time = |f: &mut dyn FnMut()| {
-        let t = Instant::now();
-        f();
-        t.elapsed().as_secs_f64()
-    };
-    // rounds[r][k]: seconds of run k (decode, read, read + grey, detector) in round r.
-    let rounds: Vec<[f64; 4]> = (0..ROUNDS)
-        .map(|_| {
-            [
-                time(&mut || decode()),
-                time(&mut || cv_read()),
-                time(&mut || cv_gray()),
-                time(&mut || {
-                    run_detect(&long);
-                }),
-            ]
-        })
-        .collect();
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let fps = |k: usize| frames / median(rounds.iter().map(|r| r[k]).collect());
-    let ratios = |k: usize| -> Vec<f64> { rounds.iter().map(|r| r[0] / r[k]).collect() };
     println!(
-        "video 1280x720 H.264, {frames:.0} frames (60 s at 60 fps), {ROUNDS} rounds of the four \
-         back to back; frames/s (median) and, per round, the ratio to that round's decode-only \
-         run (median, min-max):"
+        "video: decode only (ffmpeg -f null) and the detector (rollfric detect), {rounds} paired \
+         rounds per video; ratio = decode-only wall / detector wall per round (goal >= 0.8)"
     );
-    let spread = |k: usize| {
-        let v = ratios(k);
-        (
-            v.iter().copied().fold(f64::MAX, f64::min),
-            v.iter().copied().fold(f64::MIN, f64::max),
-        )
-    };
-    println!("  decode only (ffmpeg -f null)      {:>7.0}", fps(0));
-    for (k, name) in [
-        (1, "OpenCV read() only          "),
-        (2, "OpenCV read() + BGR->grey   "),
-        (3, "detector (rollfric detect)  "),
-    ] {
-        let (lo, hi) = spread(k);
+    println!(
+        "  {:<34} {:>6}  {:>8}  {:>8}  {:>17}  {:>9}  {:>8}",
+        "video", "frames", "decode s", "detect s", "ratio (min-max)", "CPU us/fr", "peak MiB"
+    );
+    for v in &VIDEOS {
+        let path = bench_video(root, &dir, v);
+        let mut walls = Vec::new();
+        let mut last = String::new();
+        for r in 0..rounds {
+            let time_decode = || {
+                let t = Instant::now();
+                decode(&path);
+                t.elapsed().as_secs_f64()
+            };
+            let mut time_detect = || {
+                let t = Instant::now();
+                last = run_detect(&path);
+                t.elapsed().as_secs_f64()
+            };
+            walls.push(if r % 2 == 0 {
+                let d = time_decode();
+                (d, time_detect())
+            } else {
+                let t = time_detect();
+                (time_decode(), t)
+            });
+        }
+        let frames: f64 = last
+            .rsplit(" frames in ")
+            .nth(1)
+            .and_then(|s| s.rsplit(": ").next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(f64::NAN);
+        let (peak, cpu) = detect_figures(&last);
+        let ratios: Vec<f64> = walls.iter().map(|(d, t)| d / t).collect();
+        let lo = ratios.iter().copied().fold(f64::MAX, f64::min);
+        let hi = ratios.iter().copied().fold(f64::MIN, f64::max);
         println!(
-            "  {name}      {:>7.0}  ({:.2}x decode, {lo:.2}-{hi:.2})",
-            fps(k),
-            median(ratios(k))
+            "  {:<34} {frames:>6.0}  {:>8.2}  {:>8.2}  {:>5.2} ({lo:.2}-{hi:.2})  {:>9.0}  {peak:>8.0}",
+            format!(
+                "{}x{} {} {} fps {} s",
+                v.width,
+                v.height,
+                if v.h264 { "H.264" } else { "MJPG" },
+                v.fps,
+                v.seconds
+            ),
+            median(walls.iter().map(|w| w.0).collect()),
+            median(walls.iter().map(|w| w.1).collect()),
+            median(ratios),
+            cpu / frames * 1e6,
         );
     }
-    let peak = |msg: &str| -> String {
-        msg.split("peak memory ")
-            .nth(1)
-            .and_then(|s| s.split(')').next())
-            .unwrap_or("?")
-            .to_string()
-    };
-    let m10 = peak(&run_detect(&short));
-    let m60 = peak(&run_detect(&long));
-    println!("  detector peak memory: 10 s video {m10}, 60 s video {m60}");
+    // Memory is flat in the video's length: the last twin (1920x1080, 60 s) and its
+    // first 10 s.
+    let long = dir.join(VIDEOS[5].file);
+    let short = dir.join("twin-1920x1080-25fps-10s.mp4");
+    if !short.exists() {
+        let st = Command::new("ffmpeg")
+            .args(["-v", "error", "-y", "-i"])
+            .arg(&long)
+            .args(["-t", "10", "-c", "copy"])
+            .arg(&short)
+            .status()
+            .unwrap();
+        assert!(st.success());
+    }
+    let (m10, _) = detect_figures(&run_detect(&short));
+    let (m60, _) = detect_figures(&run_detect(&long));
+    println!("  detector peak memory at 1920x1080: 10 s video {m10:.0} MiB, 60 s video {m60:.0} MiB (goal <= 150 MiB, flat)");
 }

@@ -264,8 +264,16 @@ impl FfmpegSource {
         let errs = errors.clone();
         std::thread::spawn(move || {
             let mut tb = 0.0f64;
-            for line in BufReader::new(stderr).lines() {
-                let Ok(line) = line else { break };
+            // One line per frame: read into one buffer.
+            let mut reader = BufReader::new(stderr);
+            let mut line = String::new();
+            loop {
+                line.clear();
+                match reader.read_line(&mut line) {
+                    Ok(0) | Err(_) => break,
+                    Ok(_) => {}
+                }
+                let line = line.trim_end_matches(['\n', '\r']);
                 if let Some(rest) = line.split("config in time_base: ").nth(1) {
                     let frac = rest.split(',').next().unwrap_or("");
                     if let Some((a, b)) = frac.split_once('/') {
@@ -294,7 +302,7 @@ impl FfmpegSource {
                     if tx.send(t).is_err() {
                         break;
                     }
-                } else if decoder_complaint(&line) {
+                } else if decoder_complaint(line) {
                     if let Ok(mut e) = errs.lock() {
                         if e.len() < 8 {
                             e.push(line.trim().to_string());

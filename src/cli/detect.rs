@@ -101,12 +101,14 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     fsutil::write_atomic(&a.output, d.to_csv().as_bytes())?;
     let n = d.rows.len();
     eprintln!(
-        "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, peak memory {}): {} ok, {} corrected, \
-         {} manual, {} missing; pivot ({:.1}, {:.1}) px, {} wire, ROI {:?} -> {}",
+        "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, peak memory {}, CPU besides the \
+         decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, {:.1}) px, {} \
+         wire, ROI {:?} -> {}",
         a.video.display(),
         n as f64 / secs,
         d.decoder,
         peak_memory().map_or("?".to_string(), |m| format!("{m:.0} MiB")),
+        own_cpu_seconds().map_or("?".to_string(), |c| format!("{c:.2} s")),
         d.count(Status::Ok),
         d.count(Status::Corrected),
         d.count(Status::Manual),
@@ -118,6 +120,18 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         a.output.display()
     );
     Ok(String::new())
+}
+
+/// This process's CPU time so far (user and system, every thread; not the decoder's,
+/// which runs as a child process), s, from Linux `/proc/self/stat`.
+pub fn own_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which may hold spaces, within parentheses):
+    // state is field 3, utime 14 and stime 15, in clock ticks.
+    let rest = stat.rsplit_once(')')?.1;
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / rustix::param::clock_ticks_per_second() as f64)
 }
 
 /// This process's peak resident memory (Linux `VmHWM`), MiB.

@@ -110,8 +110,6 @@ fn reports_bench(root: &Path) {
 
 /// One twin of the video benchmark.
 struct BenchVideo {
-    /// File name under `target/bench`.
-    file: &'static str,
     /// The experiment rendered (its own scene and seed), at this size, rate and length.
     experiment: &'static str,
     width: u32,
@@ -126,7 +124,6 @@ struct BenchVideo {
 /// H.264, 25 to 60 frames/s, 12 to 80 s.
 const VIDEOS: [BenchVideo; 6] = [
     BenchVideo {
-        file: "twin-640x480-30fps-80s.mp4",
         experiment: "glass",
         width: 640,
         height: 480,
@@ -135,7 +132,6 @@ const VIDEOS: [BenchVideo; 6] = [
         h264: true,
     },
     BenchVideo {
-        file: "twin-960x540-25fps-12s.avi",
         experiment: "glass",
         width: 960,
         height: 540,
@@ -144,7 +140,6 @@ const VIDEOS: [BenchVideo; 6] = [
         h264: false,
     },
     BenchVideo {
-        file: "twin-1280x720-30fps-49s.mp4",
         experiment: "steel",
         width: 1280,
         height: 720,
@@ -153,7 +148,6 @@ const VIDEOS: [BenchVideo; 6] = [
         h264: true,
     },
     BenchVideo {
-        file: "twin-1280x720-60fps-69s.avi",
         experiment: "glass",
         width: 1280,
         height: 720,
@@ -162,7 +156,6 @@ const VIDEOS: [BenchVideo; 6] = [
         h264: false,
     },
     BenchVideo {
-        file: "twin-1280x720-60s.mp4",
         experiment: "glass",
         width: 1280,
         height: 720,
@@ -171,7 +164,6 @@ const VIDEOS: [BenchVideo; 6] = [
         h264: true,
     },
     BenchVideo {
-        file: "twin-1920x1080-25fps-60s.mp4",
         experiment: "steel",
         width: 1920,
         height: 1080,
@@ -181,10 +173,36 @@ const VIDEOS: [BenchVideo; 6] = [
     },
 ];
 
+impl BenchVideo {
+    /// What the table calls it.
+    fn label(&self) -> String {
+        format!(
+            "{}x{} {} {} fps {} s",
+            self.width,
+            self.height,
+            if self.h264 { "H.264" } else { "MJPG" },
+            self.fps,
+            self.seconds
+        )
+    }
+
+    /// Its file name under `target/bench`.
+    fn file(&self) -> String {
+        format!(
+            "twin-{}x{}-{}fps-{}s.{}",
+            self.width,
+            self.height,
+            self.fps,
+            self.seconds,
+            if self.h264 { "mp4" } else { "avi" }
+        )
+    }
+}
+
 /// Render a benchmark twin (once; later runs reuse the file).
 fn bench_video(root: &Path, dir: &Path, v: &BenchVideo) -> std::path::PathBuf {
     use std::process::Command;
-    let out = dir.join(v.file);
+    let out = dir.join(v.file());
     if out.exists() {
         return out;
     }
@@ -194,7 +212,7 @@ fn bench_video(root: &Path, dir: &Path, v: &BenchVideo) -> std::path::PathBuf {
     s.width = v.width;
     s.height = v.height;
     s.fps = v.fps;
-    let avi = dir.join(format!("{}.rendering.avi", v.file));
+    let avi = dir.join(format!("{}.rendering.avi", v.file()));
     rollfric::synth::render(&exp, &avi, Some(v.seconds), &mut |_, _| {}).unwrap();
     if v.h264 {
         let st = Command::new("ffmpeg")
@@ -313,14 +331,7 @@ fn video_bench(root: &Path) {
         let hi = ratios.iter().copied().fold(f64::MIN, f64::max);
         println!(
             "  {:<34} {frames:>6.0}  {:>8.2}  {:>8.2}  {:>5.2} ({lo:.2}-{hi:.2})  {:>9.0}  {peak:>8.0}",
-            format!(
-                "{}x{} {} {} fps {} s",
-                v.width,
-                v.height,
-                if v.h264 { "H.264" } else { "MJPG" },
-                v.fps,
-                v.seconds
-            ),
+            v.label(),
             median(walls.iter().map(|w| w.0).collect()),
             median(walls.iter().map(|w| w.1).collect()),
             median(ratios),
@@ -329,7 +340,7 @@ fn video_bench(root: &Path) {
     }
     // Memory is flat in the video's length: the last twin (1920x1080, 60 s) and its
     // first 10 s.
-    let long = dir.join(VIDEOS[5].file);
+    let long = dir.join(VIDEOS[5].file());
     let short = dir.join("twin-1920x1080-25fps-10s.mp4");
     if !short.exists() {
         let st = Command::new("ffmpeg")

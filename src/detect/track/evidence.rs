@@ -26,9 +26,9 @@ const EVIDENCE_MARGIN: f64 = 8.0;
 /// 7 x 7 structuring element, 3 px each.
 const TOPHAT_REACH: i32 = 6;
 
-/// The angle range searched: within three gates of the prediction (wider after
-/// refused frames), or every angle the wire was seen at without a prediction.
 impl Tracker {
+    /// The angle range searched: within three gates of the prediction (wider after
+    /// refused frames), or every angle the wire was seen at without a prediction.
     pub(super) fn search_wedge(&self, pred: Option<f64>) -> (f64, f64) {
         match pred {
             Some(p) => {

@@ -303,3 +303,29 @@ fn fails_on_a_missing_experiment_file() {
     let out = rollfric(&["fit", "experiments/nonexistent.yaml"], &root());
     assert_fails_with(&out, "nonexistent.yaml", "cannot read");
 }
+
+/// `docs/experiment.md` is what `rollfric schema` prints: a key added to (or documented
+/// differently in) the config structs without regenerating the page fails here.
+#[test]
+fn the_key_reference_in_docs_is_current() {
+    let (out, _) = rollfric_ok(&["schema"], &root());
+    let path = root().join("docs/experiment.md");
+    let docs = std::fs::read_to_string(&path).expect("docs/experiment.md");
+    assert!(
+        docs == out,
+        "{} is not what `rollfric schema` prints: run `rollfric schema > docs/experiment.md`",
+        path.display()
+    );
+}
+
+/// `rollfric schema --json` is a JSON Schema with the experiment's top-level keys.
+#[test]
+fn schema_json_lists_the_top_level_keys() {
+    let (out, _) = rollfric_ok(&["schema", "--json"], &root());
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let props = v["properties"].as_object().expect("properties");
+    for key in ["geometry", "video", "synthetic", "accept", "tolerances"] {
+        assert!(props.contains_key(key), "{key} missing");
+    }
+    assert_eq!(v["additionalProperties"], serde_json::Value::Bool(false));
+}

@@ -14,7 +14,9 @@ use std::process::ExitCode;
 #[command(
     name = "rollfric",
     version,
-    about = "Rolling-friction coefficients from a conical pendulum"
+    about = "Rolling-friction coefficients from a conical pendulum",
+    after_help = "Every key of an experiment file and of the manifest: `rollfric schema` \
+                  (also docs/experiment.md)."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -41,6 +43,16 @@ enum Cmd {
     Detect(detect::DetectArgs),
     /// Versions and the video back-ends of the system OpenCV.
     Info,
+    /// Every key of an experiment file and of the manifest, with its type, default and
+    /// meaning (Markdown, as docs/experiment.md).
+    Schema(SchemaArgs),
+}
+
+#[derive(clap::Args)]
+struct SchemaArgs {
+    /// Print the experiment file's JSON Schema instead (for editors that check YAML).
+    #[arg(long)]
+    json: bool,
 }
 
 /// A verb's result: its text for standard output, and whether it succeeded (a build or
@@ -66,6 +78,11 @@ fn run(cli: Cli) -> anyhow::Result<Done> {
         Cmd::Torsion(a) => model::torsion(a).map(Done::ok),
         Cmd::Detect(a) => detect::detect(a).map(Done::ok),
         Cmd::Info => crate::video::info().map(Done::ok),
+        Cmd::Schema(a) => Ok(Done::ok(if a.json {
+            crate::config::schema::experiment_json()
+        } else {
+            crate::config::schema::reference()
+        })),
     }
 }
 

@@ -1,10 +1,11 @@
 //! The experiment file's keys: serde structs with their units, defaults and docs. Unknown
 //! keys are errors; [`super::Experiment::parse`] validates the values.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// One experiment: a material pair on one pendulum.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentFile {
     /// Short identifier used for output names. Default: the file name without `.yaml`.
@@ -14,7 +15,9 @@ pub struct ExperimentFile {
     /// Free text shown on the report (where the numbers came from, caveats).
     #[serde(default)]
     pub notes: String,
+    /// The rig as measured: the plate's incline, the pendulum's length, the ball.
     pub geometry: Geometry,
+    /// The rolling-resistance law to fit. Default: `beta` 1.
     #[serde(default)]
     pub model: Model,
     /// Wire-torsion test (Appendix A). Optional.
@@ -23,6 +26,8 @@ pub struct ExperimentFile {
     pub sliding: Option<Sliding>,
     /// The paper's published values: used only as a reference to compare against.
     pub reference: Option<Reference>,
+    /// How close results must come, and the consistency checks' limits. Every key has
+    /// a default.
     #[serde(default)]
     pub tolerances: Tolerances,
     /// The digital twin: what to simulate when the experiment has no lab recording.
@@ -41,7 +46,7 @@ pub struct ExperimentFile {
 pub const CHECKS: [&str; 5] = ["period", "residual", "envelope", "interval", "outliers"];
 
 /// One accepted consistency warning.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Accept {
     /// The check's name: `period`, `residual`, `envelope`, `interval` or `outliers`.
@@ -50,11 +55,15 @@ pub struct Accept {
     pub reason: String,
 }
 
-#[derive(Debug, Clone, Deserialize, Serialize)]
+/// The rig's measured geometry.
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Geometry {
+    /// The plate's inclination: `h_m` and `l_m`, or `angle_deg`.
     pub incline: Incline,
+    /// The pendulum's length: `d_m` or `contact_length_m`.
     pub pendulum: PendulumLength,
+    /// The ball's radius and mass (or density).
     pub ball: Ball,
     /// Local gravitational acceleration, m/s^2. Default 9.81.
     #[serde(default = "default_g")]
@@ -66,7 +75,7 @@ fn default_g() -> f64 {
 }
 
 /// Plate inclination: either the support geometry (Eq. 36) or the angle itself.
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Incline {
     /// Height difference between the plate's ends `h`, m (Eq. 36, with `l_m`).
@@ -78,7 +87,7 @@ pub struct Incline {
 }
 
 /// Pendulum length: either `d` or the measurable fulcrum-to-contact length `L` (Eq. 37).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PendulumLength {
     /// Fulcrum-to-ball-centre distance `d`, m.
@@ -88,7 +97,7 @@ pub struct PendulumLength {
 }
 
 /// The ball: radius and mass (or density); solid, so `J_z = 2/5 m r^2` (Eq. 9).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Ball {
     /// Radius `r`, m.
@@ -100,7 +109,7 @@ pub struct Ball {
 }
 
 /// The rolling-resistance law `M_r = s_r N^beta` (Eq. 28).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Model {
     /// Exponent `beta`: a number (`1`, `1.3333`, `1.5`, ...), a fraction as text
@@ -126,15 +135,17 @@ fn default_beta() -> BetaSpec {
 }
 
 /// `beta` as written in YAML.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
 #[serde(untagged)]
 pub enum BetaSpec {
+    /// The exponent itself.
     Number(f64),
+    /// A fraction (`"4/3"`) or `free`.
     Text(String),
 }
 
 /// Appendix A's torsion test.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Torsion {
     /// Torsion-pendulum period `T`, s (A4).
@@ -146,7 +157,7 @@ pub struct Torsion {
 }
 
 /// Sliding friction for the pure-rolling condition `|T|/N < mu` (Eq. 34).
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Sliding {
     /// Coefficient of sliding friction `mu` between ball and plate (dimensionless).
@@ -154,7 +165,7 @@ pub struct Sliding {
 }
 
 /// Published values, for comparison only (never used as inputs to a computation).
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Reference {
     /// Where the values come from, e.g. "Table 1".
@@ -170,7 +181,7 @@ pub struct Reference {
 
 /// How close reproduced values must come (relative deviations), and the limits of the
 /// consistency checks that make a result `suspect`.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Tolerances {
     /// Against `reference` values. Default 0.02.
@@ -245,7 +256,7 @@ fn default_truth_tol() -> f64 {
 }
 
 /// The digital twin's parameters: the truth the pipeline must measure back.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Synthetic {
     /// True rolling-friction coefficient `s_r`, m·N^(1-beta).
@@ -365,7 +376,7 @@ pub struct Synthetic {
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:
 /// 0.5}`.
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WireShadow {
     /// The shadow's image angle minus the wire's, degrees, -45 to 45 (positive turns
@@ -401,7 +412,7 @@ fn default_shadow_strength() -> f64 {
 }
 
 /// Look of the digital twin's video.
-#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Style {
     /// A dark wire over a light protractor on a light plate.
@@ -424,7 +435,7 @@ fn default_spoiled() -> u32 {
 }
 
 /// Wire polarity for the detector.
-#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Polarity {
     /// Decide from the video.
@@ -438,7 +449,7 @@ pub enum Polarity {
 
 /// Where the video is and how to read it. Every key is optional: with none, the
 /// detector finds the moving wire, its pivot and a region of interest by itself.
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Video {
     /// The recording, relative to this file. Default for a synthetic experiment: the

@@ -11,15 +11,17 @@
 use crate::fsutil;
 use crate::physics::{self, BetaChoice, FrictionLaw, Pendulum};
 use anyhow::{bail, Context, Result};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 mod file;
+pub mod schema;
 
 pub use file::*;
 
 /// `experiments/manifest.yaml`: which experiments make up the reports.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Manifest {
     /// Title of the report set. Default: "Rolling friction".

@@ -140,3 +140,86 @@ fn off_screen_pivot_clip_ignores_the_dark_stripe() {
     // README: about ±12 deg at the start (+10.7/-12.8), ±10 deg at 25 s (+9.3/-11.1).
     check("fhd", &d, start_end(&amps, 2, 25.6), (11.75, 10.2));
 }
+
+/// `rollfric init` on each real clip writes an experiment file that refuses until its
+/// geometry is filled in; filled in (with a length near what the clip's period implies)
+/// and listed in a manifest by `init --manifest`, `rollfric build` builds it unchanged.
+#[test]
+fn init_writes_a_file_that_builds_once_filled_in() {
+    let clips = [
+        "sborquez_video1_greenscreen.mp4",
+        "sborquez_video2_splitscreen.mp4",
+        "bartekpacia_film1_fhd.mp4",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let manifest = dir.path().join("manifest.yaml");
+    std::fs::write(&manifest, "title: init\nexperiments:\n").unwrap();
+    for (k, clip) in clips.iter().enumerate() {
+        let Some(v) = fixture(clip) else { return };
+        let yaml = dir.path().join(format!("clip{k}.yaml"));
+        let mut args = vec![
+            OsStr::new("init"),
+            v.as_os_str(),
+            OsStr::new("-o"),
+            yaml.as_os_str(),
+        ];
+        // The first adds to an empty list, which is not a block list yet: by hand.
+        if k > 0 {
+            args.extend([OsStr::new("--manifest"), manifest.as_os_str()]);
+        }
+        let (out, _) = rollfric_ok(&args, &root());
+        assert!(out.contains("FILL IN"), "{out}");
+        if k == 0 {
+            std::fs::write(&manifest, "title: init\nexperiments:\n  - clip0.yaml\n").unwrap();
+        }
+        let text = std::fs::read_to_string(&yaml).unwrap();
+        // Refused until filled in, naming the file.
+        let fit = common::rollfric(&[OsStr::new("fit"), yaml.as_os_str()], &root());
+        let err = String::from_utf8_lossy(&fit.stderr);
+        assert!(
+            !fit.status.success() && err.contains(&format!("clip{k}.yaml")),
+            "{err}"
+        );
+        // The length the period implies on a 5 degree incline, as the comment gives it.
+        let l_per_sin: f64 = text
+            .split("hangs L = ")
+            .nth(1)
+            .and_then(|s| s.split(" m x sin(alpha)").next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no period in:\n{text}"));
+        let l = l_per_sin * 5f64.to_radians().sin();
+        let d = (l * l + 0.0127f64 * 0.0127).sqrt();
+        let filled = text
+            .replace("h_m: null", "# h_m")
+            .replace("l_m: null", "# l_m")
+            .replace("# angle_deg: null", "angle_deg: 5")
+            .replace("d_m: null", &format!("d_m: {d:.4}"))
+            .replace("radius_m: null", "radius_m: 0.0127")
+            .replace("mass_kg: null", "mass_kg: 0.067");
+        std::fs::write(&yaml, filled).unwrap();
+    }
+    let listed = std::fs::read_to_string(&manifest).unwrap();
+    assert!(
+        listed.contains("clip1.yaml") && listed.contains("clip2.yaml"),
+        "{listed}"
+    );
+    let (out, err) = rollfric_ok(
+        &[
+            OsStr::new("build"),
+            OsStr::new("--manifest"),
+            manifest.as_os_str(),
+            OsStr::new("--out"),
+            dir.path().join("reports").as_os_str(),
+            OsStr::new("--cache"),
+            dir.path().join("build").as_os_str(),
+            OsStr::new("-q"),
+        ],
+        &root(),
+    );
+    for k in 0..3 {
+        assert!(
+            dir.path().join(format!("reports/clip{k}.html")).exists(),
+            "{out}{err}"
+        );
+    }
+}

@@ -5,6 +5,7 @@
 mod build;
 mod detect;
 mod fit;
+mod init;
 mod model;
 
 use clap::{Parser, Subcommand};
@@ -41,6 +42,9 @@ enum Cmd {
     Torsion(model::TorsionArgs),
     /// Measure the wire angle in every frame of a video (CSV: t_s,angle_rad,status,quality).
     Detect(detect::DetectArgs),
+    /// Write a commented experiment file for a video (what the detector finds in it, and
+    /// every geometry key to fill in), optionally listed in a manifest.
+    Init(init::InitArgs),
     /// Versions and the video back-ends of the system OpenCV.
     Info,
     /// Every key of an experiment file and of the manifest, with its type, default and
@@ -77,6 +81,7 @@ fn run(cli: Cli) -> anyhow::Result<Done> {
         Cmd::Fit(a) => fit::fit(a).map(Done::ok),
         Cmd::Torsion(a) => model::torsion(a).map(Done::ok),
         Cmd::Detect(a) => detect::detect(a).map(Done::ok),
+        Cmd::Init(a) => init::init(a).map(Done::ok),
         Cmd::Info => crate::video::info().map(Done::ok),
         Cmd::Schema(a) => Ok(Done::ok(if a.json {
             crate::config::schema::experiment_json()

@@ -1,0 +1,362 @@
+//! `rollfric init VIDEO`: a newcomer's first experiment file. The video is measured once
+//! (as `build` will measure it), and what that finds (the wire's polarity, pivot and
+//! region, the release from a held start, the period) is written into a commented YAML
+//! beside the video, with every geometry key left for the rig's own measurements.
+
+use crate::config::Manifest;
+use crate::detect::{self, DetectOptions, Status, VideoInput};
+use crate::fsutil;
+use crate::series::AngleSeries;
+use crate::signal;
+use anyhow::{bail, Context, Result};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+/// The flags of `rollfric init` (defined here only).
+#[derive(clap::Args)]
+pub struct InitArgs {
+    /// The video of the pendulum.
+    video: PathBuf,
+    /// Where to write the experiment file. Default: beside the video, `<video stem>.yaml`.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Also list the new file in this manifest (appended to its `experiments:` list).
+    #[arg(long)]
+    manifest: Option<PathBuf>,
+    /// Replace an existing experiment file.
+    #[arg(long)]
+    force: bool,
+}
+
+/// What the measurement of the video found, for the file's comments.
+struct Found {
+    frames: usize,
+    duration_s: f64,
+    width: u32,
+    height: u32,
+    dark: bool,
+    pivot: [f64; 2],
+    roi: [u32; 4],
+    ok_share: f64,
+    /// (frame, time s, held for s) of a release from a held start.
+    release: Option<(u64, f64, f64)>,
+    /// The mean full swing (twice the median spacing of turning points), s.
+    period_s: Option<f64>,
+}
+
+pub fn init(a: InitArgs) -> Result<String> {
+    let out = match &a.output {
+        Some(o) => o.clone(),
+        None => a.video.with_extension("yaml"),
+    };
+    if out.exists() && !a.force {
+        bail!(
+            "{}: already exists; give another `-o`, or `--force` to replace it",
+            out.display()
+        );
+    }
+    if a.video.extension().is_some_and(|e| e == "yaml") {
+        bail!("{}: expected a video, not a YAML file", a.video.display());
+    }
+    let found = measure(&a.video)?;
+    let dir = out.parent().filter(|p| !p.as_os_str().is_empty());
+    let video_rel = relative_to(&a.video, dir.unwrap_or(Path::new(".")))?;
+    let name = out
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .context("the output file needs a name")?
+        .to_string();
+    let text = yaml(&name, &video_rel, &found);
+    fsutil::write_atomic(&out, text.as_bytes())?;
+    let mut msg = format!(
+        "{}: {} frames, {} wire, the wire found in {:.0} % of them; wrote {}: fill in its \
+         `geometry` (every value marked FILL IN), then `rollfric fit {}`\n",
+        a.video.display(),
+        found.frames,
+        if found.dark { "dark" } else { "light" },
+        100.0 * found.ok_share,
+        out.display(),
+        out.display()
+    );
+    if let Some(m) = &a.manifest {
+        add_to_manifest(m, &out)?;
+        let _ = writeln!(msg, "{}: lists {} now", m.display(), out.display());
+    }
+    Ok(msg)
+}
+
+/// Measure the video as `build` would, with no options.
+fn measure(video: &Path) -> Result<Found> {
+    let d = detect::detect(video, &DetectOptions::default())?;
+    let rows: Vec<_> = d
+        .rows
+        .iter()
+        .filter(|r| r.angle_rad.is_some() && r.status != Status::Missing)
+        .collect();
+    let series = AngleSeries::new(
+        rows.iter().map(|r| r.t_s).collect(),
+        rows.iter().filter_map(|r| r.angle_rad).collect(),
+    );
+    let release = signal::find_release(&series).map(|(r, _)| {
+        let frame = rows.get(r.frame).map_or(0, |row| row.frame);
+        (frame, r.t_s, r.held_s)
+    });
+    let period_s = signal::find_extremes(&series).ok().and_then(|ex| {
+        let mut gaps: Vec<f64> = ex.windows(2).map(|w| w[1].t - w[0].t).collect();
+        if gaps.len() < 3 {
+            return None;
+        }
+        gaps.sort_by(f64::total_cmp);
+        Some(2.0 * gaps[gaps.len() / 2])
+    });
+    let first = d.rows.first().map_or(0.0, |r| r.t_s);
+    let last = d.rows.last().map_or(0.0, |r| r.t_s);
+    let file = detect::VideoFile::open(video, false)?;
+    let info = file.info();
+    Ok(Found {
+        frames: d.rows.len(),
+        duration_s: last - first,
+        width: info.width,
+        height: info.height,
+        dark: d.dark_wire,
+        pivot: d.pivot_px,
+        roi: d.roi,
+        ok_share: d.count(Status::Ok) as f64 / d.rows.len().max(1) as f64,
+        release,
+        period_s,
+    })
+}
+
+/// `path` relative to `dir` when it lies under it, else as given (made absolute).
+fn relative_to(path: &Path, dir: &Path) -> Result<String> {
+    let p =
+        std::fs::canonicalize(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let d =
+        std::fs::canonicalize(dir).with_context(|| format!("{}: no such folder", dir.display()))?;
+    let rel = p.strip_prefix(&d).map(Path::to_path_buf).unwrap_or(p);
+    rel.to_str()
+        .map(str::to_string)
+        .with_context(|| format!("{}: the path is not UTF-8", rel.display()))
+}
+
+/// A YAML scalar in double quotes (escaping what YAML needs).
+fn quoted(s: &str) -> String {
+    serde_json::to_string(s).expect("a string is JSON")
+}
+
+/// The experiment file, with its comments.
+fn yaml(name: &str, video: &str, f: &Found) -> String {
+    let mut y = String::new();
+    let _ = writeln!(
+        y,
+        "# Experiment for {video}, written by `rollfric init`.\n\
+         # 1. Fill in every value marked FILL IN under `geometry` (measured on the rig; each\n\
+         #    comment says how). Until then `rollfric fit` and `build` refuse this file.\n\
+         # 2. `rollfric fit {name}.yaml` measures s_r; `rollfric build` builds the reports\n\
+         #    of the experiments its manifest lists (`rollfric init --manifest` adds one).\n\
+         # Every key, its unit and default: docs/experiment.md (or `rollfric schema`).\n"
+    );
+    let _ = writeln!(y, "name: {}", quoted(name));
+    let _ = writeln!(
+        y,
+        "# The plate's material, as the report's tables name it.\nmaterial: {}",
+        quoted(name)
+    );
+    let _ = writeln!(
+        y,
+        "notes: {}\n",
+        quoted(&format!(
+            "Lab recording {video} ({}x{} px, {} frames over {:.1} s).",
+            f.width, f.height, f.frames, f.duration_s
+        ))
+    );
+    y.push_str(
+        "geometry:\n  incline:\n\
+         \x20   # The plate's ends: the height difference h between them and the plate's\n\
+         \x20   # length l, m (alpha = asin(h / l), Eq. 36). Measure h with a ruler from the\n\
+         \x20   # table to the plate's top face at each end.\n\
+         \x20   h_m: null   # FILL IN\n\
+         \x20   l_m: null   # FILL IN\n\
+         \x20   # Or the inclination itself, degrees (a digital level on the plate), instead:\n\
+         \x20   # angle_deg: null\n\
+         \x20 pendulum:\n\
+         \x20   # d: from the fulcrum (where the wire is held) to the ball's centre, m. Or\n\
+         \x20   # `contact_length_m`: from the fulcrum to the ball's contact point (Eq. 37).\n",
+    );
+    if let Some(t) = f.period_s {
+        // Small-angle period of a solid ball rolling on the incline: omega_0^2 =
+        // 5 g sin(alpha) / (7 L) (ERRATA §2), so L = 5 g sin(alpha) T^2 / (28 pi^2).
+        let l_per_sin = 5.0 * 9.81 * t * t / (28.0 * std::f64::consts::PI.powi(2));
+        let _ = writeln!(
+            y,
+            "    # The video's full swing takes {t:.3} s: a solid ball on an incline alpha then\n\
+             \x20   # hangs L = {l_per_sin:.4} m x sin(alpha) from its contact point (small swings,\n\
+             \x20   # ERRATA §2); the fit's `period` check compares that with d."
+        );
+    }
+    y.push_str(
+        "    d_m: null   # FILL IN\n\
+         \x20 ball:\n\
+         \x20   radius_m: null   # FILL IN: half the diameter from a caliper, m\n\
+         \x20   mass_kg: null    # FILL IN: a balance, kg (or `density_kg_m3` instead)\n\
+         \x20 # g_m_s2: 9.81     # local gravity, m/s^2\n\n",
+    );
+    let _ = writeln!(
+        y,
+        "video:\n  path: {}\n  # The detector found a {} wire; it looks again on every build.",
+        quoted(video),
+        if f.dark { "dark" } else { "light" }
+    );
+    let _ = writeln!(y, "  polarity: {}", if f.dark { "dark" } else { "light" });
+    let _ = writeln!(
+        y,
+        "  # It found the pivot at [{:.1}, {:.1}] px and worked in the region [{}, {}, {}, {}]\n\
+         \x20 # (x, y, width, height, px). Give them here only if a build finds them wrong:\n\
+         \x20 # pivot: [{:.1}, {:.1}]\n\
+         \x20 # roi: [{}, {}, {}, {}]",
+        f.pivot[0],
+        f.pivot[1],
+        f.roi[0],
+        f.roi[1],
+        f.roi[2],
+        f.roi[3],
+        f.pivot[0],
+        f.pivot[1],
+        f.roi[0],
+        f.roi[1],
+        f.roi[2],
+        f.roi[3]
+    );
+    match f.release {
+        Some((frame, t, held)) => {
+            let _ = writeln!(
+                y,
+                "  # The ball is held still for {held:.2} s, then let go at {t:.3} s (frame \
+                 {frame}):\n  # the fit starts there; the frames before are reported, not fitted."
+            );
+        }
+        None => y.push_str("  # No held start: the ball moves from the first frame.\n"),
+    }
+    y.push_str(
+        "  # A frame the detector got wrong: two points on the wire, px, per frame number\n\
+         \x20 # (the review page builds this block):\n\
+         \x20 # marks:\n\
+         \x20 #   120: [[412.0, 96.0], [431.5, 310.0]]\n",
+    );
+    y
+}
+
+/// Append `exp` to the manifest's `experiments:` list, keeping the file's text (and
+/// comments); refuse when the list is not a block list at the end of the file.
+fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<()> {
+    let (_, listed) = Manifest::load(manifest)?;
+    let dir = manifest.parent().filter(|p| !p.as_os_str().is_empty());
+    let rel = relative_to(exp, dir.unwrap_or(Path::new(".")))?;
+    let canon = std::fs::canonicalize(exp)?;
+    if listed
+        .iter()
+        .any(|p| std::fs::canonicalize(p).is_ok_and(|p| p == canon))
+    {
+        bail!("{}: already lists {rel}", manifest.display());
+    }
+    let text = fsutil::read_text_limited(manifest, fsutil::MAX_YAML_BYTES)?;
+    let lines: Vec<&str> = text.lines().collect();
+    let last_item = lines
+        .iter()
+        .rposition(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+    let indent = last_item
+        .and_then(|i| {
+            let l = lines[i];
+            let t = l.trim_start();
+            t.starts_with("- ").then(|| &l[..l.len() - t.len()])
+        })
+        .with_context(|| {
+            format!(
+                "{}: its `experiments:` list is not a block list (`  - file.yaml` lines) at the \
+                 end of the file; add `{rel}` to it by hand",
+                manifest.display()
+            )
+        })?;
+    let mut new = lines[..=last_item.unwrap_or(0)].join("\n");
+    let _ = write!(new, "\n{indent}- {}\n", quoted(&rel));
+    for l in &lines[last_item.unwrap_or(0) + 1..] {
+        let _ = writeln!(new, "{l}");
+    }
+    // The edited manifest must list exactly one more file, the new one.
+    let now: Manifest = serde_saphyr::from_str(&new)
+        .with_context(|| format!("{}: the edited manifest does not read", manifest.display()))?;
+    if now.experiments.len() != listed.len() + 1 {
+        bail!(
+            "{}: appending `{rel}` did not add it to `experiments:`; add it by hand",
+            manifest.display()
+        );
+    }
+    fsutil::write_atomic(manifest, new.as_bytes())?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::Experiment;
+
+    /// The geometry a user fills in.
+    fn fill(text: &str) -> String {
+        text.replace("h_m: null", "h_m: 0.142")
+            .replace("l_m: null", "l_m: 1.5")
+            .replace("d_m: null", "d_m: 0.2")
+            .replace("radius_m: null", "radius_m: 0.0127")
+            .replace("mass_kg: null", "mass_kg: 0.067")
+    }
+
+    fn found() -> Found {
+        Found {
+            frames: 300,
+            duration_s: 9.97,
+            width: 640,
+            height: 480,
+            dark: true,
+            pivot: [320.5, -12.0],
+            roi: [100, 0, 440, 400],
+            ok_share: 0.99,
+            release: Some((31, 1.03, 1.0)),
+            period_s: Some(1.334),
+        }
+    }
+
+    #[test]
+    fn the_file_refuses_until_filled_in_then_loads() {
+        let d = tempfile::tempdir().unwrap();
+        let text = yaml("green", "green video.mp4", &found());
+        let p = d.path().join("green.yaml");
+        std::fs::write(&p, &text).unwrap();
+        let e = format!("{:#}", Experiment::load(&p).unwrap_err());
+        assert!(e.contains("green.yaml"), "{e}");
+        std::fs::write(&p, fill(&text)).unwrap();
+        let exp = Experiment::load(&p).expect("filled in, it loads");
+        assert_eq!(exp.name, "green");
+        assert!(text.contains("L = 0.3159 m x sin(alpha)"), "{text}");
+        assert!(text.contains("let go at 1.030 s (frame 31)"), "{text}");
+        assert!(text.contains("polarity: dark"));
+    }
+
+    #[test]
+    fn appends_to_a_block_list_and_refuses_a_second_time() {
+        let d = tempfile::tempdir().unwrap();
+        let m = d.path().join("manifest.yaml");
+        std::fs::write(&m, "# the set\ntitle: t\nexperiments:\n  - a.yaml\n# end\n").unwrap();
+        std::fs::write(d.path().join("a.yaml"), "").unwrap();
+        std::fs::write(d.path().join("b.yaml"), "").unwrap();
+        add_to_manifest(&m, &d.path().join("b.yaml")).unwrap();
+        let text = std::fs::read_to_string(&m).unwrap();
+        assert_eq!(
+            text,
+            "# the set\ntitle: t\nexperiments:\n  - a.yaml\n  - \"b.yaml\"\n# end\n"
+        );
+        let e = add_to_manifest(&m, &d.path().join("b.yaml")).unwrap_err();
+        assert!(e.to_string().contains("already lists"), "{e}");
+        std::fs::write(&m, "experiments: [a.yaml]\ntitle: t\n").unwrap();
+        let e = add_to_manifest(&m, &d.path().join("b.yaml")).unwrap_err();
+        assert!(format!("{e:#}").contains("by hand"), "{e:#}");
+    }
+}

@@ -2,7 +2,7 @@
 //! is, the band of distances from the pivot where it is visible, and a region of
 //! interest, from the first seconds of the recording.
 //!
-//! Over those frames (shrunk as `WORK_SIDE_PX` in `detect` says) the per-pixel maximum
+//! Over those frames (shrunk so the larger side is at most 640 px) the per-pixel maximum
 //! and minimum are the background for a dark and for a light wire: the wire moves on,
 //! so each pixel sees the background at some point. In each frame, the evidence of a
 //! thin moving structure is `max - I` (dark) or `I - min` (light) after a morphological

@@ -81,13 +81,6 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
 /// a swing of any pendulum up to a 5 s period.
 const INIT_SECONDS: f64 = 2.5;
 
-/// The first look keeps at most about this many bytes of frames. Past it, every other
-/// kept frame is let go, and from then on every other arriving frame is kept: the
-/// look's seconds are covered at a lower rate, so its memory and the geometry's work
-/// stay bounded at any frame size and rate (2.5 s of 960x540 at 60 frames/s, the
-/// largest working size, fit; 120 frames/s keeps one in two).
-const LOOK_BUDGET_BYTES: usize = 80 << 20;
-
 /// Of a still start (a held ball, see [`still`]), the first look keeps the last this
 /// many frames and starts its clock at the first of them. A release from an extreme
 /// without a hold moves the wire visibly within a few frames at any frame rate.
@@ -96,15 +89,6 @@ const STILL_KEEP: usize = 8;
 /// A still start longer than this (s) is taken as the motion's start: the look does
 /// not wait for ever on a wire it cannot see move.
 const STILL_MAX_SECONDS: f64 = 10.0;
-
-/// The detector works on frames shrunk by a whole factor, down to no fewer than this
-/// many pixels on the larger side (and below twice as many): 1280x720 and 1920x1080
-/// work at 640x360; 960x540 and 640x480 at full size. A 2 px wire shrunk further fades
-/// into a blurred shadow beside it: worked at 480x270, a 960x540 video followed the
-/// shadow and gave s_r 9.5 % low. Working 1280x720 and 1920x1080 at 960x540 helped
-/// thin wires on twins but lost the wire in a third of the frames of a real 1920x1080
-/// clip, so the larger sizes keep their scale.
-const WORK_SIDE_PX: u32 = 640;
 
 /// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`, or by
 /// OpenCV without it or with `opts.force_opencv`).
@@ -140,9 +124,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         Some([a, b]) => (a, b),
         None => (0, u64::MAX),
     };
-    // 1. Geometry from the first seconds, shrunk by the largest whole factor that
-    // leaves the larger side at least `WORK_SIDE_PX`.
-    let shrink = (bound.w.max(bound.h) / WORK_SIDE_PX).max(1);
+    // 1. Geometry from the first seconds (shrunk so the larger side is <= 640 px).
+    let shrink = ((bound.w.max(bound.h) as f64) / 640.0).ceil().max(1.0) as u32;
     let use_shrink = if input.can_shrink() { shrink } else { 1 };
     // The first look's region, cut to whole multiples of the shrink factor: each of
     // its pixels averages exactly `use_shrink` x `use_shrink` full pixels.
@@ -170,12 +153,10 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     // Every frame at the first frame's brightness (flicker, drift): see `light`.
     // Both against the first frame, made when it arrives.
     let mut against_first: Option<(light::Brightness, still::Stillness)> = None;
-    // The time and arrival number (0 for the first frame asked for) of each kept
-    // frame: frames of a still start are dropped from the front, and past the memory
-    // budget every other frame (see `LOOK_BUDGET_BYTES`).
-    let mut kept = std::collections::VecDeque::<(f64, usize)>::new();
-    let mut arrived = 0usize;
-    let mut keep_every = 1usize;
+    // The times of the kept frames, and how many frames of a still start were dropped
+    // from the front.
+    let mut times = std::collections::VecDeque::new();
+    let mut dropped = 0usize;
     let mut t_first = None;
     let mut decoded = 0u64;
     while src
@@ -189,19 +170,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         if frame.index > last {
             break;
         }
-        let n = arrived;
-        arrived += 1;
-        if kept
-            .front()
-            .is_some_and(|&(_, n0)| !(n - n0).is_multiple_of(keep_every))
-        {
-            continue;
-        }
         init.w = frame.width;
         init.h = frame.height;
         let t_first = *t_first.get_or_insert(frame.t_s);
         init.data.push(frame.data.clone());
-        kept.push_back((frame.t_s, n));
+        times.push_back(frame.t_s);
         let newest = init.data.last_mut().expect("just pushed");
         match &mut against_first {
             Some((l, s)) => {
@@ -209,7 +182,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                 let held = frame.t_s - t_first < STILL_MAX_SECONDS;
                 if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
                     init.data.remove(0);
-                    kept.pop_front();
+                    times.pop_front();
+                    dropped += 1;
                 }
             }
             None => {
@@ -219,36 +193,18 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                 ))
             }
         }
-        if frame.t_s - kept[0].0 >= INIT_SECONDS || init.data.len() >= 300 {
+        if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= 300 {
             break;
-        }
-        if init.data.len() * frame.data.len() > LOOK_BUDGET_BYTES {
-            // Keep the first and every other one after it, and from now on every
-            // other frame that arrives.
-            let mut i = 0;
-            init.data.retain(|_| {
-                i += 1;
-                i % 2 == 1
-            });
-            let mut i = 0;
-            kept.retain(|_| {
-                i += 1;
-                i % 2 == 1
-            });
-            keep_every *= 2;
         }
     }
     drop(src);
-    // How many frames of a still start were dropped from the front.
-    let dropped = kept.front().map_or(0, |&(_, n0)| n0);
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(
-            "timing: first look decoded at {:.2} s ({} frames, one in {keep_every} kept, {dropped} of a still start dropped)",
+            "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
             started.elapsed().as_secs_f64(),
             init.data.len()
         );
     }
-    let look_arrivals: Vec<usize> = kept.iter().map(|&(_, n)| n).collect();
     if init.data.is_empty() {
         if let (Some([a, b]), true) = (opts.frames, decoded > 0) {
             bail!(
@@ -315,14 +271,12 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         if frame.index > last {
             break;
         }
-        // The look's angle of this frame, if it kept it; the frames of a still start
-        // the look dropped held the wire where its first kept frame has it.
-        let hint = if k < dropped {
-            Some(0)
-        } else {
-            look_arrivals.binary_search(&k).ok()
-        }
-        .and_then(|j| init_angles.get(j).copied().flatten());
+        // The frames of a still start the look dropped held the wire where its first
+        // kept frame has it.
+        let hint = init_angles
+            .get(k.saturating_sub(dropped))
+            .copied()
+            .flatten();
 
         let row = tracker.step(&frame, hint)?;
         keeper.offer(&row, &frame);

@@ -5,9 +5,9 @@
 
 use crate::config::Manifest;
 use crate::detect::{self, DetectOptions, Status, VideoInput};
+use crate::fit;
 use crate::fsutil;
 use crate::series::AngleSeries;
-use crate::signal;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -40,7 +40,7 @@ struct Found {
     ok_share: f64,
     /// (frame, time s, held for s) of a release from a held start.
     release: Option<(u64, f64, f64)>,
-    /// The mean full swing (twice the median spacing of turning points), s.
+    /// The full swing as the fit measures it (twice the half-swing time), s.
     period_s: Option<f64>,
 }
 
@@ -85,9 +85,10 @@ pub fn init(a: InitArgs) -> Result<String> {
     Ok(msg)
 }
 
-/// Measure the video as `build` would, with no options.
+/// Measure the video as `build` would, with no options, and the series as `fit` would.
 fn measure(video: &Path) -> Result<Found> {
-    let d = detect::detect(video, &DetectOptions::default())?;
+    let file = detect::VideoFile::open(video, false)?;
+    let d = detect::detect_from(&file, &DetectOptions::default())?;
     let rows: Vec<_> = d
         .rows
         .iter()
@@ -97,21 +98,15 @@ fn measure(video: &Path) -> Result<Found> {
         rows.iter().map(|r| r.t_s).collect(),
         rows.iter().filter_map(|r| r.angle_rad).collect(),
     );
-    let release = signal::find_release(&series).map(|(r, _)| {
+    // Turning points, period and a held start's release, as the fit measures them; a
+    // series too irregular to fit leaves them out of the comments.
+    let m = fit::measure(&series).ok();
+    let release = m.as_ref().and_then(|m| m.release.as_ref()).map(|r| {
         let frame = rows.get(r.frame).map_or(0, |row| row.frame);
         (frame, r.t_s, r.held_s)
     });
-    let period_s = signal::find_extremes(&series).ok().and_then(|ex| {
-        let mut gaps: Vec<f64> = ex.windows(2).map(|w| w[1].t - w[0].t).collect();
-        if gaps.len() < 3 {
-            return None;
-        }
-        gaps.sort_by(f64::total_cmp);
-        Some(2.0 * gaps[gaps.len() / 2])
-    });
     let first = d.rows.first().map_or(0.0, |r| r.t_s);
     let last = d.rows.last().map_or(0.0, |r| r.t_s);
-    let file = detect::VideoFile::open(video, false)?;
     let info = file.info();
     Ok(Found {
         frames: d.rows.len(),
@@ -123,7 +118,7 @@ fn measure(video: &Path) -> Result<Found> {
         roi: d.roi,
         ok_share: d.count(Status::Ok) as f64 / d.rows.len().max(1) as f64,
         release,
-        period_s,
+        period_s: m.map(|m| m.period_s),
     })
 }
 
@@ -201,31 +196,19 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
          \x20   mass_kg: null    # FILL IN: a balance, kg (or `density_kg_m3` instead)\n\
          \x20 # g_m_s2: 9.81     # local gravity, m/s^2\n\n",
     );
+    let polarity = if f.dark { "dark" } else { "light" };
+    let pivot = format!("[{:.1}, {:.1}]", f.pivot[0], f.pivot[1]);
+    let [x, yy, w, h] = f.roi;
+    let roi = format!("[{x}, {yy}, {w}, {h}]");
     let _ = writeln!(
         y,
-        "video:\n  path: {}\n  # The detector found a {} wire; it looks again on every build.",
-        quoted(video),
-        if f.dark { "dark" } else { "light" }
-    );
-    let _ = writeln!(y, "  polarity: {}", if f.dark { "dark" } else { "light" });
-    let _ = writeln!(
-        y,
-        "  # It found the pivot at [{:.1}, {:.1}] px and worked in the region [{}, {}, {}, {}]\n\
-         \x20 # (x, y, width, height, px). Give them here only if a build finds them wrong:\n\
-         \x20 # pivot: [{:.1}, {:.1}]\n\
-         \x20 # roi: [{}, {}, {}, {}]",
-        f.pivot[0],
-        f.pivot[1],
-        f.roi[0],
-        f.roi[1],
-        f.roi[2],
-        f.roi[3],
-        f.pivot[0],
-        f.pivot[1],
-        f.roi[0],
-        f.roi[1],
-        f.roi[2],
-        f.roi[3]
+        "video:\n  path: {}\n  # The detector found a {polarity} wire; it looks again on every build.\n  \
+         polarity: {polarity}\n  \
+         # It found the pivot at {pivot} px and worked in the region {roi}\n  \
+         # (x, y, width, height, px). Give them here only if a build finds them wrong:\n  \
+         # pivot: {pivot}\n  \
+         # roi: {roi}",
+        quoted(video)
     );
     match f.release {
         Some((frame, t, held)) => {
@@ -238,8 +221,7 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
         None => y.push_str("  # No held start: the ball moves from the first frame.\n"),
     }
     y.push_str(
-        "  # A frame the detector got wrong: two points on the wire, px, per frame number\n\
-         \x20 # (the review page builds this block):\n\
+        "  # A frame the detector got wrong: two points on the wire, px, per frame number:\n\
          \x20 # marks:\n\
          \x20 #   120: [[412.0, 96.0], [431.5, 310.0]]\n",
     );
@@ -261,14 +243,14 @@ fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<()> {
     }
     let text = fsutil::read_text_limited(manifest, fsutil::MAX_YAML_BYTES)?;
     let lines: Vec<&str> = text.lines().collect();
-    let last_item = lines
+    let last = lines
         .iter()
         .rposition(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let indent = last_item
+    let (last, indent) = last
         .and_then(|i| {
             let l = lines[i];
             let t = l.trim_start();
-            t.starts_with("- ").then(|| &l[..l.len() - t.len()])
+            t.starts_with("- ").then(|| (i, &l[..l.len() - t.len()]))
         })
         .with_context(|| {
             format!(
@@ -277,9 +259,9 @@ fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<()> {
                 manifest.display()
             )
         })?;
-    let mut new = lines[..=last_item.unwrap_or(0)].join("\n");
+    let mut new = lines[..=last].join("\n");
     let _ = write!(new, "\n{indent}- {}\n", quoted(&rel));
-    for l in &lines[last_item.unwrap_or(0) + 1..] {
+    for l in &lines[last + 1..] {
         let _ = writeln!(new, "{l}");
     }
     // The edited manifest must list exactly one more file, the new one.

@@ -189,6 +189,7 @@ impl<'a> Writer<'a> {
                 "optional"
             };
             let mut kind = self.kind(p);
+            let queued = nested.len();
             if kind == "section" {
                 kind = format!("section, see [`{full}`](#{})", anchor(&full));
                 nested.push((full.clone(), p));
@@ -199,7 +200,7 @@ impl<'a> Writer<'a> {
             }
             let _ = write!(out, "- **`{key}`** ({kind}; {need}");
             // A section's default is its keys' defaults, listed in its own section.
-            if let Some(d) = p.get("default").filter(|_| nested_here(&nested, &full)) {
+            if let Some(d) = p.get("default").filter(|_| nested.len() == queued) {
                 let _ = write!(out, "; default `{}`", yaml_inline(d));
             }
             out.push(')');
@@ -221,13 +222,6 @@ impl<'a> Writer<'a> {
         let items = s.get("items")?;
         self.object(items).map(|_| items)
     }
-}
-
-/// Whether `full` is a plain key (not a section queued in `nested`).
-fn nested_here(nested: &[(String, &Value)], full: &str) -> bool {
-    !nested
-        .iter()
-        .any(|(n, _)| n == full || n.strip_suffix("[]") == Some(full))
 }
 
 fn is_null(s: &Value) -> bool {

@@ -51,6 +51,10 @@ pub struct WireGeometry {
     pub jumps: usize,
     /// How irregularly the wire's angle turns from frame to frame ([`roughness`]).
     pub roughness: f64,
+    /// Which of the first look's tries found it ([`find`]): 0 at the first threshold
+    /// against the running extreme, 1 against the median, 2 and 3 the same at the
+    /// lower threshold. An earlier try needed less leniency to see a wire.
+    pub stage: usize,
 }
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
@@ -261,7 +265,7 @@ pub fn find(
     // frames only is outvoted by stray edges: when neither background finds a wire a
     // pendulum could be, the look is repeated with a lower threshold.
     let mut first_reason = None;
-    for (sigmas, floor, min_directions) in LOOK_THRESHOLDS {
+    for (t, (sigmas, floor, min_directions)) in LOOK_THRESHOLDS.into_iter().enumerate() {
         let look = Look {
             init,
             tmap: threshold_map(init, noise, sigmas, floor)?,
@@ -273,7 +277,12 @@ pub fn find(
             roi_given,
         };
         match look_both(&look, &plausible) {
-            Ok(g) => return Ok(g),
+            Ok(g) => {
+                return Ok(WireGeometry {
+                    stage: 2 * t + g.stage,
+                    ..g
+                })
+            }
             Err(e) => {
                 if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
                     eprintln!("geometry: {e:#}; now with a lower threshold");
@@ -297,7 +306,7 @@ const NO_WIRE: &str = "no moving wire found";
 /// against the median.
 fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<WireGeometry> {
     let first = match find_against(look, Background::Extreme) {
-        Ok(g) if plausible(&g) => return Ok(g),
+        Ok(g) if plausible(&g) => return Ok(WireGeometry { stage: 0, ..g }),
         first => first,
     };
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -310,7 +319,7 @@ fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<W
         }
     }
     match (find_against(look, Background::Median), first) {
-        (Ok(g), _) if plausible(&g) => Ok(g),
+        (Ok(g), _) if plausible(&g) => Ok(WireGeometry { stage: 1, ..g }),
         // Neither look found a wire: the first one's reason.
         (Err(_), Err(e)) => Err(e),
         (Ok(g), _) | (Err(_), Ok(g)) if g.jumps > MAX_JUMPS => bail!(
@@ -674,6 +683,7 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         roughness: roughness(&initial_angles, stride),
         initial_angles,
         lines_used: good.len(),
+        stage: 0,
     })
 }
 

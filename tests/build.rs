@@ -104,6 +104,13 @@ fn build_caches_reproduces_and_reruns_only_what_changed() {
     let first = build(&m, &out, &cache);
     assert!(first.status.success(), "{}", stderr(&first));
     let files = snapshot(&out);
+    // No chart's legend hides a plotted point or line (issue: figures a reviewer can read).
+    let covered = common::legends_over_data(&out);
+    assert!(
+        covered.is_empty(),
+        "legends over data:\n{}",
+        covered.join("\n")
+    );
     for f in [
         "index.html",
         "index.md",

@@ -222,4 +222,11 @@ fn init_writes_a_file_that_builds_once_filled_in() {
             "{out}{err}"
         );
     }
+    // The FHD clip's Figure 12 carries hundreds of flag circles: no legend over any.
+    let covered = common::legends_over_data(&dir.path().join("reports"));
+    assert!(
+        covered.is_empty(),
+        "legends over data:\n{}",
+        covered.join("\n")
+    );
 }

@@ -243,9 +243,10 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
         "fig15.svg",
         &over_extremes(
             format!(
-                "Fig. 15 - {}: model signal, s_r = {:.3e} m, beta = {}",
+                "Fig. 15 - {}: model signal, s_r = {:.3e} {}, beta = {}",
                 x.name,
                 x.law.s_r,
+                s_r_unit(x.law.beta),
                 trim(x.law.beta)
             ),
             "model (Eq. 33, fitted)",
@@ -253,22 +254,49 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
             &model,
         ),
     )?);
+    // Figures 16a/b: at page size a change of s_r by delta is invisible in the signal,
+    // so they show what it does to the fit: each measured amplitude (extreme about the
+    // equilibrium, on its own side) minus the model's there, for the fitted s_r (about
+    // zero) and for s_r changed by +delta (a) or -delta (b), whose residuals drift off
+    // as the model's amplitude falls too fast or too slowly.
+    let residuals = |tr: &Trajectory| -> Vec<(f64, f64)> {
+        ex.iter()
+            .map(|e| {
+                (
+                    e.t,
+                    deg(e.side * (e.angle - (eq + side0 * tr.state(e.t)[0]))),
+                )
+            })
+            .collect()
+    };
+    let best = residuals(&model);
+    let unit = s_r_unit(x.law.beta);
     for (file, sign, tag) in [("fig16a.svg", 1.0, "a"), ("fig16b.svg", -1.0, "b")] {
         let law = FrictionLaw::new(x.law.s_r * (1.0 + sign * x.delta_rel), x.law.beta);
         let tr = model_motion(x.p, &law, t0, x.a_start, t1);
         out.push(fig(
             file,
-            &over_extremes(
-                format!(
-                    "Fig. 16{tag} - {}: s_r = {:.3e} m ({:+.0} %)",
+            &Chart::new(
+                &format!(
+                    "Fig. 16{tag} - {}: amplitude minus model, s_r {:+.0} % = {:.3e} {unit}",
                     x.name,
+                    100.0 * sign * x.delta_rel,
                     law.s_r,
-                    100.0 * sign * x.delta_rel
                 ),
-                "model with changed s_r",
-                "measured envelope",
-                &tr,
-            ),
+                "t (s)",
+                "measured - model amplitude (deg)",
+            )
+            .with(Series::dashed("", Rgb::BLACK, vec![(t0, 0.0), (t1, 0.0)]))
+            .with(Series::markers(
+                &format!("fitted s_r = {:.3e} {unit}", x.law.s_r),
+                Rgb::BLUE,
+                best.clone(),
+            ))
+            .with(Series::crosses(
+                &format!("s_r {:+.0} %", 100.0 * sign * x.delta_rel),
+                Rgb::RED,
+                residuals(&tr),
+            )),
         )?);
     }
 
@@ -321,7 +349,7 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
             x.name
         ),
         "t (s)",
-        "|T| / N",
+        "|T| / N (dimensionless)",
     )
     .with(Series::line("|T|/N (Eq. 31 over Eq. 30)", Rgb::BLUE, tn));
     if let Some(mu) = x.mu {
@@ -334,6 +362,16 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
     }
     out.push(fig("fig18.svg", &c)?);
     Ok(out)
+}
+
+/// The unit of `s_r` in `M_r = s_r N^beta` (M_r in N m): `m` for beta = 1, else
+/// `N^(1 - beta) m` (`N^-0.5 m` for beta = 3/2).
+pub fn s_r_unit(beta: f64) -> String {
+    if beta == 1.0 {
+        "m".to_string()
+    } else {
+        format!("N^{} m", trim(1.0 - beta))
+    }
 }
 
 /// A number without trailing zeros (`1`, `1.5`, `1.3333`).
@@ -366,7 +404,7 @@ pub fn figure19(points: &[Fig19Point]) -> Result<Figure> {
     let mut c = Chart::new(
         "Fig. 19 - coefficient of rolling friction against envelope slope",
         "a (1e-3 rad/s)",
-        "mu_r (1e-3)",
+        "mu_r (1e-3, dimensionless)",
     )
     .with(Series::markers("reproduced experiments", Rgb::RED, xs))
     .with(Series::line(
@@ -410,9 +448,10 @@ pub fn figure2(p: &Pendulum, s_r: f64, psi0: f64) -> Result<Vec<Figure>> {
             file,
             &Chart::new(
                 &format!(
-                    "Fig. 2{tag} - model signal, M_r = s_r N^beta, beta = {}, s_r = {:.3e}",
+                    "Fig. 2{tag} - model signal, M_r = s_r N^beta, beta = {}, s_r = {:.3e} {}",
                     trim(beta),
-                    law.s_r
+                    law.s_r,
+                    s_r_unit(beta)
                 ),
                 "t (s)",
                 "psi (deg)",

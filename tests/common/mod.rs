@@ -151,3 +151,106 @@ pub fn pivot_in(summary: &str) -> (f64, f64) {
     let v: Vec<f64> = numbers_after(summary, "pivot (", ')');
     (v[0], v[1])
 }
+
+/// The plotted data a chart's legend box covers, one line per point: the markers
+/// (circles, crosses) and the vertices and 1 px steps of the data lines (2 px wide)
+/// drawn before the legend, within the box widened by the marker's extent. Empty when
+/// the chart has no legend or it covers nothing. `svg` is a chart of `report::plot`.
+pub fn data_under_legend(svg: &str) -> Vec<String> {
+    let Some(at) = svg.find("stroke=\"#AAAAAA\"") else {
+        return Vec::new();
+    };
+    let start = svg[..at].rfind("<rect").expect("the legend box is a rect");
+    let attr = |el: &str, key: &str| -> Option<f64> {
+        let k = format!(" {key}=\"");
+        let i = el.find(&k)? + k.len();
+        el[i..].split('"').next()?.parse().ok()
+    };
+    let legend = &svg[start..at];
+    let (x, y) = (attr(legend, "x").unwrap(), attr(legend, "y").unwrap());
+    let (w, h) = (
+        attr(legend, "width").unwrap(),
+        attr(legend, "height").unwrap(),
+    );
+    let under = |px: f64, py: f64, reach: f64| {
+        px + reach >= x && px - reach <= x + w && py + reach >= y && py - reach <= y + h
+    };
+    let mut found = Vec::new();
+    for el in svg[..start].split('<').skip(1) {
+        let el = el.split('>').next().unwrap_or("");
+        if el.starts_with("circle") {
+            let (cx, cy, r) = (
+                attr(el, "cx").unwrap(),
+                attr(el, "cy").unwrap(),
+                attr(el, "r").unwrap(),
+            );
+            if under(cx, cy, r) {
+                found.push(format!("circle at ({cx}, {cy})"));
+            }
+        } else if (el.starts_with("polyline") || el.starts_with("line"))
+            && el.contains("stroke-width=\"2\"")
+        {
+            let pts: Vec<(f64, f64)> = if el.starts_with("line") {
+                vec![
+                    (attr(el, "x1").unwrap(), attr(el, "y1").unwrap()),
+                    (attr(el, "x2").unwrap(), attr(el, "y2").unwrap()),
+                ]
+            } else {
+                let i = el.find("points=\"").unwrap() + 8;
+                el[i..]
+                    .split('"')
+                    .next()
+                    .unwrap()
+                    .split_whitespace()
+                    .filter_map(|p| {
+                        let (a, b) = p.split_once(',')?;
+                        Some((a.parse().ok()?, b.parse().ok()?))
+                    })
+                    .collect()
+            };
+            for seg in pts.windows(2) {
+                let (a, b) = (seg[0], seg[1]);
+                let n = (b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil().max(1.0) as usize;
+                if let Some(k) = (0..=n).find(|&k| {
+                    let t = k as f64 / n as f64;
+                    under(a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1), 1.0)
+                }) {
+                    let t = k as f64 / n as f64;
+                    found.push(format!(
+                        "line through ({:.0}, {:.0})",
+                        a.0 + t * (b.0 - a.0),
+                        a.1 + t * (b.1 - a.1)
+                    ));
+                }
+            }
+        }
+    }
+    found
+}
+
+/// Every chart (`*.svg`) under `dir` whose legend covers plotted data, with what it
+/// covers.
+pub fn legends_over_data(dir: &Path) -> Vec<String> {
+    let mut bad = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "svg") {
+                let hidden = data_under_legend(&std::fs::read_to_string(&p).unwrap());
+                if !hidden.is_empty() {
+                    bad.push(format!(
+                        "{}: {} covered ({})",
+                        p.display(),
+                        hidden.len(),
+                        hidden[..hidden.len().min(3)].join(", ")
+                    ));
+                }
+            }
+        }
+    }
+    bad.sort();
+    bad
+}

@@ -18,6 +18,7 @@ pub(super) struct Layout {
     pub(super) x_area: u32,
     pub(super) y_area: u32,
     pub(super) margin_right: u32,
+    pub(super) margin_bottom: u32,
     /// Estimated legend size in pixels, when there is a legend.
     pub(super) legend: Option<(i32, i32)>,
 }
@@ -70,6 +71,7 @@ impl Layout {
             x_area,
             y_area,
             margin_right,
+            margin_bottom: 6,
             legend,
         })
     }

@@ -86,16 +86,21 @@ pub(super) fn draw_legend<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Picks the legend corner inside the plot `(left, top, right, bottom)`:
-/// upper right unless another corner hides less than half as much of the
-/// drawn data. Gives the upper left point of the box, how much data it hides
-/// and how much there is in all, counted as samples about every 3 pixels
-/// along lines and 4 per marker.
+/// How far around the legend box a plotted point still counts as under it, px: the
+/// largest marker's radius and its stroke, so that no marker is half covered.
+const LEGEND_CLEARANCE: i32 = (CIRCLE_RADIUS + MARKER_STROKE) as i32;
+
+/// Picks the legend corner inside the plot `(left, top, right, bottom)`: the first of
+/// upper right, upper left, lower right and lower left whose box (widened by
+/// [`LEGEND_CLEARANCE`]) covers no drawn data, else the one that covers least. Gives the
+/// upper left point of the box and how much data it hides, counted as samples about
+/// every 3 pixels along lines and 4 per marker; the caller moves a legend that hides
+/// anything out of the plot.
 pub(super) fn legend_corner(
     prepared: &[Prepared],
     (left, top, right, bottom): (i32, i32, i32, i32),
     (w, h): (i32, i32),
-) -> ((i32, i32), usize, usize) {
+) -> ((i32, i32), usize) {
     let inset = 6;
     let corners = [
         (right - w - inset, top + inset),
@@ -121,21 +126,17 @@ pub(super) fn legend_corner(
         }
         count
     };
+    let c = LEGEND_CLEARANCE;
     let hidden: Vec<usize> = corners
         .iter()
-        .map(|&(x0, y0)| count(&|(x, y)| x >= x0 && x <= x0 + w && y >= y0 && y <= y0 + h))
+        .map(|&(x0, y0)| {
+            count(&|(x, y)| x >= x0 - c && x <= x0 + w + c && y >= y0 - c && y <= y0 + h + c)
+        })
         .collect();
-    let total = count(&|_| true);
-    let mut best = 0;
-    for i in 1..corners.len() {
-        if hidden[i] < hidden[best] {
-            best = i;
-        }
-    }
-    if hidden[best] * 2 >= hidden[0] {
-        best = 0;
-    }
-    (corners[best], hidden[best], total)
+    let best = (0..corners.len())
+        .find(|&i| hidden[i] == 0)
+        .unwrap_or_else(|| (0..corners.len()).min_by_key(|&i| hidden[i]).unwrap_or(0));
+    (corners[best], hidden[best])
 }
 
 /// Number of samples, about every 3 pixels along the segment a-b, that fall

@@ -33,7 +33,7 @@ use anyhow::{anyhow, bail, Result};
 
 pub use chart::{Chart, Kind, Rgb, Series};
 use layout::Layout;
-use render::draw;
+use render::{draw, LegendPlace};
 
 /// Default drawing size in pixels (width, height).
 pub const DEFAULT_SIZE: (u32, u32) = (760, 420);
@@ -77,18 +77,33 @@ pub fn render_svg(chart: &Chart) -> Result<String> {
         bail!("chart size {width}x{height} is outside 160x120 .. 20000x20000 pixels");
     }
     let layout = Layout::new(chart)?;
-    match layout.legend {
-        Some((w, _)) => {
-            // A legend that would hide data inside the plot goes to its right.
-            if let Some(svg) = draw(chart, &layout, false)? {
-                return Ok(svg);
-            }
-            let outside = Layout {
-                margin_right: layout.margin_right.max(w as u32 + 2 * LEGEND_GAP),
-                ..layout
-            };
-            draw(chart, &outside, true)?.ok_or_else(|| anyhow!("the chart legend found no place"))
-        }
-        None => draw(chart, &layout, false)?.ok_or_else(|| anyhow!("the chart was not drawn")),
+    let Some((w, h)) = layout.legend else {
+        return draw(chart, &layout, LegendPlace::Inside)?
+            .ok_or_else(|| anyhow!("the chart was not drawn"));
+    };
+    // A legend that would hide data inside the plot goes to its right when that
+    // leaves the plot two thirds of the width, else under the x axis's label.
+    if let Some(svg) = draw(chart, &layout, LegendPlace::Inside)? {
+        return Ok(svg);
     }
+    let (outside, place) = if (w as u32 + 2 * LEGEND_GAP) * 3 <= width {
+        let margin_right = layout.margin_right.max(w as u32 + 2 * LEGEND_GAP);
+        (
+            Layout {
+                margin_right,
+                ..layout
+            },
+            LegendPlace::Right,
+        )
+    } else {
+        let margin_bottom = layout.margin_bottom + h as u32 + LEGEND_GAP;
+        (
+            Layout {
+                margin_bottom,
+                ..layout
+            },
+            LegendPlace::Below,
+        )
+    };
+    draw(chart, &outside, place)?.ok_or_else(|| anyhow!("the chart legend found no place"))
 }

@@ -12,10 +12,20 @@ use super::{
     MARKER_RADIUS, MARKER_STROKE, TICK_FONT, TITLE_FONT,
 };
 
-/// Draws the chart. With the legend inside the plot, gives `None` when every
-/// corner would hide a fair share of the data and there is room for the
-/// legend to the right of the plot.
-pub(super) fn draw(chart: &Chart, layout: &Layout, legend_outside: bool) -> Result<Option<String>> {
+/// Where the legend goes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum LegendPlace {
+    /// In the first corner of the plot that covers no data ([`legend_corner`]).
+    Inside,
+    /// To the right of the plot (the layout leaves room).
+    Right,
+    /// Under the x axis's label, from the plot's left edge (the layout leaves room).
+    Below,
+}
+
+/// Draws the chart. With the legend [`LegendPlace::Inside`], gives `None` when every
+/// corner would hide some data: the caller makes room outside the plot.
+pub(super) fn draw(chart: &Chart, layout: &Layout, place: LegendPlace) -> Result<Option<String>> {
     let (width, height) = chart.size;
     let has_title = !chart.title.is_empty();
     let mut svg = String::new();
@@ -27,7 +37,7 @@ pub(super) fn draw(chart: &Chart, layout: &Layout, legend_outside: bool) -> Resu
         builder
             .margin_top(if has_title { 8 } else { 14 })
             .margin_left(8)
-            .margin_bottom(6)
+            .margin_bottom(layout.margin_bottom)
             .margin_right(layout.margin_right)
             .x_label_area_size(layout.x_area)
             .y_label_area_size(layout.y_area);
@@ -70,13 +80,13 @@ pub(super) fn draw(chart: &Chart, layout: &Layout, legend_outside: bool) -> Resu
         // Decide on the legend place before drawing anything more.
         let (px, py) = cc.plotting_area().get_pixel_range();
         let plot = (px.start, py.start, px.end, py.end);
-        let legend_at = match layout.legend {
-            None => None,
-            Some(_) if legend_outside => Some((plot.2 + LEGEND_GAP as i32, plot.1)),
-            Some(size) => {
-                let (corner, hidden, total) = legend_corner(&prepared, plot, size);
-                let room = (size.0 as u32 + 2 * LEGEND_GAP) * 3 <= width;
-                if room && hidden > 2 && hidden * 100 > total {
+        let legend_at = match (layout.legend, place) {
+            (None, _) => None,
+            (Some(_), LegendPlace::Right) => Some((plot.2 + LEGEND_GAP as i32, plot.1)),
+            (Some((_, h)), LegendPlace::Below) => Some((plot.0, height as i32 - 6 - h)),
+            (Some(size), LegendPlace::Inside) => {
+                let (corner, hidden) = legend_corner(&prepared, plot, size);
+                if hidden > 0 {
                     return Ok(None);
                 }
                 Some(corner)

@@ -376,3 +376,114 @@ fn tick_labels_are_compact() {
     );
     assert_eq!(labels(1.0, 1.0005, 6)[1], "1.0001");
 }
+
+/// A box in pixels: `(x, y, width, height)`.
+type PxBox = (i32, i32, i32, i32);
+
+/// The legend box of a chart and the centres of the markers drawn before it (the
+/// data; the legend's own samples come after it).
+fn legend_and_markers(svg: &str) -> Option<(PxBox, Vec<(i32, i32)>)> {
+    let box_line = svg
+        .lines()
+        .position(|l| l.starts_with("<rect ") && l.contains("stroke=\"#AAAAAA\""))?;
+    let lines: Vec<&str> = svg.lines().collect();
+    let num = |l: &str, a: &str| -> i32 {
+        tagged_values(l, l[1..].split(' ').next().unwrap(), "", a)[0]
+            .parse()
+            .unwrap()
+    };
+    let l = lines[box_line];
+    let legend = (num(l, "x"), num(l, "y"), num(l, "width"), num(l, "height"));
+    let markers = lines[..box_line]
+        .iter()
+        .filter(|l| l.starts_with("<circle "))
+        .map(|l| (num(l, "cx"), num(l, "cy")))
+        .collect();
+    Some((legend, markers))
+}
+
+/// A cloud of markers filling the square `[x0, x0 + 1] x [y0, y0 + 1]`.
+fn cloud(x0: f64, y0: f64, n: usize) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| (x0 + 0.5 + 0.5 * noise(i), y0 + 0.5 + 0.5 * noise(i + 7919)))
+        .collect()
+}
+
+#[test]
+fn the_legend_goes_to_an_empty_corner_inside_else_outside_the_plot() {
+    let ranges = (Some((0.0, 4.0)), Some((0.0, 4.0)));
+    let plot_right = |svg: &str| -> i32 {
+        // The x axis line runs along the plot's bottom, from its left to its right.
+        polyline_points(svg, "#5A5A5A")
+            .iter()
+            .map(|p| p.0)
+            .max()
+            .unwrap()
+    };
+    // Data in the upper right and the lower left: the legend takes the upper left.
+    let mut two = Chart::new("t", "x", "y")
+        .with(Series::circles(
+            "upper right",
+            Rgb::RED,
+            cloud(3.0, 3.0, 200),
+        ))
+        .with(Series::circles(
+            "lower left",
+            Rgb::BLUE,
+            cloud(0.0, 0.0, 200),
+        ));
+    (two.x_range, two.y_range) = ranges;
+    let svg = render_svg(&two).unwrap();
+    let ((x, y, w, h), markers) = legend_and_markers(&svg).unwrap();
+    assert_eq!(markers.len(), 400);
+    let right = plot_right(&svg);
+    assert!(x + w < right, "legend inside the plot: {x} + {w} < {right}");
+    let reach = CIRCLE_RADIUS as i32 + MARKER_STROKE as i32;
+    let covered = |m: &(i32, i32)| {
+        m.0 + reach >= x && m.0 - reach <= x + w && m.1 + reach >= y && m.1 - reach <= y + h
+    };
+    assert_eq!(markers.iter().filter(|m| covered(m)).count(), 0);
+    assert!(x < right / 2, "upper left: x = {x}");
+
+    // Data in every corner: no corner is free, the legend goes to the right of the plot.
+    let mut four = two;
+    four = four
+        .with(Series::circles("", Rgb::GREEN, cloud(0.0, 3.0, 200)))
+        .with(Series::circles("", Rgb::GREEN, cloud(3.0, 0.0, 200)));
+    let svg = render_svg(&four).unwrap();
+    let ((x, y, w, h), markers) = legend_and_markers(&svg).unwrap();
+    assert_eq!(markers.len(), 800);
+    assert!(x > plot_right(&svg), "legend outside the plot");
+    assert_eq!(
+        markers
+            .iter()
+            .filter(|m| m.0 + reach >= x
+                && m.0 - reach <= x + w
+                && m.1 + reach >= y
+                && m.1 - reach <= y + h)
+            .count(),
+        0
+    );
+}
+
+#[test]
+fn one_marker_under_every_corner_sends_the_legend_out_even_beside_much_data() {
+    // A dense line across the middle (thousands of samples) and one marker in each
+    // corner: however small a share of the data that marker is, it is not hidden.
+    let line: Vec<(f64, f64)> = (0..2000)
+        .map(|i| (i as f64 / 500.0, 2.0 + 0.4 * noise(i)))
+        .collect();
+    let corners = vec![(0.05, 0.05), (3.95, 0.05), (0.05, 3.95), (3.95, 3.95)];
+    let mut chart = Chart::new("t", "x", "y")
+        .with(Series::line("a dense line", Rgb::BLUE, line))
+        .with(Series::markers("corners", Rgb::RED, corners));
+    (chart.x_range, chart.y_range) = (Some((0.0, 4.0)), Some((0.0, 4.0)));
+    let svg = render_svg(&chart).unwrap();
+    let ((x, _, _, _), markers) = legend_and_markers(&svg).unwrap();
+    assert_eq!(markers.len(), 4);
+    let right = markers.iter().map(|m| m.0).max().unwrap();
+    assert!(
+        x > right,
+        "legend at x = {x}, inside the plot (markers up to {right})"
+    );
+}

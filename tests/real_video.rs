@@ -229,4 +229,55 @@ fn init_writes_a_file_that_builds_once_filled_in() {
         "legends over data:\n{}",
         covered.join("\n")
     );
+
+    // `fit` reads the angles the build measured while the video and its `video:` block
+    // are unchanged: the same result as measuring again (`--fresh`), saying where the
+    // angles came from; a changed `video:` setting is measured again.
+    let yaml = dir.path().join("clip0.yaml");
+    let cache = dir.path().join("build");
+    let fit = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec![
+            OsStr::new("fit"),
+            yaml.as_os_str(),
+            OsStr::new("--json"),
+            OsStr::new("--cache"),
+            cache.as_os_str(),
+        ];
+        args.extend(extra.iter().map(OsStr::new));
+        serde_json::from_str(&rollfric_ok(&args, &root()).0).unwrap()
+    };
+    let said = |v: &serde_json::Value| v["angles"]["description"].as_str().unwrap().to_string();
+    let (cached, fresh) = (fit(&[]), fit(&["--fresh"]));
+    assert!(
+        said(&cached).contains("measured by a build"),
+        "{}",
+        said(&cached)
+    );
+    assert!(
+        !said(&fresh).contains("measured by a build"),
+        "{}",
+        said(&fresh)
+    );
+    assert_eq!(cached["s_r_m"], fresh["s_r_m"]);
+    assert!(
+        cached["s_r_m"].as_f64().is_some_and(|v| v > 0.0),
+        "{cached}"
+    );
+    let text = std::fs::read_to_string(&yaml).unwrap();
+    let polarity = if text.contains("polarity: dark") {
+        "dark"
+    } else {
+        "light"
+    };
+    std::fs::write(
+        &yaml,
+        text.replace(&format!("polarity: {polarity}"), "polarity: auto"),
+    )
+    .unwrap();
+    let changed = fit(&[]);
+    assert!(
+        !said(&changed).contains("measured by a build"),
+        "{}",
+        said(&changed)
+    );
 }

@@ -22,6 +22,7 @@ pub mod progress;
 mod stages;
 mod writer;
 
+pub use stages::cached_angles;
 pub use writer::relative;
 
 use crate::config::{Experiment, Manifest};

@@ -125,6 +125,62 @@ fn video_stage(exp: &Experiment, source: &Source, ctx: &Ctx, ran: &mut Ran) -> R
     })
 }
 
+/// The detect stage's files of one experiment under `cache/<name>/`.
+struct DetectFiles {
+    csv: PathBuf,
+    summary: PathBuf,
+    fig11: PathBuf,
+    key: PathBuf,
+}
+
+impl DetectFiles {
+    fn of(cache: &Path, exp: &Experiment) -> Self {
+        let dir = cache.join(&exp.name);
+        Self {
+            csv: dir.join("angles.csv"),
+            summary: dir.join("detect.json"),
+            fig11: dir.join("fig11.png"),
+            key: dir.join("detect.key"),
+        }
+    }
+
+    /// The stage's key: the detector's source, the video's content id and the
+    /// experiment's `video:` settings.
+    fn key(exp: &Experiment, video_id: &str) -> String {
+        Key::new("detect")
+            .part("source", sources::hash("detect").as_bytes())
+            .part("video", video_id.as_bytes())
+            .json("settings", &pipeline::detect_settings(exp))
+            .hex()
+    }
+
+    /// The cached detection, when it was made under `key` and every file is there.
+    fn fresh(&self, key: &str) -> Option<DetectionSummary> {
+        if !hash::fresh(&self.key, key, &[&self.csv, &self.summary, &self.fig11]) {
+            return None;
+        }
+        std::fs::read(&self.summary)
+            .ok()
+            .and_then(|b| serde_json::from_slice::<DetectionSummary>(&b).ok())
+    }
+
+    /// Record a detection made under `key` (each file written whole; the key last).
+    fn record(
+        &self,
+        key: &str,
+        d: &detect::Detection,
+        summary: &DetectionSummary,
+        video: &Path,
+    ) -> Result<()> {
+        let png =
+            detect::figure11_png(d).with_context(|| format!("{}: Figure 11", video.display()))?;
+        fsutil::write_atomic(&self.fig11, &png)?;
+        fsutil::write_atomic(&self.csv, d.to_csv().as_bytes())?;
+        fsutil::write_atomic(&self.summary, &serde_json::to_vec_pretty(summary)?)?;
+        hash::record(&self.key, key)
+    }
+}
+
 /// Detect the angles of the video (cached): `angles.csv`, `detect.json`, `fig11.png`.
 fn detect_stage(
     exp: &Experiment,
@@ -133,30 +189,17 @@ fn detect_stage(
     ctx: &Ctx,
     ran: &mut Ran,
 ) -> Result<CachedAngles> {
-    let key = Key::new("detect")
-        .part("source", sources::hash("detect").as_bytes())
-        .part("video", video.id.as_bytes())
-        .json("settings", &pipeline::detect_settings(exp))
-        .hex();
-    let dir = ctx.cache.join(&exp.name);
-    let csv = dir.join("angles.csv");
-    let summary_file = dir.join("detect.json");
-    let fig11 = dir.join("fig11.png");
-    let key_file = dir.join("detect.key");
-    let cached = |detection| CachedAngles {
+    let key = DetectFiles::key(exp, &video.id);
+    let files = DetectFiles::of(ctx.cache, exp);
+    let cached = |detection, files: DetectFiles| CachedAngles {
         source: source.clone(),
-        csv: csv.clone(),
+        csv: files.csv,
         id: key.clone(),
         detection: Some(detection),
-        fig11: Some(fig11.clone()),
+        fig11: Some(files.fig11),
     };
-    if hash::fresh(&key_file, &key, &[&csv, &summary_file, &fig11]) {
-        if let Some(s) = std::fs::read(&summary_file)
-            .ok()
-            .and_then(|b| serde_json::from_slice::<DetectionSummary>(&b).ok())
-        {
-            return Ok(cached(s));
-        }
+    if let Some(s) = files.fresh(&key) {
+        return Ok(cached(s, files));
     }
     ctx.progress.stage(
         &ctx.label,
@@ -176,14 +219,29 @@ fn detect_stage(
         source.clone(),
     )?;
     let summary = angles.detection.expect("a detection");
-    let png =
-        detect::figure11_png(&d).with_context(|| format!("{}: Figure 11", video.path.display()))?;
-    fsutil::write_atomic(&fig11, &png)?;
-    fsutil::write_atomic(&csv, d.to_csv().as_bytes())?;
-    fsutil::write_atomic(&summary_file, &serde_json::to_vec_pretty(&summary)?)?;
-    hash::record(&key_file, &key)?;
+    files.record(&key, &d, &summary, &video.path)?;
     ran.0.push("detect");
-    Ok(cached(summary))
+    Ok(cached(summary, files))
+}
+
+/// The angles a build measured in `exp`'s video and left in `cache`, when the video
+/// (`video_id`: a lab video's SHA-256, the twin's render key) and the experiment's
+/// `video:` settings are still those they were measured with: what `rollfric fit` reads
+/// instead of decoding the video again. `None` when stale or missing.
+pub fn cached_angles(
+    exp: &Experiment,
+    source: Source,
+    video_id: &str,
+    cache: &Path,
+) -> Option<Angles> {
+    let files = DetectFiles::of(cache, exp);
+    let summary = files.fresh(&DetectFiles::key(exp, video_id))?;
+    let table = AngleTable::read_csv(&files.csv).ok()?;
+    Some(Angles {
+        source,
+        table,
+        detection: Some(summary),
+    })
 }
 
 /// Fit, check, draw and write the experiment's pages (cached with `result.json`).

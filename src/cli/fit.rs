@@ -1,8 +1,10 @@
 //! `rollfric fit`: one experiment through the pipeline, as text or JSON.
 
+use crate::build;
 use crate::config::{self, locate, Experiment};
 use crate::detect::DetectOptions;
 use crate::fit::FitResult;
+use crate::hash;
 use crate::pipeline::{self, Angles, Overrides, Source};
 use crate::verdict::Verdict;
 use anyhow::Result;
@@ -26,6 +28,13 @@ pub struct FitArgs {
     /// Print one JSON object.
     #[arg(long)]
     json: bool,
+    /// The build's cache: a video's angles measured there by `rollfric build` are
+    /// reused while the video and the `video:` settings are unchanged.
+    #[arg(long, default_value = "build")]
+    cache: PathBuf,
+    /// Measure the video again even when the cache holds its angles.
+    #[arg(long)]
+    fresh: bool,
 }
 
 /// Where the angles of a fit came from.
@@ -55,9 +64,15 @@ pub struct FitReport {
 }
 
 /// The experiment's angles: a CSV, or its video (the lab's, or the twin's rendered
-/// under `build/<name>/`), detected now.
-fn angles(exp: &Experiment, source: Source) -> Result<(Angles, AnglesSource)> {
-    let video = match &source {
+/// under `cache/<name>/`): the angles a build measured in it when they are current
+/// (unless `fresh`), else detected now.
+fn angles(
+    exp: &Experiment,
+    source: Source,
+    cache: &Path,
+    fresh: bool,
+) -> Result<(Angles, AnglesSource)> {
+    let (video, id) = match &source {
         Source::Csv(path) => {
             let a = Angles::from_csv(path)?;
             let description = format!("measured angles from {}", path.display());
@@ -69,21 +84,34 @@ fn angles(exp: &Experiment, source: Source) -> Result<(Angles, AnglesSource)> {
                 },
             ));
         }
-        Source::LabVideo(path) => path.clone(),
-        Source::Twin => twin_video(exp)?,
+        Source::LabVideo(path) => (path.clone(), None),
+        Source::Twin => {
+            let (video, key) = twin_video(exp, cache)?;
+            (video, Some(key))
+        }
     };
-    let opts: DetectOptions = pipeline::detect_options(exp);
-    let (a, _) = pipeline::detect(
-        &video,
-        &opts,
-        video.display().to_string(),
-        String::new(),
-        source.clone(),
-    )?;
+    let cached = if fresh {
+        None
+    } else {
+        let id = match id {
+            Some(key) => key,
+            None => hash::sha256_file(&video)?,
+        };
+        build::cached_angles(exp, source.clone(), &id, cache)
+    };
+    let from_cache = cached.is_some();
+    let a = match cached {
+        Some(a) => a,
+        None => {
+            let opts: DetectOptions = pipeline::detect_options(exp);
+            let label = video.display().to_string();
+            pipeline::detect(&video, &opts, label, String::new(), source.clone())?.0
+        }
+    };
     let d = a.detection.as_ref().expect("a detection");
     let synthetic = source.is_synthetic();
     let description = format!(
-        "{}angles detected in {} ({} frames: {} corrected, {} missing)",
+        "{}angles detected in {} ({} frames: {} corrected, {} missing){}",
         if synthetic {
             "SYNTHETIC: the digital twin's video; "
         } else {
@@ -92,7 +120,15 @@ fn angles(exp: &Experiment, source: Source) -> Result<(Angles, AnglesSource)> {
         video.display(),
         d.frames,
         d.corrected,
-        d.missing
+        d.missing,
+        if from_cache {
+            format!(
+                "; measured by a build, read from {} (--fresh measures again)",
+                cache.join(&exp.name).display()
+            )
+        } else {
+            String::new()
+        }
     );
     let kind = if synthetic {
         "synthetic-video"
@@ -108,11 +144,12 @@ fn angles(exp: &Experiment, source: Source) -> Result<(Angles, AnglesSource)> {
     ))
 }
 
-/// The twin's video under `build/<name>/`, rendered now when its key is stale.
-fn twin_video(exp: &Experiment) -> Result<PathBuf> {
+/// The twin's video under `cache/<name>/`, rendered now when its key is stale; and its
+/// render key.
+fn twin_video(exp: &Experiment, cache: &Path) -> Result<(PathBuf, String)> {
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let started = std::time::Instant::now();
-    let (video, _, rendered) = pipeline::twin(exp, Path::new("build"), &mut |done, total| {
+    let (video, key, rendered) = pipeline::twin(exp, cache, &mut |done, total| {
         if tty && total > 0 {
             eprint!("\rsynth: frame {done}/{total}");
         }
@@ -128,13 +165,13 @@ fn twin_video(exp: &Experiment) -> Result<PathBuf> {
             video.display()
         );
     }
-    Ok(video)
+    Ok((video, key))
 }
 
 /// Fit one experiment through the pipeline.
 pub fn fit_report(exp: &Experiment, a: &FitArgs) -> Result<FitReport> {
     let source = Source::of(exp, a.angles.as_deref())?;
-    let (angles, described) = angles(exp, source)?;
+    let (angles, described) = angles(exp, source, &a.cache, a.fresh)?;
     let beta = match &a.beta {
         Some(b) => Some(config::parse_beta(
             &config::BetaSpec::Text(b.clone()),

@@ -37,8 +37,9 @@ pub struct VideoInfo {
     pub codec: String,
 }
 
-/// One decoded grey frame (row-major, `width` bytes per row).
-#[derive(Clone, Debug)]
+/// One decoded grey frame (row-major, `width` bytes per row). `Frame::default()` is an
+/// empty one for a [`FrameSource`] to fill.
+#[derive(Clone, Debug, Default)]
 pub struct Frame {
     /// 0-based index among decoded frames.
     pub index: u64,

@@ -247,13 +247,7 @@ mod tests {
                 1,
             )
             .unwrap();
-        let mut fr = Frame {
-            index: 0,
-            t_s: 0.0,
-            width: 0,
-            height: 0,
-            data: Vec::new(),
-        };
+        let mut fr = Frame::default();
         assert!(src.next_frame(&mut fr).unwrap());
         assert_eq!((fr.width, fr.height), (4, 3));
         assert_eq!(&fr.data[..4], &[11, 21, 31, 41]);

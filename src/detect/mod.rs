@@ -125,34 +125,28 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         None => (0, u64::MAX),
     };
     // 1. Geometry from the first seconds, at the working scale that sees the wire best.
-    let Located {
-        geo,
-        init_bg,
-        init_tmap,
-        init_reference,
-        shrink: use_shrink,
+    let look = FirstLook {
+        input,
+        opts,
         bound,
-        dropped,
-    } = locate_at_best_scale(input, opts, bound, first, last, started)?;
-    let init_angles = &geo.initial_angles;
-    let mut frame = Frame {
-        index: 0,
-        t_s: 0.0,
-        width: 0,
-        height: 0,
-        data: Vec::new(),
-    };
+        first,
+        last,
+        started,
+    }
+    .at_best_scale()?;
+    let geo = &look.geo;
+    let mut frame = Frame::default();
 
     // 2. The streaming pass over the region of interest.
     let mut src = input.open(geo.roi, 1)?;
     let mut tracker = Tracker::new(
-        &geo,
+        geo,
         opts,
-        init_bg,
-        init_tmap,
-        init_reference,
-        use_shrink as f64,
-        bound,
+        look.init_bg,
+        look.init_tmap,
+        look.init_reference,
+        look.shrink as f64,
+        look.bound,
     )?;
     // The header's count, within the frames asked for (the header may be wrong: the
     // last report below gives the frames actually measured).
@@ -179,8 +173,9 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         }
         // The frames of a still start the look dropped held the wire where its first
         // kept frame has it.
-        let hint = init_angles
-            .get(k.saturating_sub(dropped))
+        let hint = geo
+            .initial_angles
+            .get(k.saturating_sub(look.dropped))
             .copied()
             .flatten();
 
@@ -272,192 +267,193 @@ struct Located {
 /// this size for the geometry (the streaming pass always works at full size).
 const WORK_SIDE_PX: f64 = 640.0;
 
-/// The first look at the working scale that sees the wire best. A frame is shrunk by
-/// whole factors only, so two scales bracket [`WORK_SIDE_PX`]: the coarser (larger side
-/// at most 640 px) and the finer (at least 640 px). They coincide for 640, 1280 and
-/// 1920 px wide frames; for others (960x540, say) the coarser one may blur a 1 px wire
-/// into its own shadow while the finer one sees edges too sharply to settle on the
-/// wire. The finer scale is looked at first and kept when it found, at the strict
-/// threshold (against either background), a wire that never jumps; otherwise the
-/// coarser one is looked at too, and the scale whose wire needed fewer of the
-/// geometry's fallbacks (then fewer jumps) wins, the finer on a tie.
-///
-/// On the sweep's 960x540 twins the finer scale is kept in 12 of 13 (one refuses
-/// there: a 2 px wire under a blurred shadow); on a real 1920x1080 clip scaled to
-/// 960x540 and turned by 180 or 270 degrees it needs the lower threshold or refuses,
-/// and the coarser scale (which measures the clip as filmed) is kept.
-fn locate_at_best_scale(
-    input: &dyn VideoInput,
-    opts: &DetectOptions,
+/// What every first look at one video shares: the input, the options, the region
+/// asked for, the frames asked for and the detection's start (for the timing lines).
+#[derive(Clone, Copy)]
+struct FirstLook<'a> {
+    input: &'a dyn VideoInput,
+    opts: &'a DetectOptions,
     bound: Roi,
     first: u64,
     last: u64,
     started: std::time::Instant,
-) -> Result<Located> {
-    let side = bound.w.max(bound.h) as f64;
-    let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
-    let fine = (side / WORK_SIDE_PX).floor().max(1.0) as u32;
-    if !input.can_shrink() {
-        return locate(input, opts, bound, 1, first, last, started);
-    }
-    if fine == coarse {
-        return locate(input, opts, bound, coarse, first, last, started);
-    }
-    let at_fine = locate(input, opts, bound, fine, first, last, started);
-    let rank = |l: &Located| (l.geo.stage, l.geo.jumps);
-    if let Ok(l) = &at_fine {
-        if l.geo.stage <= 1 && l.geo.jumps == 0 {
-            return at_fine;
-        }
-    }
-    let at_coarse = locate(input, opts, bound, coarse, first, last, started);
-    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-        let say = |r: &Result<Located>| match r {
-            Ok(l) => format!("stage {} jumps {}", l.geo.stage, l.geo.jumps),
-            Err(e) => format!("{e:#}"),
-        };
-        eprintln!(
-            "geometry: shrunk {fine}x: {}; shrunk {coarse}x: {}",
-            say(&at_fine),
-            say(&at_coarse)
-        );
-    }
-    match (at_fine, at_coarse) {
-        (Ok(f), Ok(c)) => Ok(if rank(&c) < rank(&f) { c } else { f }),
-        (Ok(f), Err(_)) => Ok(f),
-        (Err(_), c) => c,
-    }
 }
 
-/// The first look (about [`INIT_SECONDS`] of motion) shrunk `use_shrink` times, and the
-/// geometry found in it.
-fn locate(
-    input: &dyn VideoInput,
-    opts: &DetectOptions,
-    bound: Roi,
-    use_shrink: u32,
-    first: u64,
-    last: u64,
-    started: std::time::Instant,
-) -> Result<Located> {
-    let info = input.info();
-    let name = input.name();
-    // The first look's region, cut to whole multiples of the shrink factor: each of
-    // its pixels averages exactly `use_shrink` x `use_shrink` full pixels.
-    let bound = Roi {
-        w: bound.w - bound.w % use_shrink,
-        h: bound.h - bound.h % use_shrink,
-        ..bound
-    };
-    let mut src = input.open(bound, use_shrink)?;
-    let mut init = InitFrames {
-        w: 0,
-        h: 0,
-        shrink: use_shrink as f64,
-        x0: bound.x as f64,
-        y0: bound.y as f64,
-        data: Vec::new(),
-    };
-    let mut frame = Frame {
-        index: 0,
-        t_s: 0.0,
-        width: 0,
-        height: 0,
-        data: Vec::new(),
-    };
-    // Every frame at the first frame's brightness (flicker, drift): see `light`.
-    // Both against the first frame, made when it arrives.
-    let mut against_first: Option<(light::Brightness, still::Stillness)> = None;
-    // The times of the kept frames, and how many frames of a still start were dropped
-    // from the front.
-    let mut times = std::collections::VecDeque::new();
-    let mut dropped = 0usize;
-    let mut t_first = None;
-    let mut decoded = 0u64;
-    while src
-        .next_frame(&mut frame)
-        .with_context(|| "finding the wire".to_string())?
-    {
-        decoded = frame.index + 1;
-        if frame.index < first {
-            continue;
+impl FirstLook<'_> {
+    /// The first look at the working scale that sees the wire best. A frame is shrunk by
+    /// whole factors only, so two scales bracket [`WORK_SIDE_PX`]: the coarser (larger side
+    /// at most 640 px) and the finer (at least 640 px). They coincide for 640, 1280 and
+    /// 1920 px wide frames; for others (960x540, say) the coarser one may blur a 1 px wire
+    /// into its own shadow while the finer one sees edges too sharply to settle on the
+    /// wire. The finer scale is looked at first and kept when it found, at the strict
+    /// threshold (against either background), a wire that never jumps; otherwise the
+    /// coarser one is looked at too, and the scale whose wire needed fewer of the
+    /// geometry's fallbacks (then fewer jumps) wins, the finer on a tie.
+    ///
+    /// On the sweep's 960x540 twins the finer scale is kept in 11 of 12 (one refuses
+    /// there: a 2 px wire under a blurred shadow); on a real 1920x1080 clip scaled to
+    /// 960x540 and turned by 180 or 270 degrees it needs the lower threshold or refuses,
+    /// and the coarser scale (which measures the clip as filmed) is kept.
+    fn at_best_scale(&self) -> Result<Located> {
+        let side = self.bound.w.max(self.bound.h) as f64;
+        let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
+        let fine = (side / WORK_SIDE_PX).floor().max(1.0) as u32;
+        if !self.input.can_shrink() {
+            return self.at(1);
         }
-        if frame.index > last {
-            break;
+        if fine == coarse {
+            return self.at(coarse);
         }
-        init.w = frame.width;
-        init.h = frame.height;
-        let t_first = *t_first.get_or_insert(frame.t_s);
-        init.data.push(frame.data.clone());
-        times.push_back(frame.t_s);
-        let newest = init.data.last_mut().expect("just pushed");
-        match &mut against_first {
-            Some((l, s)) => {
-                l.normalise(newest);
-                let held = frame.t_s - t_first < STILL_MAX_SECONDS;
-                if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
-                    init.data.remove(0);
-                    times.pop_front();
-                    dropped += 1;
-                }
-            }
-            None => {
-                against_first = Some((
-                    light::Brightness::new(newest),
-                    still::Stillness::new(newest),
-                ))
+        let at_fine = self.at(fine);
+        let rank = |l: &Located| (l.geo.stage, l.geo.jumps);
+        if let Ok(l) = &at_fine {
+            if l.geo.stage <= 1 && l.geo.jumps == 0 {
+                return at_fine;
             }
         }
-        if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= 300 {
-            break;
-        }
-    }
-    drop(src);
-    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-        eprintln!(
-            "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
-            started.elapsed().as_secs_f64(),
-            init.data.len()
-        );
-    }
-    if init.data.is_empty() {
-        if let (Some([a, b]), true) = (opts.frames, decoded > 0) {
-            bail!(
-                "{name}: frames {a}..{b} asked for, but the video has only {decoded} (0..{})",
-                decoded - 1
+        let at_coarse = self.at(coarse);
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            let say = |r: &Result<Located>| match r {
+                Ok(l) => format!("stage {} jumps {}", l.geo.stage, l.geo.jumps),
+                Err(e) => format!("{e:#}"),
+            };
+            eprintln!(
+                "geometry: shrunk {fine}x: {}; shrunk {coarse}x: {}",
+                say(&at_fine),
+                say(&at_coarse)
             );
         }
-        bail!("{}: no frame could be decoded", name);
+        match (at_fine, at_coarse) {
+            (Ok(f), Ok(c)) => Ok(if rank(&c) < rank(&f) { c } else { f }),
+            (Ok(f), Err(_)) => Ok(f),
+            (Err(_), c) => c,
+        }
     }
-    let noise = geometry::noise_map(&init);
-    let geo = geometry::find(
-        &init,
-        &noise,
-        info.width,
-        info.height,
-        opts.polarity,
-        opts.pivot.map(|[x, y]| Pt::new(x, y)),
-        opts.roi,
-    )
-    .with_context(|| format!("{}: no wire found", name))?;
-    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-        eprintln!(
-            "timing: geometry done at {:.2} s",
-            started.elapsed().as_secs_f64()
-        );
+
+    /// The first look (about [`INIT_SECONDS`] of motion) shrunk `use_shrink` times, and the
+    /// geometry found in it.
+    fn at(&self, use_shrink: u32) -> Result<Located> {
+        let FirstLook {
+            input,
+            opts,
+            bound,
+            first,
+            last,
+            started,
+        } = *self;
+        let info = input.info();
+        let name = input.name();
+        // The first look's region, cut to whole multiples of the shrink factor: each of
+        // its pixels averages exactly `use_shrink` x `use_shrink` full pixels.
+        let bound = Roi {
+            w: bound.w - bound.w % use_shrink,
+            h: bound.h - bound.h % use_shrink,
+            ..bound
+        };
+        let mut src = input.open(bound, use_shrink)?;
+        let mut init = InitFrames {
+            w: 0,
+            h: 0,
+            shrink: use_shrink as f64,
+            x0: bound.x as f64,
+            y0: bound.y as f64,
+            data: Vec::new(),
+        };
+        let mut frame = Frame::default();
+        // Every frame at the first frame's brightness (flicker, drift): see `light`.
+        // Both against the first frame, made when it arrives.
+        let mut against_first: Option<(light::Brightness, still::Stillness)> = None;
+        // The times of the kept frames, and how many frames of a still start were dropped
+        // from the front.
+        let mut times = std::collections::VecDeque::new();
+        let mut dropped = 0usize;
+        let mut t_first = None;
+        let mut decoded = 0u64;
+        while src
+            .next_frame(&mut frame)
+            .with_context(|| "finding the wire".to_string())?
+        {
+            decoded = frame.index + 1;
+            if frame.index < first {
+                continue;
+            }
+            if frame.index > last {
+                break;
+            }
+            init.w = frame.width;
+            init.h = frame.height;
+            let t_first = *t_first.get_or_insert(frame.t_s);
+            init.data.push(frame.data.clone());
+            times.push_back(frame.t_s);
+            let newest = init.data.last_mut().expect("just pushed");
+            match &mut against_first {
+                Some((l, s)) => {
+                    l.normalise(newest);
+                    let held = frame.t_s - t_first < STILL_MAX_SECONDS;
+                    if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
+                        init.data.remove(0);
+                        times.pop_front();
+                        dropped += 1;
+                    }
+                }
+                None => {
+                    against_first = Some((
+                        light::Brightness::new(newest),
+                        still::Stillness::new(newest),
+                    ))
+                }
+            }
+            if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= 300 {
+                break;
+            }
+        }
+        drop(src);
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
+                started.elapsed().as_secs_f64(),
+                init.data.len()
+            );
+        }
+        if init.data.is_empty() {
+            if let (Some([a, b]), true) = (opts.frames, decoded > 0) {
+                bail!(
+                    "{name}: frames {a}..{b} asked for, but the video has only {decoded} (0..{})",
+                    decoded - 1
+                );
+            }
+            bail!("{}: no frame could be decoded", name);
+        }
+        let noise = geometry::noise_map(&init);
+        let geo = geometry::find(
+            &init,
+            &noise,
+            info.width,
+            info.height,
+            opts.polarity,
+            opts.pivot.map(|[x, y]| Pt::new(x, y)),
+            opts.roi,
+        )
+        .with_context(|| format!("{}: no wire found", name))?;
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "timing: geometry done at {:.2} s",
+                started.elapsed().as_secs_f64()
+            );
+        }
+        let init_bg = geometry::extreme_frame(&init, geo.dark)?;
+        let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
+        let init_reference = geometry::frame_mat(&init, 0)?;
+        Ok(Located {
+            geo,
+            init_bg,
+            init_tmap,
+            init_reference,
+            shrink: use_shrink,
+            bound,
+            dropped,
+        })
     }
-    let init_bg = geometry::extreme_frame(&init, geo.dark)?;
-    let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
-    let init_reference = geometry::frame_mat(&init, 0)?;
-    Ok(Located {
-        geo,
-        init_bg,
-        init_tmap,
-        init_reference,
-        shrink: use_shrink,
-        bound,
-        dropped,
-    })
 }
 
 #[cfg(test)]

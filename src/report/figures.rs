@@ -217,41 +217,32 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
         )),
     )?);
 
-    // Figure 15: the fitted model's signal over the measured turning points; Figure
-    // 16a/b: the same with s_r changed by +/- delta.
+    // Figure 15: the fitted model's signal over the measured turning points.
     let model = model_motion(x.p, &x.law, t0, x.a_start, t1);
     let [up, down] = envelope_lines(eq, m.equilibrium.a0, m.equilibrium.a, t0, t1);
     let points: Vec<(f64, f64)> = ex.iter().map(|e| (e.t, deg(e.angle))).collect();
-    let over_extremes = |title: String, label: &str, envelope: &str, tr: &Trajectory| {
-        with_dropped(
-            Chart::new(&title, "t (s)", "angle (deg)")
-                .with(Series::line(
-                    label,
-                    Rgb::BLUE,
-                    signal(tr, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
-                ))
-                .with(Series::markers(
-                    "measured extremes",
-                    Rgb::RED,
-                    points.clone(),
-                ))
-                .with(Series::dashed(envelope, Rgb::BLACK, up.clone()))
-                .with(Series::dashed("", Rgb::BLACK, down.clone())),
-        )
-    };
     out.push(fig(
         "fig15.svg",
-        &over_extremes(
-            format!(
-                "Fig. 15 - {}: model signal, s_r = {:.3e} {}, beta = {}",
-                x.name,
-                x.law.s_r,
-                s_r_unit(x.law.beta),
-                trim(x.law.beta)
-            ),
-            "model (Eq. 33, fitted)",
-            "envelope fit",
-            &model,
+        &with_dropped(
+            Chart::new(
+                &format!(
+                    "Fig. 15 - {}: model signal, s_r = {:.3e} {}, beta = {}",
+                    x.name,
+                    x.law.s_r,
+                    s_r_unit(x.law.beta),
+                    trim(x.law.beta)
+                ),
+                "t (s)",
+                "angle (deg)",
+            )
+            .with(Series::line(
+                "model (Eq. 33, fitted)",
+                Rgb::BLUE,
+                signal(&model, t0, t1, eq, side0, 40.0 / m.period_s.max(0.1)),
+            ))
+            .with(Series::markers("measured extremes", Rgb::RED, points))
+            .with(Series::dashed("envelope fit", Rgb::BLACK, up))
+            .with(Series::dashed("", Rgb::BLACK, down)),
         ),
     )?);
     // Figures 16a/b: at page size a change of s_r by delta is invisible in the signal,

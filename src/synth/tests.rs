@@ -788,13 +788,7 @@ fn variable_frame_rate_videos_carry_each_frames_own_time() {
         let probed = ffprobe_times(&rep.path);
         let info = crate::video::probe(&rep.path).unwrap();
         let mut src = crate::video::FfmpegSource::open(&rep.path, &info, None, 1).unwrap();
-        let mut frame = crate::video::Frame {
-            index: 0,
-            t_s: 0.0,
-            width: 0,
-            height: 0,
-            data: Vec::new(),
-        };
+        let mut frame = crate::video::Frame::default();
         let mut decoded = Vec::new();
         while crate::video::FrameSource::next_frame(&mut src, &mut frame).unwrap() {
             decoded.push(frame.t_s);

@@ -90,17 +90,15 @@ pub(super) fn draw_legend<DB: DrawingBackend>(
 /// largest marker's radius and its stroke, so that no marker is half covered.
 const LEGEND_CLEARANCE: i32 = (CIRCLE_RADIUS + MARKER_STROKE) as i32;
 
-/// Picks the legend corner inside the plot `(left, top, right, bottom)`: the first of
-/// upper right, upper left, lower right and lower left whose box (widened by
-/// [`LEGEND_CLEARANCE`]) covers no drawn data, else the one that covers least. Gives the
-/// upper left point of the box and how much data it hides, counted as samples about
-/// every 3 pixels along lines and 4 per marker; the caller moves a legend that hides
-/// anything out of the plot.
+/// The legend's corner inside the plot `(left, top, right, bottom)`: the upper left
+/// point of the box in the first of upper right, upper left, lower right and lower left
+/// whose box (widened by [`LEGEND_CLEARANCE`]) covers no drawn data (markers, and lines
+/// sampled about every 3 pixels); `None` when every corner covers some.
 pub(super) fn legend_corner(
     prepared: &[Prepared],
     (left, top, right, bottom): (i32, i32, i32, i32),
     (w, h): (i32, i32),
-) -> ((i32, i32), usize) {
+) -> Option<(i32, i32)> {
     let inset = 6;
     let corners = [
         (right - w - inset, top + inset),
@@ -108,46 +106,28 @@ pub(super) fn legend_corner(
         (right - w - inset, bottom - h - inset),
         (left + inset, bottom - h - inset),
     ];
-    let count = |inside: &dyn Fn((i32, i32)) -> bool| -> usize {
-        let mut count = 0;
-        for prep in prepared {
-            match prep.shape {
-                Shape::Points(_) => {
-                    count += 4 * prep.pixels.iter().flatten().filter(|p| inside(**p)).count();
-                }
-                Shape::Pieces(_) => {
-                    for piece in &prep.pixels {
-                        for seg in piece.windows(2) {
-                            count += covered_samples(seg[0], seg[1], inside);
-                        }
-                    }
-                }
-            }
-        }
-        count
+    let covers = |inside: &dyn Fn((i32, i32)) -> bool| -> bool {
+        prepared.iter().any(|prep| match prep.shape {
+            Shape::Points(_) => prep.pixels.iter().flatten().any(|p| inside(*p)),
+            Shape::Pieces(_) => prep.pixels.iter().any(|piece| {
+                piece
+                    .windows(2)
+                    .any(|seg| segment_covered(seg[0], seg[1], inside))
+            }),
+        })
     };
     let c = LEGEND_CLEARANCE;
-    let hidden: Vec<usize> = corners
-        .iter()
-        .map(|&(x0, y0)| {
-            count(&|(x, y)| x >= x0 - c && x <= x0 + w + c && y >= y0 - c && y <= y0 + h + c)
-        })
-        .collect();
-    let best = (0..corners.len())
-        .find(|&i| hidden[i] == 0)
-        .unwrap_or_else(|| (0..corners.len()).min_by_key(|&i| hidden[i]).unwrap_or(0));
-    (corners[best], hidden[best])
+    corners.into_iter().find(|&(x0, y0)| {
+        !covers(&|(x, y)| x >= x0 - c && x <= x0 + w + c && y >= y0 - c && y <= y0 + h + c)
+    })
 }
 
-/// Number of samples, about every 3 pixels along the segment a-b, that fall
-/// inside a box.
-fn covered_samples(a: (i32, i32), b: (i32, i32), inside: &dyn Fn((i32, i32)) -> bool) -> usize {
+/// Whether a sample of the segment a-b, about every 3 pixels, falls inside a box.
+fn segment_covered(a: (i32, i32), b: (i32, i32), inside: &dyn Fn((i32, i32)) -> bool) -> bool {
     let (dx, dy) = ((b.0 - a.0) as f64, (b.1 - a.1) as f64);
     let n = ((dx.abs().max(dy.abs()) / 3.0).ceil() as usize).max(1);
-    (0..n)
-        .filter(|&i| {
-            let t = i as f64 / n as f64;
-            inside((a.0 + (t * dx).round() as i32, a.1 + (t * dy).round() as i32))
-        })
-        .count()
+    (0..n).any(|i| {
+        let t = i as f64 / n as f64;
+        inside((a.0 + (t * dx).round() as i32, a.1 + (t * dy).round() as i32))
+    })
 }

@@ -84,13 +84,10 @@ pub(super) fn draw(chart: &Chart, layout: &Layout, place: LegendPlace) -> Result
             (None, _) => None,
             (Some(_), LegendPlace::Right) => Some((plot.2 + LEGEND_GAP as i32, plot.1)),
             (Some((_, h)), LegendPlace::Below) => Some((plot.0, height as i32 - 6 - h)),
-            (Some(size), LegendPlace::Inside) => {
-                let (corner, hidden) = legend_corner(&prepared, plot, size);
-                if hidden > 0 {
-                    return Ok(None);
-                }
-                Some(corner)
-            }
+            (Some(size), LegendPlace::Inside) => match legend_corner(&prepared, plot, size) {
+                Some(corner) => Some(corner),
+                None => return Ok(None),
+            },
         };
 
         for (series, prep) in chart.series.iter().zip(&prepared) {

@@ -329,6 +329,8 @@ fn a_held_start_and_a_bad_turning_point_together() {
     assert!(fig("fig12.svg").contains("release from rest"));
     assert!(fig("fig14a.svg").contains("dropped as outlier"));
     assert!(fig("fig15.svg").contains("dropped as outlier"));
+    assert!(fig("fig16a.svg").contains("dropped as outlier"));
+    assert!(fig("fig16b.svg").contains("dropped as outlier"));
     let summary: Value =
         serde_json::from_slice(&std::fs::read(dir.join("reports/summary.json")).unwrap()).unwrap();
     let r = &summary["experiments"][0]["result"];

@@ -261,34 +261,51 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
             .collect()
     };
     let best = residuals(&model);
+    // The turning points dropped as outliers, against the fitted model, on their side of
+    // the equilibrium.
+    let dropped_residuals: Vec<(f64, f64)> = x
+        .dropped
+        .iter()
+        .map(|&(t, a)| {
+            let side = (a - eq).signum();
+            (t, deg(side * (a - (eq + side0 * model.state(t)[0]))))
+        })
+        .collect();
     let unit = s_r_unit(x.law.beta);
     for (file, sign, tag) in [("fig16a.svg", 1.0, "a"), ("fig16b.svg", -1.0, "b")] {
         let law = FrictionLaw::new(x.law.s_r * (1.0 + sign * x.delta_rel), x.law.beta);
         let tr = model_motion(x.p, &law, t0, x.a_start, t1);
-        out.push(fig(
-            file,
-            &Chart::new(
-                &format!(
-                    "Fig. 16{tag} - {}: amplitude minus model, s_r {:+.0} % = {:.3e} {unit}",
-                    x.name,
-                    100.0 * sign * x.delta_rel,
-                    law.s_r,
-                ),
-                "t (s)",
-                "measured - model amplitude (deg)",
-            )
-            .with(Series::dashed("", Rgb::BLACK, vec![(t0, 0.0), (t1, 0.0)]))
-            .with(Series::markers(
-                &format!("fitted s_r = {:.3e} {unit}", x.law.s_r),
-                Rgb::BLUE,
-                best.clone(),
+        let chart = Chart::new(
+            &format!(
+                "Fig. 16{tag} - {}: amplitude minus model, s_r {:+.0} % = {:.3e} {unit}",
+                x.name,
+                100.0 * sign * x.delta_rel,
+                law.s_r,
+            ),
+            "t (s)",
+            "measured - model amplitude (deg)",
+        )
+        .with(Series::dashed("", Rgb::BLACK, vec![(t0, 0.0), (t1, 0.0)]))
+        .with(Series::markers(
+            &format!("fitted s_r = {:.3e} {unit}", x.law.s_r),
+            Rgb::BLUE,
+            best.clone(),
+        ))
+        .with(Series::crosses(
+            &format!("s_r {:+.0} %", 100.0 * sign * x.delta_rel),
+            Rgb::RED,
+            residuals(&tr),
+        ));
+        let chart = if dropped_residuals.is_empty() {
+            chart
+        } else {
+            chart.with(Series::crosses(
+                "dropped as outlier (not fitted), against the fitted s_r",
+                Rgb::PURPLE,
+                dropped_residuals.clone(),
             ))
-            .with(Series::crosses(
-                &format!("s_r {:+.0} %", 100.0 * sign * x.delta_rel),
-                Rgb::RED,
-                residuals(&tr),
-            )),
-        )?);
+        };
+        out.push(fig(file, &chart)?);
     }
 
     // Figure 17: the normal force along the fitted motion; Figure 18: |T|/N.

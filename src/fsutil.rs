@@ -41,9 +41,22 @@ pub fn read_text_limited(path: &Path, max: u64) -> Result<String> {
     })
 }
 
+/// Whether `path` (followed through symbolic links) is something other than a regular
+/// file or a folder: a device such as `/dev/null`, a FIFO, a socket, or a link to one
+/// (`/dev/stdout`). Output to it is written through: renaming a temporary file onto it
+/// would replace the device node itself (as root, `/dev/null` for the whole machine).
+pub fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Write `bytes` to `path` atomically: readers see the old file or the new one, never a
-/// torn one. Creates the parent folder when missing.
+/// torn one. Creates the parent folder when missing. A device or FIFO ([`is_special`])
+/// is written through instead.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    if is_special(path) {
+        return std::fs::write(path, bytes)
+            .with_context(|| format!("{}: cannot write", path.display()));
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -119,6 +132,30 @@ pub fn write_if_changed(path: &Path, bytes: &[u8]) -> Result<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_fifo_is_written_through_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("out.csv");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read(&fifo).unwrap())
+        };
+        write_atomic(&fifo, b"t_s,angle_rad\n").unwrap();
+        // Still the FIFO (a rename would have put a regular file in its place, and the
+        // reader would wait for ever: the test then hangs instead of passing).
+        let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+        assert!(kind.is_fifo(), "{kind:?}");
+        assert_eq!(reader.join().unwrap(), b"t_s,angle_rad\n");
+        assert!(is_special(&fifo) && !is_special(dir.path()));
+        assert!(!is_special(&dir.path().join("missing")));
+    }
 
     #[test]
     fn temporary_names_are_rollfric_s_own() {

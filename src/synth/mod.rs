@@ -50,7 +50,7 @@ mod yuv;
 mod tests;
 
 use crate::config::{Experiment, Style};
-use anyhow::{ensure, Context, Result};
+use anyhow::{bail, ensure, Context, Result};
 use encode::{open_writer, Sink};
 use opencv::core::Mat;
 use opencv::prelude::*;
@@ -119,6 +119,13 @@ pub fn render(
     duration_s: Option<f64>,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<SynthReport> {
+    if crate::fsutil::is_special(out) {
+        bail!(
+            "{}: not a regular file (a device or a FIFO); the video is written to a file \
+             and renamed into place",
+            out.display()
+        );
+    }
     render_inner(exp, out, duration_s, progress)
         .with_context(|| format!("{}: cannot render the synthetic video", out.display()))
 }

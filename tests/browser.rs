@@ -122,6 +122,254 @@ fn reports_render_in_chromium() {
 
 /// Fake pages in a temporary folder, judged in the same session: the good one must pass,
 /// each broken one must fail for its own reason.
+/// The review page in use: on the split-screen clip's flagged frames (a build of the
+/// experiment `rollfric init` wrote, its geometry filled in), the arrow keys move
+/// between frames, two clicks at known pixels on a flagged frame mark the wire, the page
+/// shows that angle and writes the `video.marks` block; that block put under `video:`
+/// in the experiment file, a rebuild measures the frame `manual` at the clicked angle.
+/// Screenshots: `target/screenshots/review*.png`.
+#[test]
+fn review_page_marks_a_frame_that_the_rebuild_measures() {
+    let Some(clip) = common::fixture("sborquez_video2_splitscreen.mp4") else {
+        return;
+    };
+    let (chromium, chromedriver) = browser_binaries();
+    let work = root().join("target/browser/review");
+    if work.exists() {
+        fs::remove_dir_all(&work).unwrap_or_else(|e| panic!("clear {}: {e}", work.display()));
+    }
+    fs::create_dir_all(&work).unwrap();
+    let yaml = work.join("split.yaml");
+    common::rollfric_ok(
+        &[
+            OsStr::new("init"),
+            clip.as_os_str(),
+            OsStr::new("-o"),
+            yaml.as_os_str(),
+        ],
+        &root(),
+    );
+    let filled = common::fill_init_geometry(&fs::read_to_string(&yaml).unwrap());
+    fs::write(&yaml, &filled).unwrap();
+    fs::write(
+        work.join("manifest.yaml"),
+        "title: review\nexperiments:\n  - split.yaml\n",
+    )
+    .unwrap();
+    let build = || {
+        common::rollfric_ok(&common::BUILD_INTO_REPORTS, &work);
+    };
+    build();
+    let page = work.join("reports/split/review.html");
+    let main_page = fs::read_to_string(work.join("reports/split.html")).unwrap();
+    assert!(
+        main_page.contains("href=\"split/review.html\""),
+        "the experiment page does not link its review page"
+    );
+
+    let browser = Browser::start(&chromium, &chromedriver);
+    let shots = root().join("target/screenshots");
+    let shot = |name: &str| {
+        let path = shots.join(name);
+        let (w, h) = browser
+            .screenshot(&path)
+            .unwrap_or_else(|e| panic!("screenshot {}: {e}", path.display()));
+        println!("screenshot {} ({w}x{h} px)", path.display());
+    };
+    let seen = browser.observe(&page);
+    verdict(&seen).unwrap_or_else(|e| panic!("{}:\n{e}", page.display()));
+    shot("review.png");
+    let data =
+        browser.script("return JSON.parse(document.getElementById('review-data').textContent)");
+    let frames = data["frames"].as_array().expect("frames").clone();
+    let pictured: Vec<&Value> = frames.iter().filter(|f| f["picture"].is_string()).collect();
+    assert!(
+        pictured.len() >= 10,
+        "the split-screen clip has about 20 flagged frames, the page pictures {}",
+        pictured.len()
+    );
+    // The first flagged frame with a picture that the gate rejected (not a repeat):
+    // reached from the first frame with the right arrow key.
+    let target_index = frames
+        .iter()
+        .position(|f| f["picture"].is_string() && f["flag"] == json!("gate"))
+        .expect("a frame the gate flagged");
+    let target = frames[target_index].clone();
+    let frame_no = target["frame"].as_u64().unwrap();
+    let start = frames
+        .iter()
+        .position(|f| f["picture"].is_string())
+        .unwrap();
+    let info = || browser.script("return document.getElementById('info').textContent");
+    assert!(
+        info().as_str().unwrap().starts_with(&format!(
+            "Frame {} ",
+            frames[start]["frame"].as_u64().unwrap()
+        )),
+        "{}",
+        info()
+    );
+    for _ in start..target_index {
+        browser.key("\u{E014}"); // ArrowRight
+    }
+    browser.key("\u{E014}");
+    browser.key("\u{E012}"); // ArrowLeft: one past, and back
+    assert!(
+        info()
+            .as_str()
+            .unwrap()
+            .starts_with(&format!("Frame {frame_no} ")),
+        "after {} right arrows and a left one: {}",
+        target_index - start + 1,
+        info()
+    );
+
+    // Two points 0.8 deg off the angle the series has for this frame (so that the
+    // manual angle cannot come from the detector), at whole CSS pixels of the viewport.
+    let [rx, ry, rw, rh] = [0, 1, 2, 3].map(|i| data["region"][i].as_f64().unwrap());
+    let [px, py] = [0, 1].map(|i| data["pivot"][i].as_f64().unwrap());
+    let (w, h) = (
+        target["width"].as_f64().unwrap(),
+        target["height"].as_f64().unwrap(),
+    );
+    let rect = browser.script(
+        "const e = document.getElementById('overlay'); e.scrollIntoView({block: 'center'}); \
+         const r = e.getBoundingClientRect(); return [r.left, r.top, r.width, r.height];",
+    );
+    let [left, top, width, height] = [0, 1, 2, 3].map(|i| rect[i].as_f64().unwrap());
+    let a = (target["angle_deg"].as_f64().unwrap() + 0.8).to_radians();
+    // Full-frame pixel (centres at whole numbers) -> viewport px, and back as the page
+    // maps a click.
+    let to_view = |x: f64, y: f64| {
+        (
+            left + (x + 0.5 - rx) / rw * width,
+            top + (y + 0.5 - ry) / rh * height,
+        )
+    };
+    let to_full = |cx: f64, cy: f64| {
+        let r1 = |v: f64| (v * 10.0).round() / 10.0;
+        (
+            r1(rx + (cx - left) / width * w * rw / w - 0.5),
+            r1(ry + (cy - top) / height * h * rh / h - 0.5),
+        )
+    };
+    // Along the wire, the stretch inside the picture: from the pivot, radii where the
+    // point lies in the region, 30 % and 80 % of the way.
+    let inside: Vec<f64> = (0..4000)
+        .map(|k| k as f64 * 0.5)
+        .filter(|s| {
+            let (x, y) = (px + s * a.cos(), py + s * a.sin());
+            x > rx + 2.0 && x < rx + rw - 3.0 && y > ry + 2.0 && y < ry + rh - 3.0
+        })
+        .collect();
+    let (s0, s1) = (inside[0], inside[inside.len() - 1]);
+    let clicks: Vec<(f64, f64)> = [0.3, 0.8]
+        .iter()
+        .map(|f| {
+            let s = s0 + f * (s1 - s0);
+            let (cx, cy) = to_view(px + s * a.cos(), py + s * a.sin());
+            (cx.round(), cy.round())
+        })
+        .collect();
+    for &(cx, cy) in &clicks {
+        browser.click_at(cx, cy);
+    }
+    let points: Vec<(f64, f64)> = clicks.iter().map(|&(x, y)| to_full(x, y)).collect();
+    let (near, far) = if (points[0].0 - px).hypot(points[0].1 - py)
+        <= (points[1].0 - px).hypot(points[1].1 - py)
+    {
+        (points[0], points[1])
+    } else {
+        (points[1], points[0])
+    };
+    let clicked_deg = (far.1 - near.1).atan2(far.0 - near.0).to_degrees();
+    let same_deg = |x: f64, y: f64| ((x - y + 540.0).rem_euclid(360.0) - 180.0).abs();
+    let shown: f64 = browser
+        .script("return document.getElementById('angle').dataset.marked")
+        .as_str()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no marked angle shown: {}", info()));
+    assert!(
+        same_deg(shown, clicked_deg) < 1e-6,
+        "the page shows {shown} deg, the clicks make {clicked_deg} deg"
+    );
+    let block = browser
+        .script("return document.getElementById('yaml').value")
+        .as_str()
+        .unwrap()
+        .to_string();
+    let line = format!(
+        "    {frame_no}: [[{}, {}], [{}, {}]]",
+        fmt1(points[0].0),
+        fmt1(points[0].1),
+        fmt1(points[1].0),
+        fmt1(points[1].1)
+    );
+    assert!(
+        block.contains(&line),
+        "the YAML block lacks {line:?}:\n{block}"
+    );
+    browser.script("document.getElementById('copy').click(); return null");
+    let copied = browser.script("return document.getElementById('copied').textContent");
+    assert!(copied.as_str().is_some_and(|s| !s.is_empty()), "{copied}");
+    shot("review-marked.png");
+    println!(
+        "marked frame {frame_no} at {clicked_deg:.3} deg (the series had {:.3} deg):\n{block}",
+        target["angle_deg"].as_f64().unwrap()
+    );
+
+    // The block under `video:` in the experiment, and a rebuild.
+    let marked = filled.replacen("video:\n", &format!("video:\n{block}"), 1);
+    assert_ne!(marked, filled, "no `video:` line in {}", yaml.display());
+    fs::write(&yaml, marked).unwrap();
+    build();
+    let seen = browser.observe(&page);
+    verdict(&seen).unwrap_or_else(|e| panic!("{} after the rebuild:\n{e}", page.display()));
+    let data =
+        browser.script("return JSON.parse(document.getElementById('review-data').textContent)");
+    let after = data["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["frame"].as_u64() == Some(frame_no))
+        .unwrap_or_else(|| panic!("frame {frame_no} left the review page"))
+        .clone();
+    let measured = after["angle_deg"].as_f64().unwrap();
+    assert_eq!(after["status"], json!("manual"), "{after}");
+    assert!(
+        same_deg(measured, clicked_deg) < 0.1,
+        "frame {frame_no}: the rebuild measured {measured} deg, the clicks make {clicked_deg} deg"
+    );
+    // The build's angle CSV says the same (one row per frame from frame 0).
+    let csv = fs::read_to_string(work.join("cache/split/angles.csv")).unwrap();
+    let row: Vec<&str> = csv
+        .lines()
+        .nth(1 + frame_no as usize)
+        .unwrap()
+        .split(',')
+        .collect();
+    let csv_deg = row[1].parse::<f64>().unwrap().to_degrees();
+    assert!(
+        row[2] == "manual" && same_deg(csv_deg, clicked_deg) < 0.1,
+        "angles.csv row of frame {frame_no}: {row:?}"
+    );
+    shot("review-after-rebuild.png");
+    println!(
+        "after the rebuild frame {frame_no} is manual at {measured:.3} deg ({:.4} deg from the clicks)",
+        same_deg(measured, clicked_deg)
+    );
+}
+
+/// A coordinate as the page writes it (one decimal, no trailing `.0` dropped by JS).
+fn fmt1(v: f64) -> String {
+    // JavaScript prints 301 for 301.0 and 301.5 for 301.5.
+    if v.fract() == 0.0 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.1}")
+    }
+}
+
 fn self_check(browser: &Browser) {
     let dir = tempfile::tempdir().expect("temp dir");
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="120" height="60"><rect width="120" height="60" fill="teal"/></svg>"#;
@@ -636,6 +884,34 @@ impl Browser {
             images,
             log: parse_log(&log),
         }
+    }
+
+    /// Run `js` in the page (WebDriver "execute sync"); its return value.
+    fn script(&self, js: &str) -> Value {
+        self.session_call(
+            "POST",
+            "/execute/sync",
+            Some(&json!({"script": js, "args": []})),
+        )
+        .unwrap_or_else(|e| panic!("script {js:?}: {e}\n{}", self.driver_log()))
+    }
+
+    /// Press and release one key (a WebDriver key value, e.g. `\u{E014}` ArrowRight).
+    fn key(&self, key: &str) {
+        let actions = json!({"actions": [{"type": "key", "id": "keyboard", "actions": [
+            {"type": "keyDown", "value": key}, {"type": "keyUp", "value": key}]}]});
+        self.session_call("POST", "/actions", Some(&actions))
+            .unwrap_or_else(|e| panic!("key {key:?}: {e}"));
+    }
+
+    /// A left click at viewport CSS pixel `(x, y)`.
+    fn click_at(&self, x: f64, y: f64) {
+        let actions = json!({"actions": [{"type": "pointer", "id": "mouse",
+            "parameters": {"pointerType": "mouse"}, "actions": [
+            {"type": "pointerMove", "duration": 0, "origin": "viewport", "x": x as i64, "y": y as i64},
+            {"type": "pointerDown", "button": 0}, {"type": "pointerUp", "button": 0}]}]});
+        self.session_call("POST", "/actions", Some(&actions))
+            .unwrap_or_else(|e| panic!("click at ({x}, {y}): {e}"));
     }
 
     /// A full-page PNG of the current page (DevTools `Page.captureScreenshot` beyond the

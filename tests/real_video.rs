@@ -180,22 +180,7 @@ fn init_writes_a_file_that_builds_once_filled_in() {
             !fit.status.success() && err.contains(&format!("clip{k}.yaml")),
             "{err}"
         );
-        // The length the period implies on a 5 degree incline, as the comment gives it.
-        let l_per_sin: f64 = text
-            .split("hangs L = ")
-            .nth(1)
-            .and_then(|s| s.split(" m x sin(alpha)").next())
-            .and_then(|s| s.parse().ok())
-            .unwrap_or_else(|| panic!("no period in:\n{text}"));
-        let l = l_per_sin * 5f64.to_radians().sin();
-        let d = (l * l + 0.0127f64 * 0.0127).sqrt();
-        let filled = text
-            .replace("h_m: null", "# h_m")
-            .replace("l_m: null", "# l_m")
-            .replace("# angle_deg: null", "angle_deg: 5")
-            .replace("d_m: null", &format!("d_m: {d:.4}"))
-            .replace("radius_m: null", "radius_m: 0.0127")
-            .replace("mass_kg: null", "mass_kg: 0.067");
+        let filled = common::fill_init_geometry(&text);
         std::fs::write(&yaml, filled).unwrap();
     }
     let listed = std::fs::read_to_string(&manifest).unwrap();

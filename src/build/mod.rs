@@ -87,8 +87,8 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
     } else {
         Some(lock::Lock::acquire(&opts.out, !opts.no_wait)?)
     };
-    remove_stale_temporaries(&opts.out, 2);
-    remove_stale_temporaries(&opts.cache, 2);
+    remove_stale_temporaries(&opts.out, 3);
+    remove_stale_temporaries(&opts.cache, 3);
     // Each experiment file is read and validated once; a failure stays with its
     // experiment.
     let loaded: Vec<Result<(Experiment, Vec<u8>)>> = files

@@ -5,13 +5,14 @@
 use super::progress::Progress;
 use super::writer::{relative, Writer};
 use crate::config::Experiment;
-use crate::detect::summary::DetectionSummary;
+use crate::detect::summary::{DetectionSummary, ReviewPicture};
 use crate::detect::{self, FrameProgress};
 use crate::fsutil;
 use crate::hash::{self, Key};
 use crate::pipeline::{self, Angles, ExperimentResult, Inputs, Source};
 use crate::report;
 use crate::series::AngleTable;
+use crate::signal;
 use crate::sources;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
@@ -44,6 +45,8 @@ struct CachedAngles {
     id: String,
     detection: Option<DetectionSummary>,
     fig11: Option<PathBuf>,
+    /// The review pictures' index (`review.json`; the PNGs in `review/` beside it).
+    review: Option<PathBuf>,
 }
 
 /// The stages that ran (for the log line).
@@ -95,6 +98,7 @@ fn csv_stage(exp: &Experiment, csv: PathBuf) -> Result<CachedAngles> {
         id,
         detection: None,
         fig11: None,
+        review: None,
     })
 }
 
@@ -130,6 +134,9 @@ struct DetectFiles {
     csv: PathBuf,
     summary: PathBuf,
     fig11: PathBuf,
+    /// The review pictures: `review.json` lists the PNGs in `review/`.
+    review: PathBuf,
+    review_dir: PathBuf,
     key: PathBuf,
 }
 
@@ -140,6 +147,8 @@ impl DetectFiles {
             csv: dir.join("angles.csv"),
             summary: dir.join("detect.json"),
             fig11: dir.join("fig11.png"),
+            review: dir.join("review.json"),
+            review_dir: dir.join("review"),
             key: dir.join("detect.key"),
         }
     }
@@ -154,9 +163,18 @@ impl DetectFiles {
             .hex()
     }
 
-    /// The cached detection, when it was made under `key` and every file is there.
+    /// The cached detection, when it was made under `key` and every file is there
+    /// (each review picture too).
     fn fresh(&self, key: &str) -> Option<DetectionSummary> {
-        if !hash::fresh(&self.key, key, &[&self.csv, &self.summary, &self.fig11]) {
+        let files: [&Path; 4] = [&self.csv, &self.summary, &self.fig11, &self.review];
+        if !hash::fresh(&self.key, key, &files) {
+            return None;
+        }
+        let pictures = read_review(&self.review).ok()?;
+        if !pictures
+            .iter()
+            .all(|p| self.review_dir.join(&p.file).is_file())
+        {
             return None;
         }
         std::fs::read(&self.summary)
@@ -165,16 +183,35 @@ impl DetectFiles {
     }
 
     /// Record a detection made under `key` (each file written whole; the key last).
+    /// The review pictures are the kept flagged frames and the frame after a release
+    /// from rest, found in `angles` as the fit finds it.
     fn record(
         &self,
         key: &str,
         d: &detect::Detection,
+        angles: &AngleTable,
         summary: &DetectionSummary,
         video: &Path,
     ) -> Result<()> {
         let png =
             detect::figure11_png(d).with_context(|| format!("{}: Figure 11", video.display()))?;
         fsutil::write_atomic(&self.fig11, &png)?;
+        let release = signal::find_release(&angles.series()).map(|(r, _)| r.t_s);
+        let pictures = d.review.pictures(release);
+        if self.review_dir.exists() {
+            std::fs::remove_dir_all(&self.review_dir)
+                .with_context(|| format!("{}: cannot clear", self.review_dir.display()))?;
+        }
+        let mut index = Vec::with_capacity(pictures.len());
+        for f in pictures {
+            let p = ReviewPicture::of(f);
+            let png = f
+                .png()
+                .with_context(|| format!("{}: review pictures", video.display()))?;
+            fsutil::write_atomic(&self.review_dir.join(&p.file), &png)?;
+            index.push(p);
+        }
+        fsutil::write_atomic(&self.review, &serde_json::to_vec_pretty(&index)?)?;
         fsutil::write_atomic(&self.csv, d.to_csv().as_bytes())?;
         fsutil::write_atomic(&self.summary, &serde_json::to_vec_pretty(summary)?)?;
         hash::record(&self.key, key)
@@ -197,6 +234,7 @@ fn detect_stage(
         id: key.clone(),
         detection: Some(detection),
         fig11: Some(files.fig11),
+        review: Some(files.review),
     };
     if let Some(s) = files.fresh(&key) {
         return Ok(cached(s, files));
@@ -218,10 +256,33 @@ fn detect_stage(
         video.id.clone(),
         source.clone(),
     )?;
-    let summary = angles.detection.expect("a detection");
-    files.record(&key, &d, &summary, &video.path)?;
+    let summary = angles.detection.clone().expect("a detection");
+    files.record(&key, &d, &angles.table, &summary, &video.path)?;
     ran.0.push("detect");
     Ok(cached(summary, files))
+}
+
+/// The review pictures listed in `index` (`review.json`).
+fn read_review(index: &Path) -> Result<Vec<ReviewPicture>> {
+    let bytes =
+        std::fs::read(index).with_context(|| format!("{}: cannot read", index.display()))?;
+    serde_json::from_slice(&bytes)
+        .with_context(|| format!("{}: not a review index", index.display()))
+}
+
+/// The review pictures of a cached detection and their PNGs (from `review/` beside
+/// `index`).
+fn review_pictures(index: &Path) -> Result<Vec<(ReviewPicture, Vec<u8>)>> {
+    let dir = index.with_file_name("review");
+    read_review(index)?
+        .into_iter()
+        .map(|p| {
+            let file = dir.join(&p.file);
+            let png =
+                std::fs::read(&file).with_context(|| format!("{}: cannot read", file.display()))?;
+            Ok((p, png))
+        })
+        .collect()
 }
 
 /// The angles a build measured in `exp`'s video and left in `cache`, when the video
@@ -288,12 +349,14 @@ fn analysis_stage(
         Some(p) => Some(std::fs::read(p).with_context(|| format!("{}: cannot read", p.display()))?),
         None => None,
     };
+    let review = cached.review.as_deref().map(review_pictures).transpose()?;
     let files = report::experiment_pages(
         exp,
         &analysis,
         &result,
         &angles.table.rows,
         fig11.as_deref(),
+        review.as_deref(),
     )?;
     result.pages = ctx.writer.write(&files)?;
     fsutil::write_atomic(&result_file, &serde_json::to_vec_pretty(&result)?)?;

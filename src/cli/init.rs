@@ -221,7 +221,8 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
         None => y.push_str("  # No held start: the ball moves from the first frame.\n"),
     }
     y.push_str(
-        "  # A frame the detector got wrong: two points on the wire, px, per frame number:\n\
+        "  # A frame the detector got wrong: two points on the wire, px, per frame number\n\
+         \x20 # (the build's review page, reports/<name>/review.html, writes them as you click):\n\
          \x20 # marks:\n\
          \x20 #   120: [[412.0, 96.0], [431.5, 310.0]]\n",
     );

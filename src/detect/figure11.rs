@@ -287,6 +287,7 @@ mod tests {
             decoder: "test".into(),
             diagnostics: Vec::new(),
             figure11,
+            review: Default::default(),
         }
     }
 

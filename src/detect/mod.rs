@@ -27,7 +27,9 @@
 //!
 //! Memory is flat: one frame, the background and the evidence at a time, whatever the
 //! video's length (the per-frame angles are a few bytes each), and a few frames'
-//! regions for Figure 11 ([`figure11_png`]), kept by the pass instead of decoding again.
+//! regions for Figure 11 ([`figure11_png`]) and for the review page ([`Review`], at
+//! most 80 pictures of at most 512 px a side), kept by the pass instead of decoding
+//! again.
 //!
 //! The frames come from a [`VideoInput`], opened twice (the first look, shrunk for a
 //! large frame, then the streaming pass): a [`VideoFile`] for [`detect`], or frames
@@ -41,6 +43,7 @@ mod light;
 mod line;
 mod options;
 mod repeats;
+pub mod review;
 mod row;
 mod still;
 pub mod summary;
@@ -50,6 +53,7 @@ pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
 pub use options::{DetectOptions, FrameProgress};
+pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
@@ -156,6 +160,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     let tty = std::io::stderr().is_terminal() && opts.progress.is_none();
     let mut rows = Vec::new();
     let mut keeper = figure11::Keeper::new(figure11::PER_SIDE);
+    let mut review = review::Keeper::new();
     let mut k = 0usize;
     let mut waited = 0.0f64;
     loop {
@@ -181,6 +186,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
 
         let row = tracker.step(&frame, hint)?;
         keeper.offer(&row, &frame);
+        review.offer(&row, &frame, tracker.predicted())?;
         rows.push(row);
         k += 1;
         if let Some(p) = opts.progress.as_ref().filter(|_| k.is_multiple_of(100)) {
@@ -244,6 +250,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         decoder: input.decoder(),
         diagnostics: tracker.diagnostics,
         figure11,
+        review: review.take(),
     })
 }
 

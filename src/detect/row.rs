@@ -1,7 +1,7 @@
 //! What a detection gives: each frame's row (angle, status, flag) and the whole
 //! detection, with its CSV.
 
-use super::Figure11;
+use super::{Figure11, Review};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -80,6 +80,9 @@ pub struct Detection {
     /// The frame shown as Figure 11 ([`super::figure11_frame`]), kept by the pass.
     #[serde(skip)]
     pub figure11: Option<Figure11>,
+    /// The pictures kept for the review page.
+    #[serde(skip)]
+    pub review: Review,
 }
 
 impl Detection {

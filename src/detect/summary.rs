@@ -75,6 +75,43 @@ impl DetectionSummary {
     }
 }
 
+/// One picture of the review page as the build caches it (`review.json` beside the
+/// PNG files): the frame, the picture's file name and size, and what the pass saw.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ReviewPicture {
+    pub frame: u64,
+    pub t_s: f64,
+    /// The PNG's file name (`frame-000123.png`).
+    pub file: String,
+    /// The picture's size, px: the region of interest's, or shrunk from it.
+    pub width: usize,
+    pub height: usize,
+    /// The angle the pass measured, before any correction, rad.
+    pub detected_rad: Option<f64>,
+    /// The angle predicted from the previous frames, rad.
+    pub predicted_rad: Option<f64>,
+    pub quality: f64,
+    #[serde(with = "flag_or_dash")]
+    pub flag: Option<Flag>,
+}
+
+impl ReviewPicture {
+    /// The cached description of `f`.
+    pub fn of(f: &super::ReviewFrame) -> Self {
+        Self {
+            frame: f.frame,
+            t_s: f.t_s,
+            file: format!("frame-{:06}.png", f.frame),
+            width: f.width,
+            height: f.height,
+            detected_rad: f.detected_rad,
+            predicted_rad: f.predicted_rad,
+            quality: f.quality,
+            flag: f.flag,
+        }
+    }
+}
+
 mod flag_or_dash {
     use super::Flag;
     use serde::{Deserialize, Deserializer, Serializer};

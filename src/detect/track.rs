@@ -65,6 +65,8 @@ pub(super) struct Tracker {
     pub(super) diagnostics: Vec<PathBuf>,
     /// `ROLLFRIC_DEBUG=frames` or `=mad`: a line per frame on stderr (read once).
     debug: Option<String>,
+    /// The last frame's predicted angle.
+    last_pred: Option<f64>,
 }
 
 impl Tracker {
@@ -148,7 +150,13 @@ impl Tracker {
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
             debug: std::env::var("ROLLFRIC_DEBUG").ok(),
+            last_pred: None,
         })
+    }
+
+    /// The angle predicted for the last frame [`Tracker::step`] measured, rad.
+    pub(super) fn predicted(&self) -> Option<f64> {
+        self.last_pred
     }
 
     fn predict(&self, t: f64) -> Option<f64> {
@@ -249,6 +257,7 @@ impl Tracker {
         } else {
             self.predict(f.t_s).or(hint)
         };
+        self.last_pred = pred;
         // Evidence (thin structures only: a top-hat removes the bob and a hand's
         // palm) where the wire can be, then the background follows the scene.
         self.evidence(pred)?;

@@ -2,6 +2,7 @@
 
 use super::{figures, fmt_pct, fmt_sci, kv, render_pair, Kv, OutputFile};
 use crate::config::Experiment;
+use crate::detect::summary::ReviewPicture;
 use crate::fit::Measurement;
 use crate::physics::torsion::TorsionCheck;
 use crate::pipeline::{Analysis, ExperimentResult};
@@ -11,13 +12,15 @@ use anyhow::Result;
 use serde::Serialize;
 
 /// The files of one experiment's report: its figures under `<name>/`, Figure 11 (the
-/// detector's PNG, when given), then `<name>.html` and `<name>.md`.
+/// detector's PNG, when given), the review page and its pictures (when the detector
+/// kept them: `review`), then `<name>.html` and `<name>.md`.
 pub fn experiment_pages(
     exp: &Experiment,
     a: &Analysis,
     r: &ExperimentResult,
     rows: &[AngleRow],
     fig11_png: Option<&[u8]>,
+    review: Option<&[(ReviewPicture, Vec<u8>)]>,
 ) -> Result<Vec<OutputFile>> {
     let f = &a.fit;
     // Figure 16 shows s_r changed by the larger of 15 % and three times the CI.
@@ -48,7 +51,22 @@ pub fn experiment_pages(
     if let (true, Some(png)) = (has_fig11, fig11_png) {
         files.push(OutputFile::new(format!("{}/fig11.png", exp.name), png));
     }
-    let view = experiment_view(r, &a.measurement, has_fig11);
+    let has_review = match (&r.detection, review) {
+        (Some(d), Some(pictures)) => {
+            files.extend(super::review::review_files(
+                exp,
+                &r.inputs.experiment_file,
+                d,
+                f,
+                rows,
+                pictures,
+            )?);
+            true
+        }
+        _ => false,
+    };
+    let mut view = experiment_view(r, &a.measurement, has_fig11);
+    view.has_review = has_review;
     files.extend(render_pair("experiment", &exp.name, &view)?);
     Ok(files)
 }
@@ -100,6 +118,8 @@ struct ExperimentView {
     flagged_more: usize,
     has_detection: bool,
     has_fig11: bool,
+    /// A review page (`<name>/review.html`) was written.
+    has_review: bool,
     fit: Vec<Kv>,
     /// What was not fitted: the hold before a release, dropped outliers (one line each).
     fit_notes: Vec<String>,
@@ -447,6 +467,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         flagged,
         flagged_more,
         has_fig11,
+        has_review: false,
         fit,
         fit_notes,
         checks: r.checks.iter().map(check_view).collect(),

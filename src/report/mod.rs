@@ -14,6 +14,7 @@ mod experiment;
 pub mod figures;
 mod index;
 pub mod plot;
+mod review;
 mod summary;
 
 pub use experiment::{experiment_pages, torsion_rows};
@@ -54,6 +55,10 @@ const TEMPLATES: &[(&str, &str)] = &[
     (
         "experiment.md",
         include_str!("../../templates/experiment.md.tera"),
+    ),
+    (
+        "review.html",
+        include_str!("../../templates/review.html.tera"),
     ),
 ];
 

@@ -112,6 +112,26 @@ pub fn fixture(name: &str) -> Option<PathBuf> {
     require(&what, how, p.exists()).then_some(p)
 }
 
+/// The experiment file `rollfric init` wrote (`text`), its geometry filled in as a lab
+/// would: a 5 degree incline, a 12.7 mm, 67 g ball, and the pendulum length the clip's
+/// period implies (from the file's own comment "hangs L = ... m x sin(alpha)").
+pub fn fill_init_geometry(text: &str) -> String {
+    let l_per_sin: f64 = text
+        .split("hangs L = ")
+        .nth(1)
+        .and_then(|s| s.split(" m x sin(alpha)").next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no period in:\n{text}"));
+    let l = l_per_sin * 5f64.to_radians().sin();
+    let d = (l * l + 0.0127f64 * 0.0127).sqrt();
+    text.replace("h_m: null", "# h_m")
+        .replace("l_m: null", "# l_m")
+        .replace("# angle_deg: null", "angle_deg: 5")
+        .replace("d_m: null", &format!("d_m: {d:.4}"))
+        .replace("radius_m: null", "radius_m: 0.0127")
+        .replace("mass_kg: null", "mass_kg: 0.067")
+}
+
 /// Whether the `ffmpeg` program runs here.
 pub fn have_ffmpeg() -> bool {
     Command::new("ffmpeg").arg("-version").output().is_ok()

@@ -1,6 +1,8 @@
 //! Headless-browser check of the HTML reports: every `<img>` figure loads, the pages log
 //! no JavaScript or console error, and full-page screenshots are left for a person to
-//! look at (`target/screenshots/index.png` and `target/screenshots/<page>.png`).
+//! look at (`target/screenshots/index.png` and `target/screenshots/<page>.png`, the
+//! material page's review page too). A second test uses a review page as a person would:
+//! it clicks the wire on a flagged frame and rebuilds with the marks the page wrote.
 //!
 //! It drives Debian's `chromium` through `chromedriver`'s W3C WebDriver JSON API with a
 //! small std-only HTTP/1.1 client; `make deps` installs both (`chromium chromium-driver`).
@@ -59,10 +61,12 @@ fn reports_render_in_chromium() {
     let (chromium, chromedriver) = browser_binaries();
     let reports = reports_dir();
     let page = std::env::var("ROLLFRIC_BROWSER_PAGE").unwrap_or_else(|_| DEFAULT_PAGE.into());
-    let pages = [("index.html".to_string(), "index".to_string()), {
-        let stem = page.trim_end_matches(".html").replace(['/', '\\'], "_");
-        (page, stem)
-    }];
+    // The index, the material page and that page's review page.
+    let review = format!("{}/review.html", page.trim_end_matches(".html"));
+    let pages = ["index.html".to_string(), page, review].map(|p| {
+        let stem = p.trim_end_matches(".html").replace(['/', '\\'], "_");
+        (p, stem)
+    });
     for (file, _) in &pages {
         let path = reports.join(file);
         assert!(

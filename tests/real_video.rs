@@ -207,6 +207,43 @@ fn init_writes_a_file_that_builds_once_filled_in() {
             "{out}{err}"
         );
     }
+    // The FHD clip's hundreds of flagged frames: the review page lists every one, with
+    // pictures of at most 48, spread over the video, each at most 512 px a side.
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("build/clip2/detect.json")).unwrap())
+            .unwrap();
+    let flagged = summary["flagged"].as_array().unwrap().len();
+    let frames = summary["frames"].as_u64().unwrap();
+    let pictures: Vec<serde_json::Value> =
+        serde_json::from_slice(&std::fs::read(dir.path().join("build/clip2/review.json")).unwrap())
+            .unwrap();
+    assert!(flagged > 100, "the FHD clip flags {flagged} frames");
+    assert!(
+        (24..=48).contains(&pictures.len()),
+        "{} pictures of {flagged} flagged frames",
+        pictures.len()
+    );
+    let last = pictures.last().unwrap()["frame"].as_u64().unwrap();
+    assert!(
+        last * 10 > frames * 8,
+        "the last picture is of frame {last} of {frames}"
+    );
+    for p in &pictures {
+        let (w, h) = (p["width"].as_u64().unwrap(), p["height"].as_u64().unwrap());
+        assert!(w.max(h) <= 512, "{p}");
+        let png = dir
+            .path()
+            .join("reports/clip2/review")
+            .join(p["file"].as_str().unwrap());
+        assert!(png.is_file(), "{} is missing", png.display());
+    }
+    let page = std::fs::read_to_string(dir.path().join("reports/clip2/review.html")).unwrap();
+    assert_eq!(
+        page.matches("\"status\":").count(),
+        flagged,
+        "the review page lists every flagged frame"
+    );
+
     // The FHD clip's Figure 12 carries hundreds of flag circles: no legend over any.
     let covered = common::legends_over_data(&dir.path().join("reports"));
     assert!(

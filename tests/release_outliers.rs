@@ -344,3 +344,57 @@ fn a_held_start_and_a_bad_turning_point_together() {
         "an unaccepted warning fails check"
     );
 }
+
+/// A held start filmed (the twin's video with the ball held for a second) and built:
+/// the review page shows the first frame after the release, pictured by the detector's
+/// own pass, as the release.
+#[test]
+fn the_review_page_pictures_the_release_frame_of_a_held_start() {
+    if !common::need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let yaml = common::GLASS_TWIN_YAML.replace(
+        "duration_s: 80, fps: 25,",
+        "duration_s: 20, fps: 25, hold_s: 1.0, width: 640, height: 360,",
+    );
+    assert_ne!(yaml, common::GLASS_TWIN_YAML);
+    std::fs::write(d.path().join("held.yaml"), yaml).unwrap();
+    std::fs::write(
+        d.path().join("manifest.yaml"),
+        "title: held\nexperiments:\n  - held.yaml\n",
+    )
+    .unwrap();
+    rollfric_ok(&common::BUILD_INTO_REPORTS, d.path());
+    let result: Value =
+        serde_json::from_slice(&std::fs::read(d.path().join("cache/held/result.json")).unwrap())
+            .unwrap();
+    let release_t = result["results"]["release"]["t_s"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no release found: {}", result["results"]));
+    let page = std::fs::read_to_string(d.path().join("reports/held/review.html")).unwrap();
+    let json = page
+        .split("<script id=\"review-data\" type=\"application/json\">")
+        .nth(1)
+        .and_then(|s| s.split("</script>").next())
+        .expect("the page's data");
+    let data: Value = serde_json::from_str(&json.replace("<\\/", "</")).unwrap();
+    let frames = data["frames"].as_array().unwrap();
+    let release: Vec<&Value> = frames.iter().filter(|f| f["release"] == true).collect();
+    assert_eq!(release.len(), 1, "{frames:?}");
+    let r = release[0];
+    let (frame, t) = (r["frame"].as_u64().unwrap(), r["t_s"].as_f64().unwrap());
+    // The first frame after the release, at 25 frames/s from frame 0.
+    assert!(
+        t > release_t && t - 1.0 / FPS <= release_t,
+        "release at {release_t} s, the page's release frame at {t} s: {r}"
+    );
+    assert!((frame as f64 / FPS - t).abs() < 1e-6, "{r}");
+    let picture = r["picture"]
+        .as_str()
+        .expect("a picture of the release frame");
+    assert!(
+        d.path().join("reports/held").join(picture).is_file(),
+        "{picture} is missing"
+    );
+}

@@ -7,9 +7,10 @@
 //! A result is `ok` only when the data agree with the physics it was fitted with
 //! ([`assess`]): the period measured against the geometry's, the fit's residual against
 //! the angle series' own noise, the envelope's shape (linear for rolling friction,
-//! exponential for viscous damping), the width of the interval on `s_r`, and the turning
-//! points the fit dropped as outliers. Each disagreement is a named [`Warning`]; a
-//! result with any is `suspect`.
+//! exponential for viscous damping), the width of the interval on `s_r`, the turning
+//! points the fit dropped as outliers, and, for angles measured in a video, the pivot
+//! against the wire's own direction. Each disagreement is a named [`Warning`]; a result
+//! with any is `suspect`.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -121,6 +122,8 @@ pub struct Limits {
     pub interval_rel: f64,
     /// Turning points the fit may drop as outliers without a warning.
     pub outliers: usize,
+    /// Largest `|swing_scale - 1|`.
+    pub pivot_rel: f64,
 }
 
 /// The check names, in the order they are run.
@@ -129,7 +132,7 @@ pub use crate::config::CHECKS;
 /// One failed consistency check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
-    /// `period`, `residual`, `envelope`, `interval` or `outliers`.
+    /// `period`, `residual`, `envelope`, `interval`, `outliers` or `pivot`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -254,6 +257,10 @@ pub struct Evidence<'a> {
     pub outliers_kept: &'a [f64],
     /// The most turning points the fit may drop (a tenth of them).
     pub outlier_cap: usize,
+    /// Of angles measured in a video: how much more the wire's own direction turns than
+    /// its angle about the pivot (the detector's `swing_scale`; 1 when the pivot lies
+    /// on the wire's line).
+    pub swing_scale: Option<f64>,
 }
 
 /// Residual sum of squares of the best linear envelope `A0 - a t`.
@@ -475,6 +482,26 @@ pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
             accepted: None,
         });
     }
+    // pivot: a pivot off along the wire by delta (at a mean radius R) leaves each frame's
+    // free line where it is but turns the line through the pivot by R / (R + delta) of
+    // its angle: the measured swing, and s_r with the envelope slope, shrink or grow by
+    // about that.
+    if let Some(scale) = e.swing_scale {
+        let dev = scale - 1.0;
+        if !within(dev.abs(), lim.pivot_rel) {
+            w.push(Warning {
+                check: "pivot".into(),
+                value: dev.abs(),
+                limit: lim.pivot_rel,
+                reason: format!(
+                    "the wire's own direction swings {:.1} % {} than its angle about the pivot:                      the pivot is off along the wire, which scales the measured swing, and s_r,                      by about as much; give `video.pivot`",
+                    100.0 * dev.abs(),
+                    if dev > 0.0 { "more" } else { "less" }
+                ),
+                accepted: None,
+            });
+        }
+    }
     Verdict::of(w)
 }
 
@@ -522,6 +549,7 @@ mod tests {
         envelope_aicc: 10.0,
         interval_rel: 0.25,
         outliers: 0,
+        pivot_rel: 0.02,
     };
 
     fn evidence<'a>(t: &'a [f64], amps: &'a [f64], samples: &'a [usize]) -> Evidence<'a> {
@@ -538,6 +566,7 @@ mod tests {
             outliers_dropped: &[],
             outliers_kept: &[],
             outlier_cap: 4,
+            swing_scale: Some(1.004),
         }
     }
 
@@ -564,9 +593,13 @@ mod tests {
         e.d_from_period_m = 0.03;
         e.residual_rms_rad = 1e-2;
         e.s_r_ci95 = [-1e-6, 9e-6];
+        e.swing_scale = Some(1.05);
         let mut v = assess(&e, &LIM);
         let names: Vec<&str> = v.warnings.iter().map(|w| w.check.as_str()).collect();
-        assert_eq!(names, ["period", "residual", "envelope", "interval"]);
+        assert_eq!(
+            names,
+            ["period", "residual", "envelope", "interval", "pivot"]
+        );
         assert_eq!(v.verdict, Status::Suspect);
         assert!(v.blocks());
         v.accept([("period", "the length was not measured")]);
@@ -575,6 +608,28 @@ mod tests {
         e.s_r_ci95 = [1e-6, 7e-6];
         let w = &assess(&e, &LIM).warnings[3];
         assert!((w.value - 0.75).abs() < 1e-12, "{w:?}");
+    }
+
+    #[test]
+    fn a_pivot_off_along_the_wire_is_named_either_way() {
+        let t: Vec<f64> = (0..40).map(|k| 0.7 * k as f64).collect();
+        let a: Vec<f64> = t.iter().map(|x| 0.17 - 3e-3 * x).collect();
+        let s = vec![60; 40];
+        let mut e = evidence(&t, &a, &s);
+        for (scale, word) in [(0.97, "less"), (1.03, "more")] {
+            e.swing_scale = Some(scale);
+            let v = assess(&e, &LIM);
+            assert_eq!(v.warnings.len(), 1, "{v:?}");
+            let w = &v.warnings[0];
+            assert_eq!(w.check, "pivot");
+            assert!((w.value - 0.03).abs() < 1e-12 && w.limit == 0.02, "{w:?}");
+            assert!(w.reason.contains(&format!("3.0 % {word}")), "{}", w.reason);
+        }
+        // Within the limit, or not measured (an angle CSV): nothing to say.
+        for scale in [Some(1.019), Some(0.981), None] {
+            e.swing_scale = scale;
+            assert!(assess(&e, &LIM).warnings.is_empty(), "{scale:?}");
+        }
     }
 
     #[test]

@@ -262,11 +262,9 @@ fn degrees_and_absurd_lengths_are_refused() {
 /// length its period implies, the period check agrees.
 #[test]
 fn the_real_clip_with_a_wrong_length_is_suspect() {
-    let clip = root().join("../shared/fixtures/real/sborquez_video1_greenscreen.mp4");
-    if !clip.exists() {
-        eprintln!("SKIPPED: {} is absent", clip.display());
+    let Some(clip) = common::fixture("sborquez_video1_greenscreen.mp4") else {
         return;
-    }
+    };
     let d = tempfile::tempdir().unwrap();
     let exp = |d_m: &str| {
         let p = d
@@ -292,4 +290,74 @@ video: {{ path: {} }}
     assert!(warned(&j).contains(&"period".to_string()), "{j}");
     let j = fit_json(&exp("0.0296"));
     assert!(!warned(&j).contains(&"period".to_string()), "{j}");
+}
+
+/// A twin's video measured about a pivot given 20 px too high (along the wire, which
+/// hangs nearly straight down): farther than the detector's refinement may move it, so
+/// every angle's swing is scaled and s_r is wrong by over 5 %. The wire's own direction
+/// (each frame's free line fit) disagrees with the angles about that pivot, and the
+/// verdict is `suspect` (pivot); about the pivot the detector finds itself, it agrees.
+#[test]
+fn a_pivot_off_along_the_wire_is_suspect() {
+    if !common::need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let twin = |name: &str, video: &str| {
+        format!(
+            "name: {name}
+geometry:
+  incline: {{ h_m: 0.142, l_m: 1.500 }}
+  pendulum: {{ d_m: 0.1774 }}
+  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
+{video}synthetic: {{ s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_deg: 0.05, width: 640, height: 360 }}
+"
+        )
+    };
+    let build = |names: &[&str]| {
+        let list: String = names.iter().map(|n| format!("  - {n}.yaml\n")).collect();
+        std::fs::write(
+            d.path().join("manifest.yaml"),
+            format!("title: pivot\nexperiments:\n{list}"),
+        )
+        .unwrap();
+        // A suspect or missed twin makes the build exit 1, as a failure does; only a
+        // failure is named FAILED.
+        let out = common::rollfric(&common::BUILD_INTO_REPORTS, d.path());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            matches!(out.status.code(), Some(0 | 1)) && !err.contains("FAILED"),
+            "{}: {err}",
+            out.status
+        );
+    };
+    let read = |name: &str, file: &str| -> serde_json::Value {
+        serde_json::from_slice(
+            &std::fs::read(d.path().join("cache").join(name).join(file)).unwrap(),
+        )
+        .unwrap()
+    };
+    std::fs::write(d.path().join("found.yaml"), twin("found", "")).unwrap();
+    build(&["found"]);
+    let found = read("found", "result.json");
+    let pivot = &found["detection"]["pivot_px"];
+    let (x, y) = (pivot[0].as_f64().unwrap(), pivot[1].as_f64().unwrap());
+    let scale = found["detection"]["swing_scale"].as_f64().unwrap();
+    assert!((scale - 1.0).abs() < 0.005, "{scale}");
+    assert_eq!(found["verdict"], "ok", "{found}");
+
+    let given = format!("video: {{ pivot: [{x:.2}, {:.2}] }}\n", y - 20.0);
+    std::fs::write(d.path().join("given.yaml"), twin("given", &given)).unwrap();
+    build(&["found", "given"]);
+    let r = read("given", "result.json");
+    let s_r = r["results"]["s_r_m"].as_f64().unwrap();
+    assert!(
+        (s_r / 3.714e-6 - 1.0).abs() > 0.05,
+        "the wrong pivot should spoil s_r: {s_r}"
+    );
+    assert_eq!(r["verdict"], "suspect", "{r}");
+    let w = &r["warnings"][0];
+    assert_eq!(w["check"], "pivot", "{r}");
+    assert!(w["value"].as_f64().unwrap() > 0.05, "{w}");
+    assert!(w["reason"].as_str().unwrap().contains("video.pivot"), "{w}");
 }

@@ -102,8 +102,8 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     let n = d.rows.len();
     eprintln!(
         "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, peak memory {}, CPU besides the \
-         decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, {:.1}) px, {} \
-         wire, ROI {:?} -> {}",
+         decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, {:.1}) px \
+         (swing scale {}), {} wire, ROI {:?} -> {}",
         a.video.display(),
         n as f64 / secs,
         d.decoder,
@@ -115,6 +115,7 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         d.count(Status::Missing),
         d.pivot_px[0],
         d.pivot_px[1],
+        d.swing_scale.map_or("-".to_string(), |s| format!("{s:.4}")),
         if d.dark_wire { "dark" } else { "light" },
         d.roi,
         a.output.display()

@@ -43,13 +43,16 @@ pub struct ExperimentFile {
 }
 
 /// The consistency checks' names, as `accept[].check` names them.
-pub const CHECKS: [&str; 5] = ["period", "residual", "envelope", "interval", "outliers"];
+pub const CHECKS: [&str; 6] = [
+    "period", "residual", "envelope", "interval", "outliers", "pivot",
+];
 
 /// One accepted consistency warning.
 #[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Accept {
-    /// The check's name: `period`, `residual`, `envelope`, `interval` or `outliers`.
+    /// The check's name: `period`, `residual`, `envelope`, `interval`, `outliers` or
+    /// `pivot`.
     pub check: String,
     /// Why the warning does not invalidate the result.
     pub reason: String,
@@ -215,6 +218,13 @@ pub struct Tolerances {
     /// always warns, whatever this says. Written out only when set.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub outliers: usize,
+    /// `pivot` check (a video's angles only): largest relative difference between the
+    /// swing of the wire's own direction (each frame's free line fit) and the swing of
+    /// its angle about the pivot. A pivot off along the wire scales the measured swing,
+    /// and s_r, by about as much. Default 0.02 (the twins and the real clips sit within
+    /// 0.01).
+    #[serde(default = "default_pivot_rel")]
+    pub pivot_rel: f64,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -231,6 +241,7 @@ impl Default for Tolerances {
             envelope_aicc: default_envelope_aicc(),
             interval_rel: default_interval_rel(),
             outliers: 0,
+            pivot_rel: default_pivot_rel(),
         }
     }
 }
@@ -246,6 +257,10 @@ fn default_envelope_aicc() -> f64 {
 }
 fn default_interval_rel() -> f64 {
     0.25
+}
+
+fn default_pivot_rel() -> f64 {
+    0.02
 }
 
 fn default_ref_tol() -> f64 {

@@ -288,6 +288,7 @@ mod tests {
             diagnostics: Vec::new(),
             figure11,
             review: Default::default(),
+            swing_scale: None,
         }
     }
 

@@ -240,6 +240,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                 .map_or(0, |r| r.frame)
         );
     }
+    let swing_scale = tracker.swing_scale(&rows, pivot);
     let figure11 = keeper.take(&rows);
     Ok(Detection {
         rows,
@@ -251,6 +252,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         diagnostics: tracker.diagnostics,
         figure11,
         review: review.take(),
+        swing_scale,
     })
 }
 

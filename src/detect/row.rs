@@ -83,6 +83,9 @@ pub struct Detection {
     /// The pictures kept for the review page.
     #[serde(skip)]
     pub review: Review,
+    /// How much more the wire's own direction turns than its angle about the pivot
+    /// (1 when the pivot lies on the wire's line; see the `pivot` check).
+    pub swing_scale: Option<f64>,
 }
 
 impl Detection {

@@ -34,6 +34,10 @@ pub struct DetectionSummary {
     pub dark_wire: bool,
     pub flagged: Vec<FlaggedFrame>,
     pub figure11_frame: u64,
+    /// How much more the wire's own direction turns than its angle about the pivot
+    /// (1 when the pivot lies on the wire's line): the `pivot` check's value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub swing_scale: Option<f64>,
 }
 
 impl DetectionSummary {
@@ -71,6 +75,7 @@ impl DetectionSummary {
             dark_wire: d.dark_wire,
             flagged,
             figure11_frame,
+            swing_scale: d.swing_scale,
         }
     }
 }

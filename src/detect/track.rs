@@ -396,6 +396,52 @@ impl Tracker {
         Ok(row)
     }
 
+    /// How much more the wire's own direction turns than its angle about `pivot`
+    /// (full-frame px): the slope of each accepted frame's free line fit (its direction
+    /// alone, whatever the pivot) against its angle through the pivot, by least squares
+    /// over the pass. 1 when the pivot is on the wire's line; a pivot off along the wire
+    /// by `delta` at a mean radius `R` gives about `(R + delta) / R`, and scales the
+    /// angles' swing, and `s_r` with it, by the inverse. The free fits' noise is in the
+    /// regressand, so it does not bias the slope. `None` with fewer than
+    /// [`SWING_SCALE_FRAMES`] accepted frames or a swing under
+    /// [`SWING_SCALE_SPREAD_DEG`].
+    pub(super) fn swing_scale(&self, rows: &[AngleRow], pivot: Pt) -> Option<f64> {
+        let p = full_to_shrunk(pivot, Pt::new(self.roi_x, self.roi_y), self.scale);
+        let pairs: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.flag.is_none() && r.status == Status::Ok)
+            .filter_map(|r| {
+                let m = r.moments.as_ref()?;
+                let (about, _) = m.line_about(p)?;
+                let free = m.free_line()?;
+                // The free line has no direction: the branch nearest the angle about
+                // the pivot.
+                let f = unwrap_near(free.dir.y.atan2(free.dir.x), about);
+                let f = if (f - about).abs() > std::f64::consts::FRAC_PI_2 {
+                    unwrap_near(f + std::f64::consts::PI, about)
+                } else {
+                    f
+                };
+                Some((about, f))
+            })
+            .collect();
+        if pairs.len() < SWING_SCALE_FRAMES {
+            return None;
+        }
+        let n = pairs.len() as f64;
+        let mx = pairs.iter().map(|q| q.0).sum::<f64>() / n;
+        let my = pairs.iter().map(|q| q.1).sum::<f64>() / n;
+        let sxx: f64 = pairs.iter().map(|q| (q.0 - mx).powi(2)).sum();
+        let sxy: f64 = pairs.iter().map(|q| (q.0 - mx) * (q.1 - my)).sum();
+        let (lo, hi) = pairs.iter().fold((f64::MAX, f64::MIN), |(lo, hi), q| {
+            (lo.min(q.0), hi.max(q.0))
+        });
+        if hi - lo < SWING_SCALE_SPREAD_DEG.to_radians() || sxx <= 0.0 {
+            return None;
+        }
+        Some(sxy / sxx)
+    }
+
     /// Refine the pivot from the whole pass: the robust intersection of every accepted
     /// frame's free line fit (hundreds of lines at different angles, against the few
     /// dozen of the first seconds), then refit every angle about it from the stored
@@ -433,6 +479,10 @@ impl Tracker {
         to_full(p)
     }
 }
+
+/// Fewest accepted frames, and smallest spread of their angles, for [`Tracker::swing_scale`].
+const SWING_SCALE_FRAMES: usize = 20;
+const SWING_SCALE_SPREAD_DEG: f64 = 2.0;
 
 /// Mean of every `step`-th byte.
 fn sampled_mean(d: &[u8], step: usize) -> f64 {

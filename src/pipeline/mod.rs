@@ -288,6 +288,7 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             outliers_dropped: &outliers_dropped,
             outliers_kept: &outliers_kept,
             outlier_cap: fit::outlier_cap(m.amplitudes.len() + outliers_dropped.len()),
+            swing_scale: angles.detection.as_ref().and_then(|d| d.swing_scale),
         },
         &Limits {
             period_rel: tol.period_rel,
@@ -295,6 +296,7 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             envelope_aicc: tol.envelope_aicc,
             interval_rel: tol.interval_rel,
             outliers: tol.outliers,
+            pivot_rel: tol.pivot_rel,
         },
     );
     verdict.accept(

@@ -307,6 +307,12 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             ),
             kv("Figure 11 frame", d.figure11_frame.to_string()),
         ]);
+        if let Some(s) = d.swing_scale {
+            detection.push(kv(
+                "swing of the wire's own direction / of its angle about the pivot",
+                format!("{s:.4} (1 when the pivot lies on the wire's line)"),
+            ));
+        }
         const SHOW: usize = 40;
         for fl in d.flagged.iter().take(SHOW) {
             flagged.push(kv(

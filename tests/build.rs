@@ -291,3 +291,84 @@ fn a_killed_build_leaves_whole_files_and_the_next_build_completes() {
     // The same files as the uninterrupted build, byte for byte, and no temporaries left.
     assert_eq!(snapshot(&out), reference, "the build after kills differs");
 }
+
+/// `rollfric stage synth|detect|analyze` of each experiment, then `rollfric report`, give
+/// reports byte-identical to `rollfric build`'s; a stage whose key is current does
+/// nothing; a stage whose predecessor is not current refuses, naming the command that
+/// makes it current; `report` computes nothing (an experiment not analysed fails).
+#[test]
+fn stage_commands_and_report_make_the_builds_reports() {
+    let d = tempfile::tempdir().unwrap();
+    let m = setup(d.path(), false);
+    let built = build(&m, &d.path().join("built"), &d.path().join("cache-built"));
+    assert!(built.status.success(), "{}", stderr(&built));
+    let (out, cache) = (d.path().join("staged"), d.path().join("cache-staged"));
+    let run = |args: &[&str]| -> Output {
+        let mut all: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+        all.extend([
+            OsStr::new("--manifest"),
+            m.as_os_str(),
+            OsStr::new("--out"),
+            out.as_os_str(),
+            OsStr::new("--cache"),
+            cache.as_os_str(),
+            OsStr::new("-q"),
+        ]);
+        rollfric(&all, &root())
+    };
+    let said = |o: &Output| String::from_utf8_lossy(&o.stdout).into_owned();
+    // Out of order: refused, naming the stage to run first.
+    let early = run(&["stage", "detect", "fabric-a"]);
+    assert!(
+        !early.status.success()
+            && stderr(&early).contains("run `rollfric stage synth fabric-a` first"),
+        "{}",
+        stderr(&early)
+    );
+    let report = run(&["report"]);
+    assert!(!report.status.success(), "{}", said(&report));
+    // In order, by name and by file; each a no-op the second time.
+    let file = d.path().join("fabric-b.yaml");
+    for exp in ["fabric-a", file.to_str().unwrap()] {
+        for stage in ["synth", "detect", "analyze"] {
+            let first = run(&["stage", stage, exp]);
+            assert!(first.status.success(), "{stage} {exp}: {}", stderr(&first));
+            let ran = if stage == "analyze" {
+                "analysis"
+            } else {
+                stage
+            };
+            assert!(
+                said(&first).contains(&format!("{ran} ran")),
+                "{}",
+                said(&first)
+            );
+            let again = run(&["stage", stage, exp]);
+            assert!(said(&again).contains("cached"), "{}", said(&again));
+        }
+    }
+    let unknown = run(&["stage", "synth", "no-such-experiment"]);
+    assert!(
+        stderr(&unknown).contains("no experiment named or found at `no-such-experiment`"),
+        "{}",
+        stderr(&unknown)
+    );
+    let report = run(&["report"]);
+    assert!(report.status.success(), "{}", stderr(&report));
+    let (a, b) = (snapshot(&d.path().join("built")), snapshot(&out));
+    assert_eq!(
+        a.keys().collect::<Vec<_>>(),
+        b.keys().collect::<Vec<_>>(),
+        "the same files"
+    );
+    for (k, v) in &a {
+        assert!(b[k] == *v, "{k} differs between build and stage + report");
+    }
+    // The build on the staged cache has nothing to do.
+    let again = build(&m, &out, &cache);
+    assert!(
+        String::from_utf8_lossy(&again.stdout).contains("0 report files rewritten"),
+        "{}",
+        String::from_utf8_lossy(&again.stdout)
+    );
+}

@@ -9,6 +9,35 @@ use std::path::Path;
 pub struct Lock(#[allow(dead_code)] File);
 
 impl Lock {
+    /// Lock `dir` shared (created when missing): any number of shared holders at once
+    /// (the stage commands of different experiments), none beside an exclusive one (a
+    /// build). Waits, saying so, or with `wait` false refuses.
+    pub fn acquire_shared(dir: &Path, wait: bool) -> Result<Self> {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create folder", dir.display()))?;
+        let f = File::open(dir).with_context(|| format!("{}: cannot open", dir.display()))?;
+        match f.try_lock_shared() {
+            Ok(()) => return Ok(Self(f)),
+            Err(TryLockError::WouldBlock) => {}
+            Err(TryLockError::Error(e)) => {
+                return Err(e).with_context(|| format!("{}: cannot lock", dir.display()))
+            }
+        }
+        if !wait {
+            bail!(
+                "{}: a rollfric build is using this folder (--no-wait given)",
+                dir.display()
+            );
+        }
+        eprintln!(
+            "{}: a rollfric build is using this folder; waiting for it to finish",
+            dir.display()
+        );
+        f.lock_shared()
+            .with_context(|| format!("{}: cannot lock", dir.display()))?;
+        Ok(Self(f))
+    }
+
     /// Lock `dir` (created when missing). When another build holds it: wait, saying so
     /// on standard error, or with `wait` false refuse.
     pub fn acquire(dir: &Path, wait: bool) -> Result<Self> {
@@ -54,5 +83,22 @@ mod tests {
         assert!(!waiter.is_finished(), "waits while the first holds it");
         drop(first);
         waiter.join().unwrap().unwrap();
+    }
+
+    #[test]
+    fn shared_locks_coexist_and_exclude_an_exclusive_one() {
+        let d = tempfile::tempdir().unwrap();
+        let a = Lock::acquire_shared(d.path(), false).unwrap();
+        let b = Lock::acquire_shared(d.path(), false).unwrap();
+        assert!(
+            Lock::acquire(d.path(), false).is_err(),
+            "a build waits for stages"
+        );
+        drop((a, b));
+        let build = Lock::acquire(d.path(), false).unwrap();
+        let e = Lock::acquire_shared(d.path(), false).err().expect("held");
+        assert!(format!("{e:#}").contains("a rollfric build"), "{e:#}");
+        drop(build);
+        Lock::acquire_shared(d.path(), false).unwrap();
     }
 }

@@ -8,7 +8,7 @@
 //! | stage    | outputs                                   | key covers |
 //! |----------|-------------------------------------------|------------|
 //! | synth    | `twin.avi`                                | geometry, model, `synthetic:`, the `synth` module's closure |
-//! | detect   | `angles.csv`, `detect.json`, `fig11.png`  | the video's id, `video:` settings, the `detect` module's closure |
+//! | detect   | `angles.csv`, `detect.json`, `fig11.png`, `review.json`, `review/` | the video's id, `video:` settings, the `detect` module's closure |
 //! | analysis | `result.json` and the experiment's pages  | the YAML's bytes, the angles' id, the `pipeline` and `report` closures |
 //!
 //! A module's closure is its source with that of every module it names and the
@@ -16,20 +16,26 @@
 //! to a temporary name and renamed; a stage's key is written last, so a build killed at
 //! any moment leaves old or new files, never torn ones, and the next build reruns
 //! exactly the stages whose keys are missing or stale.
+//!
+//! The same stages run one at a time from outside ([`stage`], `rollfric stage NAME
+//! EXPERIMENT`: a workflow engine's jobs), each refusing when the one before it is not
+//! current; [`report`] then assembles the index from the cached results. [`build`] is
+//! those stages in its own worker pool: one code path ([`stages::run_experiment`] under a
+//! [`Runs`] policy).
 
 mod lock;
 pub mod progress;
 mod stages;
 mod writer;
 
-pub use stages::cached_angles;
+pub use stages::{cached_angles, Stage};
 pub use writer::relative;
 
 use crate::config::{Experiment, Manifest};
 use crate::report::{self, Outcome};
 use anyhow::{bail, Result};
 use progress::Progress;
-use stages::Ctx;
+use stages::{Ctx, Runs};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -65,8 +71,95 @@ pub struct BuildOutcome {
     pub written: usize,
 }
 
-/// Run the build.
+/// Run the build: every stage of every experiment, then the index.
 pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
+    run(opts, Runs::All)
+}
+
+/// Assemble the reports' index, Table 1, Figure 19 and `summary.json` from the cached
+/// results of every experiment (`rollfric report`): nothing is computed; an experiment
+/// whose stages are not current fails, naming the stage command that makes it so.
+pub fn report(opts: &BuildOptions) -> Result<BuildOutcome> {
+    run(opts, Runs::Cached)
+}
+
+/// What `rollfric stage` does.
+#[derive(Clone, Debug)]
+pub struct StageOptions {
+    pub manifest: PathBuf,
+    /// The experiment: its name, or its file (one of the manifest's).
+    pub experiment: String,
+    pub stage: Stage,
+    pub out: PathBuf,
+    pub cache: PathBuf,
+    pub quiet: bool,
+    pub no_wait: bool,
+}
+
+/// One cached stage of one experiment of the manifest, into the cache layout the build
+/// uses (and, for `analyze`, its pages into the reports folder); a no-op when the
+/// stage's key is current. The stages before it must be current. Stage commands of
+/// different experiments may run at once (each holds the cache folder shared and its
+/// experiment's folder exclusively); a build waits for them, and they for a build.
+/// Returns what was done, one line.
+pub fn stage(opts: &StageOptions) -> Result<String> {
+    let started = Instant::now();
+    let (_, files) = Manifest::load(&opts.manifest)?;
+    let root = root_or_here(opts.manifest.parent().unwrap_or(Path::new("")));
+    let loaded: Vec<Result<(Experiment, Vec<u8>)>> = files
+        .iter()
+        .map(|f| Experiment::load_with_bytes(f))
+        .collect();
+    let wanted = Path::new(&opts.experiment);
+    let same_file = |f: &Path| matches!((std::fs::canonicalize(f), std::fs::canonicalize(wanted)), (Ok(a), Ok(b)) if a == b);
+    let Some(i) = (0..files.len()).find(|&i| {
+        loaded[i]
+            .as_ref()
+            .is_ok_and(|(e, _)| e.name == opts.experiment)
+            || same_file(&files[i])
+    }) else {
+        bail!(
+            "{}: no experiment named or found at `{}` in the manifest",
+            opts.manifest.display(),
+            opts.experiment
+        );
+    };
+    if let Some(why) = &name_collisions(&root, &files, &loaded)[i] {
+        bail!("{why}");
+    }
+    let (exp, yaml) = match &loaded[i] {
+        Ok(l) => l,
+        Err(e) => bail!("{e:#}"),
+    };
+    let _cache_lock = lock::Lock::acquire_shared(&opts.cache, !opts.no_wait)?;
+    let _exp_lock = lock::Lock::acquire(&opts.cache.join(&exp.name), !opts.no_wait)?;
+    let _out_lock = if opts.stage == Stage::Analyze && !same_folder(&opts.cache, &opts.out) {
+        Some(lock::Lock::acquire_shared(&opts.out, !opts.no_wait)?)
+    } else {
+        None
+    };
+    let progress = Arc::new(Progress::new(1, opts.quiet));
+    let writer = Writer::new(&opts.out);
+    let label = display_name(&files[i]);
+    let ctx = Ctx {
+        root: &root,
+        cache: &opts.cache,
+        progress: &progress,
+        label: label.clone(),
+        writer: &writer,
+        runs: Runs::Only(opts.stage),
+    };
+    let (_, how) = stages::run_experiment(&files[i], exp, yaml, &ctx)?;
+    progress.clear();
+    Ok(format!(
+        "{label}: stage {}: {how} in {:.1} s\n",
+        opts.stage.as_str(),
+        started.elapsed().as_secs_f64()
+    ))
+}
+
+/// Every experiment through the stages `runs` allows, then the index.
+fn run(opts: &BuildOptions, runs: Runs) -> Result<BuildOutcome> {
     let started = Instant::now();
     let (manifest, files) = Manifest::load(&opts.manifest)?;
     // The manifest's folder; `.` for a bare file name, so that paths in the reports are
@@ -80,8 +173,13 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
             );
         }
     }
-    // One build per folder at a time: held until this function returns.
-    let _cache_lock = lock::Lock::acquire(&opts.cache, !opts.no_wait)?;
+    // One build per folder at a time: held until this function returns. A report
+    // computes nothing: it shares the cache with stage commands (and waits for a build).
+    let _cache_lock = if runs == Runs::Cached {
+        lock::Lock::acquire_shared(&opts.cache, !opts.no_wait)?
+    } else {
+        lock::Lock::acquire(&opts.cache, !opts.no_wait)?
+    };
     let _out_lock = if same_folder(&opts.cache, &opts.out) {
         None
     } else {
@@ -125,6 +223,7 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
                     progress: &progress,
                     label: label.clone(),
                     writer: &writer,
+                    runs,
                 };
                 let r = match &collisions[i] {
                     Some(why) => Err(anyhow::anyhow!("{why}")),
@@ -140,9 +239,12 @@ pub fn build(opts: &BuildOptions) -> Result<BuildOutcome> {
                 };
                 let secs = t0.elapsed().as_secs_f64();
                 let outcome = match r {
-                    Ok((res, how)) => {
+                    Ok((Some(res), how)) => {
                         progress.finish(&label, &format!("{how} in {secs:.1} s: {}", res.line()));
                         Outcome::Built(Box::new(res))
+                    }
+                    Ok((None, _)) => {
+                        unreachable!("a build or report runs every experiment to its result")
                     }
                     Err(e) => {
                         let msg = format!("{e:#}");

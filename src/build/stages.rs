@@ -18,6 +18,54 @@ use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// One cached stage of an experiment (`rollfric stage NAME`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Render the digital twin's video (nothing for a lab video or an angle CSV).
+    Synth,
+    /// Measure the angles in the video (nothing for an angle CSV).
+    Detect,
+    /// Fit, check, draw and write the experiment's pages.
+    Analyze,
+}
+
+impl Stage {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Stage::Synth => "synth",
+            Stage::Detect => "detect",
+            Stage::Analyze => "analyze",
+        }
+    }
+}
+
+/// Which stages may compute; any other must be current in the cache, or the experiment
+/// stops, naming the stage command that makes it current.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Runs {
+    /// Every stage (`rollfric build`).
+    All,
+    /// This one, after which the experiment stops (`rollfric stage`).
+    Only(Stage),
+    /// None: every result is read from the cache (`rollfric report`).
+    Cached,
+}
+
+impl Runs {
+    fn may(self, s: Stage) -> bool {
+        match self {
+            Runs::All => true,
+            Runs::Only(o) => o == s,
+            Runs::Cached => false,
+        }
+    }
+
+    /// Whether the experiment stops after stage `s`.
+    fn stops_after(self, s: Stage) -> bool {
+        self == Runs::Only(s)
+    }
+}
+
 /// What every stage of one experiment needs.
 pub(super) struct Ctx<'a> {
     /// The manifest's folder (report paths are relative to it).
@@ -26,6 +74,21 @@ pub(super) struct Ctx<'a> {
     pub progress: &'a Arc<Progress>,
     pub label: String,
     pub writer: &'a Writer,
+    pub runs: Runs,
+}
+
+impl Ctx<'_> {
+    /// Stop: stage `s` is not current and may not run here.
+    fn not_current(&self, exp: &Experiment, s: Stage) -> anyhow::Error {
+        anyhow::anyhow!(
+            "{}: the {} stage is not current in {}: run `rollfric stage {} {}` first",
+            self.label,
+            s.as_str(),
+            self.cache.display(),
+            s.as_str(),
+            exp.name
+        )
+    }
 }
 
 /// The video an experiment's angles are measured in.
@@ -63,24 +126,31 @@ impl Ran {
     }
 }
 
-/// One experiment (loaded from `file`, whose bytes are `yaml`) through every stage.
-/// Returns its result and how it was obtained.
+/// One experiment (loaded from `file`, whose bytes are `yaml`) through the stages
+/// `ctx.runs` allows, reading the others from the cache. Returns its result (none when
+/// it stops after one stage) and how it was obtained.
 pub(super) fn run_experiment(
     file: &Path,
     exp: &Experiment,
     yaml: &[u8],
     ctx: &Ctx,
-) -> Result<(ExperimentResult, String)> {
+) -> Result<(Option<ExperimentResult>, String)> {
     let mut ran = Ran::default();
     let angles = match pipeline::Source::of(exp, None)? {
         Source::Csv(csv) => csv_stage(exp, csv)?,
         source => {
             let video = video_stage(exp, &source, ctx, &mut ran)?;
+            if ctx.runs.stops_after(Stage::Synth) {
+                return Ok((None, ran.how()));
+            }
             detect_stage(exp, source, video, ctx, &mut ran)?
         }
     };
+    if ctx.runs.stops_after(Stage::Synth) || ctx.runs.stops_after(Stage::Detect) {
+        return Ok((None, ran.how()));
+    }
     let result = analysis_stage(exp, file, yaml, angles, ctx, &mut ran)?;
-    Ok((result, ran.how()))
+    Ok((Some(result), ran.how()))
 }
 
 /// A measured angle CSV: nothing to compute, its hash identifies it.
@@ -102,7 +172,13 @@ fn csv_stage(exp: &Experiment, csv: PathBuf) -> Result<CachedAngles> {
     })
 }
 
-/// The video to detect: the lab's recording (hashed), or the twin (rendered when stale).
+/// How the reports name a twin's video.
+fn twin_label(exp: &Experiment) -> String {
+    format!("{}/twin.avi (rendered by the build)", exp.name)
+}
+
+/// The video to detect: the lab's recording (hashed), or the twin (rendered when stale,
+/// if the synth stage may run).
 fn video_stage(exp: &Experiment, source: &Source, ctx: &Ctx, ran: &mut Ran) -> Result<Video> {
     if let Source::LabVideo(path) = source {
         ctx.progress.stage(&ctx.label, "video", "hashing");
@@ -110,6 +186,15 @@ fn video_stage(exp: &Experiment, source: &Source, ctx: &Ctx, ran: &mut Ran) -> R
             id: hash::sha256_file(path)?,
             label: relative(ctx.root, path),
             path: path.clone(),
+        });
+    }
+    if !ctx.runs.may(Stage::Synth) {
+        let (path, id) = pipeline::twin_cached(exp, ctx.cache)?
+            .ok_or_else(|| ctx.not_current(exp, Stage::Synth))?;
+        return Ok(Video {
+            path,
+            id,
+            label: twin_label(exp),
         });
     }
     let (label, progress) = (ctx.label.clone(), ctx.progress.clone());
@@ -125,7 +210,7 @@ fn video_stage(exp: &Experiment, source: &Source, ctx: &Ctx, ran: &mut Ran) -> R
     Ok(Video {
         path,
         id,
-        label: format!("{}/twin.avi (rendered by the build)", exp.name),
+        label: twin_label(exp),
     })
 }
 
@@ -239,6 +324,9 @@ fn detect_stage(
     if let Some(s) = files.fresh(&key) {
         return Ok(cached(s, files));
     }
+    if !ctx.runs.may(Stage::Detect) {
+        return Err(ctx.not_current(exp, Stage::Detect));
+    }
     ctx.progress.stage(
         &ctx.label,
         "detect",
@@ -330,6 +418,9 @@ fn analysis_stage(
         if let Some(r) = r.filter(|r| ctx.writer.intact(r)) {
             return Ok(r);
         }
+    }
+    if !ctx.runs.may(Stage::Analyze) {
+        return Err(ctx.not_current(exp, Stage::Analyze));
     }
     ctx.progress
         .stage(&ctx.label, "analysis", "fit, torsion, figures, pages");

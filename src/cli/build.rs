@@ -1,7 +1,7 @@
 //! `rollfric build` and `rollfric check`.
 
 use super::Done;
-use crate::build::{self, BuildOptions};
+use crate::build::{self, BuildOptions, Stage, StageOptions};
 use crate::report::{self, Summary};
 use anyhow::Result;
 use std::path::PathBuf;
@@ -35,15 +35,75 @@ pub struct CheckArgs {
     summary: PathBuf,
 }
 
-pub fn build(a: BuildArgs) -> Result<Done> {
-    let o = build::build(&BuildOptions {
+/// The stage `rollfric stage` runs.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum StageName {
+    /// Render the digital twin's video (nothing to do for a lab video or a CSV).
+    Synth,
+    /// Measure the wire angle in every frame (nothing to do for a CSV).
+    Detect,
+    /// Fit, check, draw and write the experiment's pages.
+    Analyze,
+}
+
+#[derive(clap::Args)]
+pub struct StageArgs {
+    /// The stage.
+    #[arg(value_enum)]
+    stage: StageName,
+    /// The experiment: its name or its file, one of the manifest's.
+    experiment: String,
+    /// The manifest listing the experiments (report paths are relative to its folder).
+    #[arg(long, default_value = "experiments/manifest.yaml")]
+    manifest: PathBuf,
+    /// Folder for the reports (the `analyze` stage writes the experiment's pages there).
+    #[arg(long, default_value = "reports")]
+    out: PathBuf,
+    /// Folder for the stages' cached outputs, as `rollfric build` lays it out.
+    #[arg(long, default_value = "build")]
+    cache: PathBuf,
+    /// No progress output.
+    #[arg(long, short)]
+    quiet: bool,
+    /// Refuse instead of waiting when a build uses the same folders.
+    #[arg(long)]
+    no_wait: bool,
+}
+
+/// `rollfric stage`: one cached stage of one experiment.
+pub fn stage(a: StageArgs) -> Result<Done> {
+    let stage = match a.stage {
+        StageName::Synth => Stage::Synth,
+        StageName::Detect => Stage::Detect,
+        StageName::Analyze => Stage::Analyze,
+    };
+    build::stage(&StageOptions {
+        manifest: a.manifest,
+        experiment: a.experiment,
+        stage,
+        out: a.out,
+        cache: a.cache,
+        quiet: a.quiet,
+        no_wait: a.no_wait,
+    })
+    .map(Done::ok)
+}
+
+/// `rollfric build`, or with `cached` `rollfric report` (every result from the cache).
+pub fn build(a: BuildArgs, cached: bool) -> Result<Done> {
+    let opts = BuildOptions {
         manifest: a.manifest,
         out: a.out.clone(),
         cache: a.cache,
         jobs: a.jobs.map(usize::from),
         quiet: a.quiet,
         no_wait: a.no_wait,
-    })?;
+    };
+    let o = if cached {
+        build::report(&opts)?
+    } else {
+        build::build(&opts)?
+    };
     let n = o.summary.experiments.len();
     // Why each experiment failed, also under -q (the log lines are the progress's).
     for e in o.summary.experiments.iter().filter(|e| e.failed()) {

@@ -29,6 +29,13 @@ enum Cmd {
     /// Build every experiment of the manifest (synth, detect, fit, torsion, figures,
     /// pages; cached stages are skipped) and write the reports.
     Build(build::BuildArgs),
+    /// One cached stage of one experiment (synth, detect or analyze), into the cache
+    /// layout `build` uses; nothing to do when its key is current. For a workflow
+    /// engine: `build` is these stages in its own worker pool.
+    Stage(build::StageArgs),
+    /// Assemble the index, Table 1, Figure 19 and summary.json from the cached results
+    /// of every experiment (after `stage analyze` of each); computes nothing.
+    Report(build::BuildArgs),
     /// Compare the reproduced values of a build's summary with their expected values and
     /// tolerances; exit 1 on a miss.
     Check(build::CheckArgs),
@@ -74,7 +81,9 @@ impl Done {
 
 fn run(cli: Cli) -> anyhow::Result<Done> {
     match cli.cmd {
-        Cmd::Build(a) => build::build(a),
+        Cmd::Build(a) => build::build(a, false),
+        Cmd::Stage(a) => build::stage(a),
+        Cmd::Report(a) => build::build(a, true),
         Cmd::Check(a) => build::check(a),
         Cmd::Simulate(a) => model::simulate(a).map(Done::ok),
         Cmd::Synth(a) => model::synth(a).map(Done::ok),

@@ -107,6 +107,27 @@ pub fn twin(
     cache: &Path,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<(PathBuf, String, bool)> {
+    let (video, key, key_file) = twin_files(exp, cache)?;
+    if hash::fresh(&key_file, &key, &[&video]) {
+        return Ok((video, key, false));
+    }
+    progress(0, 0);
+    let mut cb = |done: usize, total: usize| progress(done as u64, total as u64);
+    crate::synth::render(exp, &video, None, &mut cb)
+        .with_context(|| format!("{}: rendering the twin", exp.path.display()))?;
+    hash::record(&key_file, &key)?;
+    Ok((video, key, true))
+}
+
+/// The twin's video and render key when the cache holds it rendered under the current
+/// key; `None` when it must be rendered (see [`twin`]).
+pub fn twin_cached(exp: &Experiment, cache: &Path) -> Result<Option<(PathBuf, String)>> {
+    let (video, key, key_file) = twin_files(exp, cache)?;
+    Ok(hash::fresh(&key_file, &key, &[&video]).then_some((video, key)))
+}
+
+/// The twin's video, its render key and the key's file under `cache/<name>/`.
+fn twin_files(exp: &Experiment, cache: &Path) -> Result<(PathBuf, String, PathBuf)> {
     let Some(syn) = &exp.file.synthetic else {
         bail!("{}: no `synthetic:` block", exp.path.display());
     };
@@ -117,17 +138,7 @@ pub fn twin(
         .json("synthetic", syn)
         .hex();
     let dir = cache.join(&exp.name);
-    let video = dir.join("twin.avi");
-    let key_file = dir.join("twin.key");
-    if hash::fresh(&key_file, &key, &[&video]) {
-        return Ok((video, key, false));
-    }
-    progress(0, 0);
-    let mut cb = |done: usize, total: usize| progress(done as u64, total as u64);
-    crate::synth::render(exp, &video, None, &mut cb)
-        .with_context(|| format!("{}: rendering the twin", exp.path.display()))?;
-    hash::record(&key_file, &key)?;
-    Ok((video, key, true))
+    Ok((dir.join("twin.avi"), key, dir.join("twin.key")))
 }
 
 /// The detector's settings for `exp` (its `video:` block; defaults without one).

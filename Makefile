@@ -9,10 +9,16 @@ SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
 # ffmpeg decodes video for the detector (and is the benchmark's decode-only reference).
-APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver
+APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver python3-venv
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/rollfric
+# Snakemake and its executor plugins, pinned, in a virtual environment under target/
+# (for the cluster workflow's tests; python3 and its venv module come from Debian).
+SNAKEMAKE_VENV := $(or $(CARGO_TARGET_DIR),target)/snakemake
+SNAKEMAKE_VERSION := 8.30.0
+SNAKEMAKE_PINS := snakemake==$(SNAKEMAKE_VERSION) snakemake-executor-plugin-cluster-generic==1.0.9 \
+                  snakemake-executor-plugin-slurm==2.8.0
 
-.PHONY: all deps rust-components build reports test check fmt clippy bench fuzz robustness clean
+.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench fuzz robustness clean
 
 all: build
 
@@ -41,6 +47,14 @@ rust-components:
 	  rustup component add $${c#*:} || exit 1; \
 	done
 
+# The pinned Snakemake, installed once (again when the pin changes).
+snakemake: deps
+	@if ! $(SNAKEMAKE_VENV)/bin/snakemake --version 2>/dev/null | grep -qx '$(SNAKEMAKE_VERSION)'; then \
+	  echo "installing Snakemake $(SNAKEMAKE_VERSION) into $(SNAKEMAKE_VENV)"; \
+	  python3 -m venv $(SNAKEMAKE_VENV) && \
+	  $(SNAKEMAKE_VENV)/bin/pip install -q --disable-pip-version-check $(SNAKEMAKE_PINS) || exit 1; \
+	fi
+
 build: deps
 	$(CARGO) build --release --locked
 
@@ -51,8 +65,9 @@ reports: build
 # experiment of the manifest and `rollfric check` on its summary. With
 # ROLLFRIC_REQUIRE_TOOLS=1 a test whose tool (ffmpeg, python3, chromium) or real fixture
 # is missing fails instead of saying SKIPPED.
-test: deps
-	ROLLFRIC_REQUIRE_TOOLS=1 $(CARGO) test --release --locked
+test: deps snakemake
+	ROLLFRIC_REQUIRE_TOOLS=1 ROLLFRIC_SNAKEMAKE=$(abspath $(SNAKEMAKE_VENV))/bin/snakemake \
+	  $(CARGO) test --release --locked
 	$(CARGO) build --release --locked
 	$(BIN) build
 	$(BIN) check

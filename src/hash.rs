@@ -84,6 +84,15 @@ pub fn fresh(key_file: &Path, key: &str, outputs: &[&Path]) -> bool {
         && outputs.iter().all(|p| p.exists())
 }
 
+/// Set `path`'s modification time to now (its content unchanged).
+pub fn touch(path: &Path) -> Result<()> {
+    std::fs::File::options()
+        .append(true)
+        .open(path)
+        .and_then(|f| f.set_modified(std::time::SystemTime::now()))
+        .with_context(|| format!("{}: cannot touch", path.display()))
+}
+
 /// Record that a stage's outputs now match `key` (written after the outputs, so a
 /// process killed between the two leaves a stale key and the stage runs again).
 pub fn record(key_file: &Path, key: &str) -> Result<()> {

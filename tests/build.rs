@@ -325,8 +325,14 @@ fn stage_commands_and_report_make_the_builds_reports() {
         "{}",
         stderr(&early)
     );
+    // A report before the stages: both experiments fail, naming the stage to run.
     let report = run(&["report"]);
-    assert!(!report.status.success(), "{}", said(&report));
+    assert!(said(&report).contains("2 failed"), "{}", said(&report));
+    assert!(
+        stderr(&report).contains("run `rollfric stage synth fabric-a` first"),
+        "{}",
+        stderr(&report)
+    );
     // In order, by name and by file; each a no-op the second time.
     let file = d.path().join("fabric-b.yaml");
     for exp in ["fabric-a", file.to_str().unwrap()] {

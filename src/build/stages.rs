@@ -66,6 +66,19 @@ impl Runs {
     }
 }
 
+/// The file whose content is stage `s`'s key for `exp` (written last by the stage).
+pub(super) fn key_file(cache: &Path, exp: &Experiment, s: Stage) -> Option<PathBuf> {
+    let dir = cache.join(&exp.name);
+    match s {
+        Stage::Synth => exp.file.synthetic.is_some().then(|| dir.join("twin.key")),
+        Stage::Detect => Some(DetectFiles::of(cache, exp).key),
+        Stage::Analyze => Some(dir.join(ANALYSIS_KEY)),
+    }
+}
+
+/// The analysis stage's key file under `cache/<name>/`.
+const ANALYSIS_KEY: &str = "analysis.key";
+
 /// What every stage of one experiment needs.
 pub(super) struct Ctx<'a> {
     /// The manifest's folder (report paths are relative to it).
@@ -410,7 +423,7 @@ fn analysis_stage(
         .hex();
     let dir = ctx.cache.join(&exp.name);
     let result_file = dir.join("result.json");
-    let key_file = dir.join("analysis.key");
+    let key_file = dir.join(ANALYSIS_KEY);
     if hash::fresh(&key_file, &key, &[&result_file]) {
         let r: Option<ExperimentResult> = std::fs::read(&result_file)
             .ok()

@@ -7,6 +7,7 @@ mod detect;
 mod fit;
 mod init;
 mod model;
+mod workflow;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -34,8 +35,12 @@ enum Cmd {
     /// engine: `build` is these stages in its own worker pool.
     Stage(build::StageArgs),
     /// Assemble the index, Table 1, Figure 19 and summary.json from the cached results
-    /// of every experiment (after `stage analyze` of each); computes nothing.
+    /// of every experiment (after `stage analyze` of each); computes nothing. Exits 0
+    /// once the reports are written: `check` judges them.
     Report(build::BuildArgs),
+    /// Write a workflow engine's file for the manifest: `workflow snakemake` writes a
+    /// Snakefile (one rule per stage) and profiles/ (local, Slurm) beside it.
+    Workflow(workflow::WorkflowArgs),
     /// Compare the reproduced values of a build's summary with their expected values and
     /// tolerances; exit 1 on a miss.
     Check(build::CheckArgs),
@@ -84,6 +89,7 @@ fn run(cli: Cli) -> anyhow::Result<Done> {
         Cmd::Build(a) => build::build(a, false),
         Cmd::Stage(a) => build::stage(a),
         Cmd::Report(a) => build::build(a, true),
+        Cmd::Workflow(a) => workflow::workflow(a).map(Done::ok),
         Cmd::Check(a) => build::check(a),
         Cmd::Simulate(a) => model::simulate(a).map(Done::ok),
         Cmd::Synth(a) => model::synth(a).map(Done::ok),

@@ -1,0 +1,200 @@
+//! `rollfric workflow snakemake`: the manifest's stages as a Snakefile, for a cluster.
+//!
+//! One rule per stage (`synth`, `detect`, `analyze`) with the experiment's name as
+//! wildcard, and `report`. Each rule runs `rollfric stage` (or `rollfric report`), whose
+//! own content-hash key decides what is stale; the rule's output is that key file, which
+//! the stage writes when it computes and touches when its key was already current, so
+//! Snakemake reruns a job exactly when one of its inputs (the experiment file, a lab
+//! video or angle CSV, the previous stage's key) is newer, and the job then does
+//! nothing unless rollfric's key changed. Snakemake only schedules: the cache is the
+//! source of truth, and `rollfric build` on the same folders gives the same reports.
+
+use super::REPORT_KEY;
+use crate::config::{Experiment, Manifest};
+use crate::pipeline::Source;
+use anyhow::{bail, Result};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The first line of every Snakefile written here (a file without it is not replaced).
+pub const SNAKEFILE_MARK: &str = "# Written by `rollfric workflow snakemake`";
+
+/// A local profile: `snakemake --profile profiles/local`.
+pub const LOCAL_PROFILE: &str = "\
+# rollfric on this machine: snakemake --profile profiles/local
+cores: 2
+rerun-incomplete: true
+printshellcmds: true
+";
+
+/// A Slurm profile (snakemake-executor-plugin-slurm): `snakemake --profile profiles/slurm`.
+pub const SLURM_PROFILE: &str = "\
+# rollfric on a Slurm cluster: snakemake --profile profiles/slurm
+# Needs snakemake-executor-plugin-slurm. Fill in your partition and account.
+executor: slurm
+# Jobs in the queue at once.
+jobs: 100
+rerun-incomplete: true
+default-resources:
+  # slurm_partition: main
+  # slurm_account: my-lab
+  mem_mb: 1000
+  runtime: 30
+# The analyze and report jobs take seconds: submit 20 of them as one cluster job.
+group-components:
+  short: 20
+";
+
+/// The Snakefile for `manifest`'s experiments, with rollfric's folders `cache` and
+/// `out` (paths as Snakemake, run where this is called from, should see them).
+pub fn snakefile(manifest: &Path, cache: &Path, out: &Path) -> Result<String> {
+    let (_, files) = Manifest::load(manifest)?;
+    let mut experiments = String::new();
+    let mut twins = Vec::new();
+    let mut videos = String::new();
+    let mut csvs = String::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for f in &files {
+        let exp = Experiment::load(f)?;
+        if !seen.insert(exp.name.clone()) {
+            bail!(
+                "{}: the experiment name `{}` is taken twice in the manifest",
+                f.display(),
+                exp.name
+            );
+        }
+        let q = |p: &Path| py_str(&p.to_string_lossy());
+        let _ = writeln!(experiments, "    {}: {},", py_str(&exp.name), q(f));
+        match Source::of(&exp, None)? {
+            Source::Twin => twins.push(py_str(&exp.name)),
+            Source::LabVideo(v) => {
+                let _ = writeln!(videos, "    {}: {},", py_str(&exp.name), q(&v));
+            }
+            Source::Csv(c) => {
+                let _ = writeln!(csvs, "    {}: {},", py_str(&exp.name), q(&c));
+            }
+        }
+    }
+    let s = |p: &Path| py_str(&p.to_string_lossy());
+    Ok(format!(
+        r#"{SNAKEFILE_MARK} from {manifest_name}: write it again
+# when the manifest's list of experiments changes.
+#
+#   snakemake --cores 2                       # here (or --profile profiles/local)
+#   snakemake --profile profiles/slurm        # on a Slurm cluster
+#
+# Each job runs one cached stage of one experiment (`rollfric stage`); rollfric's own
+# keys decide what is stale, and a job whose key is current does nothing but touch its
+# key file (the rule's output). `rollfric build` on the same folders gives the same
+# reports. Set config["rollfric"] to the binary when it is not on the PATH.
+
+ROLLFRIC = config.get("rollfric", "rollfric")
+MANIFEST = {manifest}
+CACHE = {cache}
+OUT = {out}
+ARGS = f"--manifest {{MANIFEST}} --cache {{CACHE}} --out {{OUT}} -q"
+
+# Experiment name -> its file.
+EXPERIMENTS = {{
+{experiments}}}
+# Digital twins: rendered (synth), then measured (detect).
+TWINS = [{twins}]
+# Lab recordings: measured (detect).
+VIDEOS = {{
+{videos}}}
+# Measured angle CSVs: analysed only.
+CSVS = {{
+{csvs}}}
+
+wildcard_constraints:
+    name="[A-Za-z0-9_-]+",
+
+
+def detect_input(w):
+    if w.name in VIDEOS:
+        return [EXPERIMENTS[w.name], VIDEOS[w.name]]
+    return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/twin.key"]
+
+
+def analyze_input(w):
+    if w.name in CSVS:
+        return [EXPERIMENTS[w.name], CSVS[w.name]]
+    return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/detect.key"]
+
+
+localrules:
+    all,
+
+
+rule all:
+    input:
+        f"{{CACHE}}/{report_key}",
+
+
+rule synth:
+    input:
+        lambda w: EXPERIMENTS[w.name],
+    output:
+        f"{{CACHE}}/{{{{name}}}}/twin.key",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=30,
+    shell:
+        "{{ROLLFRIC}} stage synth {{wildcards.name}} {{ARGS}}"
+
+
+rule detect:
+    input:
+        detect_input,
+    output:
+        f"{{CACHE}}/{{{{name}}}}/detect.key",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=30,
+    shell:
+        "{{ROLLFRIC}} stage detect {{wildcards.name}} {{ARGS}}"
+
+
+rule analyze:
+    input:
+        analyze_input,
+    output:
+        f"{{CACHE}}/{{{{name}}}}/analysis.key",
+    threads: 1
+    group: "short"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    shell:
+        "{{ROLLFRIC}} stage analyze {{wildcards.name}} {{ARGS}}"
+
+
+rule report:
+    input:
+        MANIFEST,
+        expand(f"{{CACHE}}/{{{{name}}}}/analysis.key", name=EXPERIMENTS),
+    output:
+        f"{{CACHE}}/{report_key}",
+    threads: 1
+    group: "short"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    shell:
+        "{{ROLLFRIC}} report {{ARGS}}"
+"#,
+        manifest_name = manifest.display(),
+        manifest = s(manifest),
+        cache = s(cache),
+        out = s(out),
+        twins = twins.join(", "),
+        report_key = REPORT_KEY,
+    ))
+}
+
+/// `s` as a Python string literal (JSON's escapes are Python's for these characters).
+fn py_str(s: &str) -> String {
+    serde_json::to_string(s).unwrap_or_else(|_| format!("{s:?}"))
+}

@@ -80,8 +80,8 @@ clippy: deps rust-components
 
 check: fmt clippy test
 
-bench: build
-	$(CARGO) bench --locked --bench pipeline
+bench: build snakemake
+	ROLLFRIC_SNAKEMAKE=$(abspath $(SNAKEMAKE_VENV))/bin/snakemake $(CARGO) bench --locked --bench pipeline
 
 # The property tests of tests/fuzz.rs (a short pass runs in `make test`) with many more
 # inputs: FUZZ_ITERS per target, from FUZZ_SEED.

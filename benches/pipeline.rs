@@ -3,7 +3,9 @@
 //! * one fit: turning points + equilibrium + s_r of a 60 fps angle series;
 //! * one simulated 60 s camera series of the digital twin;
 //! * `make reports` from scratch and unchanged;
-//! * the detector against the decoder (`ffmpeg -f null`) on six twins, paired rounds.
+//! * the detector against the decoder (`ffmpeg -f null`) on six twins, paired rounds;
+//! * 48 short twins through `rollfric build -j 2` and through `snakemake --cores 2`
+//!   (the generated Snakefile), paired rounds from an empty cache.
 
 use rollfric::config::Experiment;
 use rollfric::fit::{self, FitOptions};
@@ -71,6 +73,123 @@ fn main() {
     if std::env::var_os("ROLLFRIC_BENCH_NO_VIDEO").is_none() {
         video_bench(root);
     }
+    if std::env::var_os("ROLLFRIC_BENCH_NO_SCALE").is_none() {
+        scale_bench(root);
+    }
+}
+
+/// Twins of the scale benchmark, and its paired rounds.
+const SCALE_TWINS: usize = 48;
+const SCALE_ROUNDS: usize = 2;
+
+/// Many short videos: 48 twins (4 s at 25 frames/s, 320x240, s_r varied) built from an
+/// empty cache by `rollfric build -j 2` and by `snakemake --cores 2` on the Snakefile
+/// `rollfric workflow snakemake` writes (the Snakemake `make snakemake` installs, or
+/// `ROLLFRIC_SNAKEMAKE`), alternating which goes first; both walls (median) and their
+/// ratio per round (goal: Snakemake within 1.3x of the build).
+fn scale_bench(root: &Path) {
+    use std::process::Command;
+    let smk = std::env::var_os("ROLLFRIC_SNAKEMAKE")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| root.join("target/snakemake/bin/snakemake"));
+    if Command::new(&smk).arg("--version").output().is_err() {
+        println!(
+            "scale: {} not found (make snakemake installs it); skipped",
+            smk.display()
+        );
+        return;
+    }
+    let dir = root.join("target/bench-scale");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut list = String::from("title: Scale benchmark\nexperiments:\n");
+    for k in 0..SCALE_TWINS {
+        let s_r = 3e-6 + 1e-7 * k as f64;
+        std::fs::write(
+            dir.join(format!("t{k:02}.yaml")),
+            format!(
+                "name: t{k:02}\ngeometry:\n  incline: {{ h_m: 0.142, l_m: 1.500 }}\n  pendulum: {{ d_m: 0.1774 }}\n  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}\nsynthetic: {{ s_r_m: {s_r:e}, psi0_deg: 10, duration_s: 4, fps: 25, width: 320, height: 240, seed: {k} }}\n"
+            ),
+        )
+        .unwrap();
+        list += &format!("  - t{k:02}.yaml\n");
+    }
+    std::fs::write(dir.join("manifest.yaml"), list).unwrap();
+    let bin = env!("CARGO_BIN_EXE_rollfric");
+    let o = Command::new(bin)
+        .current_dir(&dir)
+        .args(["workflow", "snakemake", "--manifest", "manifest.yaml"])
+        .args(["--out", "reports-smk", "--cache", "cache-smk"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let timed = |cmd: &mut Command, clear: &[&str]| -> f64 {
+        for c in clear {
+            let _ = std::fs::remove_dir_all(dir.join(c));
+        }
+        let t = Instant::now();
+        let o = cmd.current_dir(&dir).output().unwrap();
+        let secs = t.elapsed().as_secs_f64();
+        // A build exits 1 when a short twin misses its tolerance: timed all the same.
+        assert!(
+            o.status.code().is_some_and(|c| c <= 1),
+            "{:?} failed: {}",
+            cmd,
+            String::from_utf8_lossy(&o.stderr)
+        );
+        secs
+    };
+    let build = || {
+        timed(
+            Command::new(bin).args([
+                "build",
+                "-q",
+                "-j",
+                "2",
+                "--manifest",
+                "manifest.yaml",
+                "--out",
+                "reports-build",
+                "--cache",
+                "cache-build",
+            ]),
+            &["reports-build", "cache-build"],
+        )
+    };
+    let snakemake = || {
+        timed(
+            Command::new(&smk)
+                .args(["--cores", "2", "--config"])
+                .arg(format!("rollfric={bin}")),
+            &["reports-smk", "cache-smk", ".snakemake"],
+        )
+    };
+    let (mut b, mut s, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for round in 0..SCALE_ROUNDS {
+        let (x, y) = if round % 2 == 0 {
+            let x = build();
+            (x, snakemake())
+        } else {
+            let y = snakemake();
+            (build(), y)
+        };
+        b.push(x);
+        s.push(y);
+        ratio.push(y / x);
+    }
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (lo, hi) = ratio
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &r| (l.min(r), h.max(r)));
+    println!(
+        "scale: {SCALE_TWINS} twins of 4 s from an empty cache: rollfric build -j 2 {:.1} s, snakemake --cores 2 {:.1} s (median of {SCALE_ROUNDS} paired rounds); snakemake / build {:.2} (range {lo:.2}..{hi:.2}; goal <= 1.3)",
+        med(&mut b),
+        med(&mut s),
+        med(&mut ratio)
+    );
 }
 
 /// `make reports` from scratch, compile excluded: `rollfric build` of the whole manifest

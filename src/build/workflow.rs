@@ -198,3 +198,67 @@ rule report:
 fn py_str(s: &str) -> String {
     serde_json::to_string(s).unwrap_or_else(|_| format!("{s:?}"))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_experiment_gets_the_stages_its_source_needs() {
+        let d = tempfile::tempdir().unwrap();
+        let geometry = "geometry:\n  incline: { angle_deg: 5 }\n  pendulum: { d_m: 0.2 }\n  \
+                        ball: { radius_m: 0.0127, mass_kg: 0.067 }\n";
+        let write = |name: &str, extra: &str| {
+            std::fs::write(
+                d.path().join(format!("{name}.yaml")),
+                format!("name: {name}\n{geometry}{extra}"),
+            )
+            .unwrap();
+        };
+        write("twin", "synthetic: { s_r_m: 4e-6 }\n");
+        write("lab", "video: { path: lab.mp4 }\n");
+        write("csv", "angles: csv.csv\n");
+        std::fs::write(d.path().join("lab.mp4"), b"not decoded here").unwrap();
+        std::fs::write(d.path().join("csv.csv"), "t_s,angle_rad\n0,1\n").unwrap();
+        let m = d.path().join("manifest.yaml");
+        std::fs::write(
+            &m,
+            "title: t\nexperiments:\n  - twin.yaml\n  - lab.yaml\n  - csv.yaml\n",
+        )
+        .unwrap();
+        let text = snakefile(&m, Path::new("cache"), Path::new("out")).unwrap();
+        assert!(text.starts_with(SNAKEFILE_MARK), "{text}");
+        let section = |start: &str| {
+            let from = text
+                .find(start)
+                .unwrap_or_else(|| panic!("{start} in {text}"));
+            text[from..]
+                .lines()
+                .take_while(|l| !l.is_empty() && *l != "}")
+                .collect::<Vec<_>>()
+                .join("\n")
+        };
+        assert!(
+            section("TWINS = ").starts_with("TWINS = [\"twin\"]"),
+            "{text}"
+        );
+        let videos = section("VIDEOS = {");
+        assert!(
+            videos.contains("\"lab\": ") && videos.contains("lab.mp4"),
+            "{videos}"
+        );
+        assert!(
+            !videos.contains("\"csv\"") && !videos.contains("\"twin\""),
+            "{videos}"
+        );
+        let csvs = section("CSVS = {");
+        assert!(
+            csvs.contains("\"csv\": ") && csvs.contains("csv.csv"),
+            "{csvs}"
+        );
+        assert!(text.contains("CACHE = \"cache\"") && text.contains("OUT = \"out\""));
+        for rule in ["synth", "detect", "analyze", "report"] {
+            assert!(text.contains(&format!("\nrule {rule}:\n")), "{rule}");
+        }
+    }
+}

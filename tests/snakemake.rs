@@ -1,5 +1,8 @@
-//! The same build through Snakemake (`rollfric workflow snakemake`): from scratch it
-//! gives reports byte-identical to `rollfric build`; a second run has nothing to do;
+//! The same build through Snakemake (`rollfric workflow snakemake`), on two twins, a
+//! lab experiment whose video is missing and a file that does not load: from scratch it
+//! gives reports byte-identical to `rollfric build`'s (the two failures fail only their
+//! own experiments and are marked in the index and summary, as the build marks them);
+//! a second run has nothing to do;
 //! editing one experiment reruns only its jobs and the report; a run killed with
 //! `kill -9` at a random moment and run again completes to the same bytes; the
 //! cluster-generic executor (submit script running each job here) completes the DAG;
@@ -48,9 +51,23 @@ synthetic: {{ s_r_m: {s_r}, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_d
         )
         .unwrap();
     }
+    // A lab experiment whose recording is not there, and a file that does not load:
+    // each fails alone, and the report marks it.
+    std::fs::write(
+        dir.join("lab-run.yaml"),
+        "name: lab-run
+geometry:
+  incline: { angle_deg: 5 }
+  pendulum: { d_m: 0.2 }
+  ball: { radius_m: 0.0127, mass_kg: 0.067 }
+video: { path: videos/lab-run.mp4 }
+",
+    )
+    .unwrap();
+    std::fs::write(dir.join("broken.yaml"), "geometry: [not, a, mapping]\n").unwrap();
     std::fs::write(
         dir.join("manifest.yaml"),
-        "title: Snakemake test\nexperiments:\n  - one.yaml\n  - two.yaml\n",
+        "title: Snakemake test\nexperiments:\n  - one.yaml\n  - two.yaml\n  - lab-run.yaml\n  - broken.yaml\n",
     )
     .unwrap();
 }
@@ -99,8 +116,12 @@ struct Smk {
 }
 
 impl Smk {
+    /// Snakemake in its own process group: on a failed job it signals its whole
+    /// group, which must not be the test's.
     fn command(&self, args: &[&str]) -> Command {
+        use std::os::unix::process::CommandExt;
         let mut c = Command::new(&self.bin);
+        c.process_group(0);
         c.args(args)
             .args(["--config", &format!("rollfric={BIN}")])
             .current_dir(&self.dir)
@@ -144,8 +165,9 @@ fn snakemake_builds_the_same_reports_as_the_build() {
     let d = tempfile::tempdir().unwrap();
     let dir = d.path();
     setup(dir);
+    // The build marks the two failures and exits 1.
     let build = || {
-        rollfric_ok(
+        let o = common::rollfric(
             &[
                 "build",
                 "-q",
@@ -157,6 +179,11 @@ fn snakemake_builds_the_same_reports_as_the_build() {
                 "cache-built",
             ],
             dir,
+        );
+        assert!(
+            text(&o).contains("2 failed") && text(&o).contains("FAILED lab-run"),
+            "{}",
+            text(&o)
         );
     };
     build();
@@ -181,22 +208,34 @@ fn snakemake_builds_the_same_reports_as_the_build() {
 
     // From scratch: the build's bytes.
     let first = smk.run(&["--cores", "2"]);
-    let want: Vec<String> = ["all", "report"]
-        .into_iter()
-        .map(String::from)
-        .chain(
-            ["analyze", "detect", "synth"]
-                .iter()
-                .flat_map(|r| ["one", "two"].map(|e| format!("{r} {e}"))),
-        )
-        .collect::<std::collections::BTreeSet<_>>()
-        .into_iter()
-        .collect();
+    let want: Vec<String> = [
+        "all",
+        "report",
+        "analyze broken",
+        "analyze lab-run",
+        "detect lab-run",
+    ]
+    .into_iter()
+    .map(String::from)
+    .chain(
+        ["analyze", "detect", "synth"]
+            .iter()
+            .flat_map(|r| ["one", "two"].map(|e| format!("{r} {e}"))),
+    )
+    .collect::<std::collections::BTreeSet<_>>()
+    .into_iter()
+    .collect();
     assert_eq!(jobs(&first), want, "{first}");
+    // The failures are the build's, in the index and the summary, byte for byte.
     same_tree(
         &dir.join("built"),
         &dir.join("reports"),
         "snakemake from scratch",
+    );
+    let summary = std::fs::read_to_string(dir.join("reports/summary.json")).unwrap();
+    assert!(
+        summary.contains("lab-run") && summary.contains("broken"),
+        "{summary}"
     );
     // Again: nothing to do.
     let again = smk.run(&["--cores", "2"]);
@@ -207,8 +246,14 @@ fn snakemake_builds_the_same_reports_as_the_build() {
     yaml.push_str("# edited\n");
     std::fs::write(dir.join("one.yaml"), yaml).unwrap();
     let edited = smk.run(&["--cores", "2"]);
+    // (A failed experiment's jobs run again too: its stages are not done for rollfric,
+    // only recorded for Snakemake.)
+    let edited_jobs: Vec<String> = jobs(&edited)
+        .into_iter()
+        .filter(|j| !j.ends_with("lab-run") && !j.ends_with("broken"))
+        .collect();
     assert_eq!(
-        jobs(&edited),
+        edited_jobs,
         ["all", "analyze one", "detect one", "report", "synth one"],
         "{edited}"
     );
@@ -225,9 +270,7 @@ fn snakemake_builds_the_same_reports_as_the_build() {
         .subsec_nanos();
     let wait = Duration::from_millis(800 + u64::from(nanos % 3000));
     let mut child = {
-        use std::os::unix::process::CommandExt;
         smk.command(&["--cores", "2"])
-            .process_group(0)
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
@@ -236,9 +279,11 @@ fn snakemake_builds_the_same_reports_as_the_build() {
     std::thread::sleep(wait);
     let finished = child.try_wait().unwrap().is_some();
     let pgid = child.id() as i32;
-    // The whole group: snakemake and the rollfric jobs it started.
+    // The whole group: snakemake and the rollfric jobs it started. (`--` first: procps'
+    // kill may take a bare negative number for an option, and `-1` is every process.)
+    assert!(pgid > 1, "{pgid}");
     let _ = Command::new("kill")
-        .args(["-KILL", &format!("-{pgid}")])
+        .args(["-s", "KILL", "--", &format!("-{pgid}")])
         .status();
     let _ = child.wait();
     println!(
@@ -250,10 +295,7 @@ fn snakemake_builds_the_same_reports_as_the_build() {
             ""
         }
     );
-    let _ = Command::new(&smk.bin)
-        .args(["--unlock"])
-        .current_dir(dir)
-        .output();
+    let _ = smk.command(&["--unlock"]).output();
     smk.run(&["--cores", "2", "--rerun-incomplete"]);
     same_tree(
         &dir.join("built"),
@@ -287,10 +329,12 @@ fn snakemake_builds_the_same_reports_as_the_build() {
     let dry = smk.run(&["--dry-run", "--profile", "profiles/slurm"]);
     let listed = jobs(&dry);
     assert_eq!(listed, want, "{dry}");
-    for (rule, mem, runtime) in [
-        ("synth", 1000, 30),
-        ("detect", 1000, 30),
-        ("analyze", 500, 5),
+    // One job per stage per experiment: the twins' three stages, the lab run's detect
+    // and analyze, the broken file's analyze.
+    for (rule, jobs, mem, runtime) in [
+        ("synth", 2, 1000, 30),
+        ("detect", 3, 1000, 30),
+        ("analyze", 4, 500, 5),
     ] {
         let n = dry
             .split("rule ")
@@ -300,8 +344,8 @@ fn snakemake_builds_the_same_reports_as_the_build() {
             })
             .count();
         assert_eq!(
-            n, 2,
-            "{rule}: two jobs with mem_mb={mem}, runtime={runtime}:\n{dry}"
+            n, jobs,
+            "{rule}: {jobs} jobs with mem_mb={mem}, runtime={runtime}:\n{dry}"
         );
     }
 }

@@ -33,9 +33,9 @@ pub use stages::{cached_angles, Stage};
 pub use writer::relative;
 
 use crate::config::{Experiment, Manifest};
-use crate::hash;
 use crate::report::{self, Outcome};
-use anyhow::{bail, Result};
+use crate::{fsutil, hash};
+use anyhow::{bail, Context, Result};
 use progress::Progress;
 use stages::{Ctx, Runs};
 use std::path::{Path, PathBuf};
@@ -96,6 +96,10 @@ pub struct StageOptions {
     pub cache: PathBuf,
     pub quiet: bool,
     pub no_wait: bool,
+    /// On the experiment's failure, record it for `report` (as the build would show it),
+    /// mark the stage's key file failed (so the next run computes it again) and return
+    /// normally: a workflow engine's job then succeeds and the report still assembles.
+    pub record_failure: bool,
 }
 
 /// One cached stage of one experiment of the manifest, into the cache layout the build
@@ -114,11 +118,11 @@ pub fn stage(opts: &StageOptions) -> Result<String> {
         .collect();
     let wanted = Path::new(&opts.experiment);
     let same_file = |f: &Path| matches!((std::fs::canonicalize(f), std::fs::canonicalize(wanted)), (Ok(a), Ok(b)) if a == b);
-    let Some(i) = (0..files.len()).find(|&i| {
-        loaded[i]
-            .as_ref()
-            .is_ok_and(|(e, _)| e.name == opts.experiment)
-            || same_file(&files[i])
+    // By name; by the file's stem when the file does not load (the name the build
+    // gives it then); by file.
+    let Some(i) = (0..files.len()).find(|&i| match &loaded[i] {
+        Ok((e, _)) => e.name == opts.experiment || same_file(&files[i]),
+        Err(_) => display_name(&files[i]) == opts.experiment || same_file(&files[i]),
     }) else {
         bail!(
             "{}: no experiment named or found at `{}` in the manifest",
@@ -126,15 +130,69 @@ pub fn stage(opts: &StageOptions) -> Result<String> {
             opts.experiment
         );
     };
-    if let Some(why) = &name_collisions(&root, &files, &loaded)[i] {
-        bail!("{why}");
-    }
-    let (exp, yaml) = match &loaded[i] {
-        Ok(l) => l,
-        Err(e) => bail!("{e:#}"),
-    };
+    let name = loaded[i]
+        .as_ref()
+        .map_or_else(|_| display_name(&files[i]), |(e, _)| e.name.clone());
     let _cache_lock = lock::Lock::acquire_shared(&opts.cache, !opts.no_wait)?;
-    let _exp_lock = lock::Lock::acquire(&opts.cache.join(&exp.name), !opts.no_wait)?;
+    let _exp_lock = lock::Lock::acquire(&opts.cache.join(&name), !opts.no_wait)?;
+    let failure = stages::failure_file(&opts.cache, &name);
+    let ran = (|| -> Result<String> {
+        if let Some(why) = &name_collisions(&root, &files, &loaded)[i] {
+            bail!("{why}");
+        }
+        let (exp, yaml) = match &loaded[i] {
+            Ok(l) => l,
+            Err(e) => bail!("{e:#}"),
+        };
+        run_stage(opts, &root, &files[i], exp, yaml)
+    })();
+    let key = stages::key_file(&opts.cache, &name, opts.stage);
+    match ran {
+        Ok(how) => {
+            if failure.exists() {
+                std::fs::remove_file(&failure)
+                    .with_context(|| format!("{}: cannot remove", failure.display()))?;
+            }
+            // A workflow engine judges a job by its output's time: a stage that found
+            // its key current says so by touching the key file (its content, what
+            // rollfric reads, is unchanged).
+            if key.exists() {
+                hash::touch(&key)?;
+            }
+            Ok(format!(
+                "{}: stage {}: {how} in {:.1} s\n",
+                display_name(&files[i]),
+                opts.stage.as_str(),
+                started.elapsed().as_secs_f64()
+            ))
+        }
+        Err(e) if opts.record_failure => {
+            // A stage refused because an earlier one failed keeps that failure.
+            let earlier = e.downcast_ref::<stages::NotCurrent>().is_some() && failure.exists();
+            if !earlier {
+                let msg = writer::unrooted(&root, &format!("{e:#}"));
+                fsutil::write_atomic(&failure, msg.as_bytes())?;
+            }
+            // Not a key: the stage is stale for rollfric, done for the engine.
+            fsutil::write_atomic(&key, b"failed\n")?;
+            Ok(format!(
+                "{}: stage {}: FAILED (recorded for the report): {e:#}\n",
+                display_name(&files[i]),
+                opts.stage.as_str()
+            ))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// The stage of [`stage`] on a loaded experiment.
+fn run_stage(
+    opts: &StageOptions,
+    root: &Path,
+    file: &Path,
+    exp: &Experiment,
+    yaml: &[u8],
+) -> Result<String> {
     let _out_lock = if opts.stage == Stage::Analyze && !same_folder(&opts.cache, &opts.out) {
         Some(lock::Lock::acquire_shared(&opts.out, !opts.no_wait)?)
     } else {
@@ -142,28 +200,17 @@ pub fn stage(opts: &StageOptions) -> Result<String> {
     };
     let progress = Arc::new(Progress::new(1, opts.quiet));
     let writer = Writer::new(&opts.out);
-    let label = display_name(&files[i]);
     let ctx = Ctx {
-        root: &root,
+        root,
         cache: &opts.cache,
         progress: &progress,
-        label: label.clone(),
+        label: display_name(file),
         writer: &writer,
         runs: Runs::Only(opts.stage),
     };
-    let (_, how) = stages::run_experiment(&files[i], exp, yaml, &ctx)?;
+    let (_, how) = stages::run_experiment(file, exp, yaml, &ctx)?;
     progress.clear();
-    // A workflow engine judges a job by its output's time: a stage that found its key
-    // current says so by touching the key file (its content, what rollfric reads, is
-    // unchanged).
-    if let Some(key) = stages::key_file(&opts.cache, exp, opts.stage).filter(|k| k.exists()) {
-        hash::touch(&key)?;
-    }
-    Ok(format!(
-        "{label}: stage {}: {how} in {:.1} s\n",
-        opts.stage.as_str(),
-        started.elapsed().as_secs_f64()
-    ))
+    Ok(how)
 }
 
 /// Every experiment through the stages `runs` allows, then the index.
@@ -255,12 +302,24 @@ fn run(opts: &BuildOptions, runs: Runs) -> Result<BuildOutcome> {
                         unreachable!("a build or report runs every experiment to its result")
                     }
                     Err(e) => {
-                        let msg = format!("{e:#}");
-                        progress.finish(&label, &format!("FAILED: {msg}"));
+                        // A report shows the failure a stage command recorded, as the
+                        // build would have shown it.
+                        let name = loaded[i]
+                            .as_ref()
+                            .map_or_else(|_| label.clone(), |(e, _)| e.name.clone());
+                        let recorded = (runs == Runs::Cached)
+                            .then(|| {
+                                std::fs::read_to_string(stages::failure_file(&opts.cache, &name))
+                                    .ok()
+                            })
+                            .flatten();
+                        let error =
+                            recorded.unwrap_or_else(|| writer::unrooted(&root, &format!("{e:#}")));
+                        progress.finish(&label, &format!("FAILED: {error}"));
                         Outcome::Failed {
                             name: label.clone(),
                             file: relative(&root, file),
-                            error: writer::unrooted(&root, &msg),
+                            error,
                         }
                     }
                 };

@@ -66,14 +66,19 @@ impl Runs {
     }
 }
 
-/// The file whose content is stage `s`'s key for `exp` (written last by the stage).
-pub(super) fn key_file(cache: &Path, exp: &Experiment, s: Stage) -> Option<PathBuf> {
-    let dir = cache.join(&exp.name);
-    match s {
-        Stage::Synth => exp.file.synthetic.is_some().then(|| dir.join("twin.key")),
-        Stage::Detect => Some(DetectFiles::of(cache, exp).key),
-        Stage::Analyze => Some(dir.join(ANALYSIS_KEY)),
-    }
+/// The file whose content is stage `s`'s key for the experiment named `name` (written
+/// last by the stage).
+pub(super) fn key_file(cache: &Path, name: &str, s: Stage) -> PathBuf {
+    cache.join(name).join(match s {
+        Stage::Synth => "twin.key",
+        Stage::Detect => "detect.key",
+        Stage::Analyze => ANALYSIS_KEY,
+    })
+}
+
+/// Where `rollfric stage --record-failure` leaves an experiment's failure for `report`.
+pub(super) fn failure_file(cache: &Path, name: &str) -> PathBuf {
+    cache.join(name).join("failed.txt")
 }
 
 /// The analysis stage's key file under `cache/<name>/`.
@@ -90,17 +95,30 @@ pub(super) struct Ctx<'a> {
     pub runs: Runs,
 }
 
+/// The error of a stage that may not run here and is not current in the cache.
+#[derive(Debug)]
+pub struct NotCurrent(String);
+
+impl std::fmt::Display for NotCurrent {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for NotCurrent {}
+
 impl Ctx<'_> {
     /// Stop: stage `s` is not current and may not run here.
     fn not_current(&self, exp: &Experiment, s: Stage) -> anyhow::Error {
-        anyhow::anyhow!(
+        NotCurrent(format!(
             "{}: the {} stage is not current in {}: run `rollfric stage {} {}` first",
             self.label,
             s.as_str(),
             self.cache.display(),
             s.as_str(),
             exp.name
-        )
+        ))
+        .into()
     }
 }
 

@@ -11,8 +11,7 @@
 
 use super::REPORT_KEY;
 use crate::config::{Experiment, Manifest};
-use crate::pipeline::Source;
-use anyhow::{bail, Result};
+use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -55,24 +54,38 @@ pub fn snakefile(manifest: &Path, cache: &Path, out: &Path) -> Result<String> {
     let mut csvs = String::new();
     let mut seen = std::collections::BTreeSet::new();
     for f in &files {
-        let exp = Experiment::load(f)?;
-        if !seen.insert(exp.name.clone()) {
-            bail!(
-                "{}: the experiment name `{}` is taken twice in the manifest",
-                f.display(),
-                exp.name
-            );
-        }
         let q = |p: &Path| py_str(&p.to_string_lossy());
+        // An experiment that does not load (or repeats a name) is still a job: its
+        // analyze stage fails and records why, and the report marks it as a build does.
+        let stem = f.file_stem().map_or_else(
+            || f.display().to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        );
+        let exp = match Experiment::load(f) {
+            Ok(e) if seen.insert(e.name.clone()) => e,
+            _ => {
+                if seen.insert(stem.clone()) {
+                    let _ = writeln!(experiments, "    {}: {},", py_str(&stem), q(f));
+                    let _ = writeln!(csvs, "    {}: None,", py_str(&stem));
+                }
+                continue;
+            }
+        };
         let _ = writeln!(experiments, "    {}: {},", py_str(&exp.name), q(f));
-        match Source::of(&exp, None)? {
-            Source::Twin => twins.push(py_str(&exp.name)),
-            Source::LabVideo(v) => {
-                let _ = writeln!(videos, "    {}: {},", py_str(&exp.name), q(&v));
+        let name = py_str(&exp.name);
+        // Where the angles come from, as `Source::of` decides, whether or not the file
+        // is there yet (a missing one fails its job, not the workflow).
+        match (
+            &exp.file.angles,
+            exp.file.video.as_ref().and_then(|v| v.path.as_ref()),
+        ) {
+            (Some(a), _) => {
+                let _ = writeln!(csvs, "    {name}: {},", q(&exp.resolve(a)));
             }
-            Source::Csv(c) => {
-                let _ = writeln!(csvs, "    {}: {},", py_str(&exp.name), q(&c));
+            (None, Some(v)) => {
+                let _ = writeln!(videos, "    {name}: {},", q(&exp.resolve(v)));
             }
+            (None, None) => twins.push(name),
         }
     }
     let s = |p: &Path| py_str(&p.to_string_lossy());
@@ -88,11 +101,16 @@ pub fn snakefile(manifest: &Path, cache: &Path, out: &Path) -> Result<String> {
 # key file (the rule's output). `rollfric build` on the same folders gives the same
 # reports. Set config["rollfric"] to the binary when it is not on the PATH.
 
+import os
+
 ROLLFRIC = config.get("rollfric", "rollfric")
 MANIFEST = {manifest}
 CACHE = {cache}
 OUT = {out}
+# A failing experiment fails only its own jobs: the stage records the failure, which
+# the report marks as a build does (and the next run tries the stage again).
 ARGS = f"--manifest {{MANIFEST}} --cache {{CACHE}} --out {{OUT}} -q"
+STAGE_ARGS = f"{{ARGS}} --record-failure"
 
 # Experiment name -> its file.
 EXPERIMENTS = {{
@@ -102,7 +120,7 @@ TWINS = [{twins}]
 # Lab recordings: measured (detect).
 VIDEOS = {{
 {videos}}}
-# Measured angle CSVs: analysed only.
+# Measured angle CSVs (None: an experiment file that does not load): analysed only.
 CSVS = {{
 {csvs}}}
 
@@ -110,15 +128,19 @@ wildcard_constraints:
     name="[A-Za-z0-9_-]+",
 
 
+def present(*paths):
+    return [p for p in paths if p is not None and os.path.exists(p)]
+
+
 def detect_input(w):
     if w.name in VIDEOS:
-        return [EXPERIMENTS[w.name], VIDEOS[w.name]]
+        return [EXPERIMENTS[w.name]] + present(VIDEOS[w.name])
     return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/twin.key"]
 
 
 def analyze_input(w):
     if w.name in CSVS:
-        return [EXPERIMENTS[w.name], CSVS[w.name]]
+        return [EXPERIMENTS[w.name]] + present(CSVS[w.name])
     return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/detect.key"]
 
 
@@ -141,7 +163,7 @@ rule synth:
         mem_mb=1000,
         runtime=30,
     shell:
-        "{{ROLLFRIC}} stage synth {{wildcards.name}} {{ARGS}}"
+        "{{ROLLFRIC}} stage synth {{wildcards.name}} {{STAGE_ARGS}}"
 
 
 rule detect:
@@ -154,7 +176,7 @@ rule detect:
         mem_mb=1000,
         runtime=30,
     shell:
-        "{{ROLLFRIC}} stage detect {{wildcards.name}} {{ARGS}}"
+        "{{ROLLFRIC}} stage detect {{wildcards.name}} {{STAGE_ARGS}}"
 
 
 rule analyze:
@@ -168,7 +190,7 @@ rule analyze:
         mem_mb=500,
         runtime=5,
     shell:
-        "{{ROLLFRIC}} stage analyze {{wildcards.name}} {{ARGS}}"
+        "{{ROLLFRIC}} stage analyze {{wildcards.name}} {{STAGE_ARGS}}"
 
 
 rule report:

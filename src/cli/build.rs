@@ -68,6 +68,11 @@ pub struct StageArgs {
     /// Refuse instead of waiting when a build uses the same folders.
     #[arg(long)]
     no_wait: bool,
+    /// When the experiment fails: record the failure for `rollfric report` (which then
+    /// marks it FAILED as a build does), mark the stage's key file failed, and exit 0,
+    /// so that a workflow engine goes on with the other experiments.
+    #[arg(long)]
+    record_failure: bool,
 }
 
 /// `rollfric stage`: one cached stage of one experiment.
@@ -85,6 +90,7 @@ pub fn stage(a: StageArgs) -> Result<Done> {
         cache: a.cache,
         quiet: a.quiet,
         no_wait: a.no_wait,
+        record_failure: a.record_failure,
     })
     .map(Done::ok)
 }

@@ -20,8 +20,12 @@
 //! The same stages run one at a time from outside ([`stage`], `rollfric stage NAME
 //! EXPERIMENT`: a workflow engine's jobs), each refusing when the one before it is not
 //! current; [`report`] then assembles the index from the cached results. [`build`] is
-//! those stages in its own worker pool: one code path ([`stages::run_experiment`] under a
-//! [`Runs`] policy).
+//! those stages in its own worker pool: one code path (`stages::run_experiment` under a
+//! `Runs` policy). Each stage's key file (`twin.key`, `detect.key`, `analysis.key`) is
+//! also a workflow engine's output: a stage command touches it when the key is current,
+//! and with `--record-failure` writes `failed` into it and the experiment's error into
+//! `failed.txt`, which `report` shows; `report` writes `report.key` (the SHA-256 of the
+//! summary) at the cache's top.
 
 mod lock;
 pub mod progress;

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{command, rollfric, root};
+use common::{command, rollfric, root, same_tree, snapshot};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -72,24 +72,6 @@ fn check(summary: &Path) -> Output {
         ],
         &root(),
     )
-}
-
-/// Every file under `dir`, relative path -> bytes.
-fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
-    let mut out = std::collections::BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).unwrap().display().to_string();
-                out.insert(rel, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
 }
 
 fn stderr(o: &Output) -> String {
@@ -361,15 +343,11 @@ fn stage_commands_and_report_make_the_builds_reports() {
     );
     let report = run(&["report"]);
     assert!(report.status.success(), "{}", stderr(&report));
-    let (a, b) = (snapshot(&d.path().join("built")), snapshot(&out));
-    assert_eq!(
-        a.keys().collect::<Vec<_>>(),
-        b.keys().collect::<Vec<_>>(),
-        "the same files"
+    same_tree(
+        &d.path().join("built"),
+        &out,
+        "build against stage + report",
     );
-    for (k, v) in &a {
-        assert!(b[k] == *v, "{k} differs between build and stage + report");
-    }
     // The build on the staged cache has nothing to do.
     let again = build(&m, &out, &cache);
     assert!(

@@ -14,7 +14,7 @@
 
 mod common;
 
-use common::{rollfric_ok, root};
+use common::{rollfric_ok, root, same_tree};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
@@ -39,15 +39,7 @@ fn setup(dir: &Path) {
     for (name, s_r) in [("one", "3.714e-6"), ("two", "5.0e-6")] {
         std::fs::write(
             dir.join(format!("{name}.yaml")),
-            format!(
-                "name: {name}
-geometry:
-  incline: {{ h_m: 0.142, l_m: 1.500 }}
-  pendulum: {{ d_m: 0.1774 }}
-  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
-synthetic: {{ s_r_m: {s_r}, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_deg: 0.05, width: 640, height: 360 }}
-"
-            ),
+            common::short_glass_twin(name, s_r, ""),
         )
         .unwrap();
     }
@@ -70,36 +62,6 @@ video: { path: videos/lab-run.mp4 }
         "title: Snakemake test\nexperiments:\n  - one.yaml\n  - two.yaml\n  - lab-run.yaml\n  - broken.yaml\n",
     )
     .unwrap();
-}
-
-/// Every file under `dir`, relative path -> bytes.
-fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
-    let mut out = std::collections::BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).unwrap().display().to_string();
-                out.insert(rel, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
-}
-
-fn same_tree(a: &Path, b: &Path, what: &str) {
-    let (x, y) = (snapshot(a), snapshot(b));
-    assert_eq!(
-        x.keys().collect::<Vec<_>>(),
-        y.keys().collect::<Vec<_>>(),
-        "{what}: not the same files"
-    );
-    for (k, v) in &x {
-        assert!(y[k] == *v, "{what}: {k} differs");
-    }
 }
 
 fn text(o: &Output) -> String {

@@ -303,17 +303,7 @@ fn a_pivot_off_along_the_wire_is_suspect() {
         return;
     }
     let d = tempfile::tempdir().unwrap();
-    let twin = |name: &str, video: &str| {
-        format!(
-            "name: {name}
-geometry:
-  incline: {{ h_m: 0.142, l_m: 1.500 }}
-  pendulum: {{ d_m: 0.1774 }}
-  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
-{video}synthetic: {{ s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_deg: 0.05, width: 640, height: 360 }}
-"
-        )
-    };
+    let twin = |name: &str, video: &str| common::short_glass_twin(name, "3.714e-6", video);
     let build = |names: &[&str]| {
         let list: String = names.iter().map(|n| format!("  - {n}.yaml\n")).collect();
         std::fs::write(

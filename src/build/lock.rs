@@ -13,55 +13,44 @@ impl Lock {
     /// (the stage commands of different experiments), none beside an exclusive one (a
     /// build). Waits, saying so, or with `wait` false refuses.
     pub fn acquire_shared(dir: &Path, wait: bool) -> Result<Self> {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("{}: cannot create folder", dir.display()))?;
-        let f = File::open(dir).with_context(|| format!("{}: cannot open", dir.display()))?;
-        match f.try_lock_shared() {
-            Ok(()) => return Ok(Self(f)),
-            Err(TryLockError::WouldBlock) => {}
-            Err(TryLockError::Error(e)) => {
-                return Err(e).with_context(|| format!("{}: cannot lock", dir.display()))
-            }
-        }
-        if !wait {
-            bail!(
-                "{}: a rollfric build is using this folder (--no-wait given)",
-                dir.display()
-            );
-        }
-        eprintln!(
-            "{}: a rollfric build is using this folder; waiting for it to finish",
-            dir.display()
-        );
-        f.lock_shared()
-            .with_context(|| format!("{}: cannot lock", dir.display()))?;
-        Ok(Self(f))
+        Self::take(dir, wait, true)
     }
 
     /// Lock `dir` (created when missing). When another build holds it: wait, saying so
     /// on standard error, or with `wait` false refuse.
     pub fn acquire(dir: &Path, wait: bool) -> Result<Self> {
+        Self::take(dir, wait, false)
+    }
+
+    fn take(dir: &Path, wait: bool, shared: bool) -> Result<Self> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create folder", dir.display()))?;
         let f = File::open(dir).with_context(|| format!("{}: cannot open", dir.display()))?;
-        match f.try_lock() {
+        let tried = if shared {
+            f.try_lock_shared()
+        } else {
+            f.try_lock()
+        };
+        match tried {
             Ok(()) => return Ok(Self(f)),
             Err(TryLockError::WouldBlock) => {}
             Err(TryLockError::Error(e)) => {
                 return Err(e).with_context(|| format!("{}: cannot lock", dir.display()))
             }
         }
+        // A shared holder waits only for a build; an exclusive one for anyone else.
+        let who = if shared { "a" } else { "another" };
         if !wait {
             bail!(
-                "{}: another rollfric build is using this folder (--no-wait given)",
+                "{}: {who} rollfric build is using this folder (--no-wait given)",
                 dir.display()
             );
         }
         eprintln!(
-            "{}: another rollfric build is using this folder; waiting for it to finish",
+            "{}: {who} rollfric build is using this folder; waiting for it to finish",
             dir.display()
         );
-        f.lock()
+        if shared { f.lock_shared() } else { f.lock() }
             .with_context(|| format!("{}: cannot lock", dir.display()))?;
         Ok(Self(f))
     }

@@ -30,6 +30,15 @@ pub enum Stage {
 }
 
 impl Stage {
+    /// The stage's key file under `cache/<name>/` (written last by the stage).
+    pub fn key_name(self) -> &'static str {
+        match self {
+            Stage::Synth => pipeline::TWIN_KEY,
+            Stage::Detect => "detect.key",
+            Stage::Analyze => "analysis.key",
+        }
+    }
+
     pub fn as_str(self) -> &'static str {
         match self {
             Stage::Synth => "synth",
@@ -69,20 +78,13 @@ impl Runs {
 /// The file whose content is stage `s`'s key for the experiment named `name` (written
 /// last by the stage).
 pub(super) fn key_file(cache: &Path, name: &str, s: Stage) -> PathBuf {
-    cache.join(name).join(match s {
-        Stage::Synth => "twin.key",
-        Stage::Detect => "detect.key",
-        Stage::Analyze => ANALYSIS_KEY,
-    })
+    cache.join(name).join(s.key_name())
 }
 
 /// Where `rollfric stage --record-failure` leaves an experiment's failure for `report`.
 pub(super) fn failure_file(cache: &Path, name: &str) -> PathBuf {
     cache.join(name).join("failed.txt")
 }
-
-/// The analysis stage's key file under `cache/<name>/`.
-const ANALYSIS_KEY: &str = "analysis.key";
 
 /// What every stage of one experiment needs.
 pub(super) struct Ctx<'a> {
@@ -265,7 +267,7 @@ impl DetectFiles {
             fig11: dir.join("fig11.png"),
             review: dir.join("review.json"),
             review_dir: dir.join("review"),
-            key: dir.join("detect.key"),
+            key: dir.join(Stage::Detect.key_name()),
         }
     }
 
@@ -441,7 +443,7 @@ fn analysis_stage(
         .hex();
     let dir = ctx.cache.join(&exp.name);
     let result_file = dir.join("result.json");
-    let key_file = dir.join(ANALYSIS_KEY);
+    let key_file = dir.join(Stage::Analyze.key_name());
     if hash::fresh(&key_file, &key, &[&result_file]) {
         let r: Option<ExperimentResult> = std::fs::read(&result_file)
             .ok()

@@ -9,7 +9,7 @@
 //! nothing unless rollfric's key changed. Snakemake only schedules: the cache is the
 //! source of truth, and `rollfric build` on the same folders gives the same reports.
 
-use super::REPORT_KEY;
+use super::{Stage, REPORT_KEY};
 use crate::config::{Experiment, Manifest};
 use anyhow::Result;
 use std::fmt::Write as _;
@@ -135,13 +135,13 @@ def present(*paths):
 def detect_input(w):
     if w.name in VIDEOS:
         return [EXPERIMENTS[w.name]] + present(VIDEOS[w.name])
-    return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/twin.key"]
+    return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/{twin_key}"]
 
 
 def analyze_input(w):
     if w.name in CSVS:
         return [EXPERIMENTS[w.name]] + present(CSVS[w.name])
-    return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/detect.key"]
+    return [EXPERIMENTS[w.name], f"{{CACHE}}/{{w.name}}/{detect_key}"]
 
 
 localrules:
@@ -157,7 +157,7 @@ rule synth:
     input:
         lambda w: EXPERIMENTS[w.name],
     output:
-        f"{{CACHE}}/{{{{name}}}}/twin.key",
+        f"{{CACHE}}/{{{{name}}}}/{twin_key}",
     threads: 1
     resources:
         mem_mb=1000,
@@ -170,7 +170,7 @@ rule detect:
     input:
         detect_input,
     output:
-        f"{{CACHE}}/{{{{name}}}}/detect.key",
+        f"{{CACHE}}/{{{{name}}}}/{detect_key}",
     threads: 1
     resources:
         mem_mb=1000,
@@ -183,7 +183,7 @@ rule analyze:
     input:
         analyze_input,
     output:
-        f"{{CACHE}}/{{{{name}}}}/analysis.key",
+        f"{{CACHE}}/{{{{name}}}}/{analysis_key}",
     threads: 1
     group: "short"
     resources:
@@ -196,7 +196,7 @@ rule analyze:
 rule report:
     input:
         MANIFEST,
-        expand(f"{{CACHE}}/{{{{name}}}}/analysis.key", name=EXPERIMENTS),
+        expand(f"{{CACHE}}/{{{{name}}}}/{analysis_key}", name=EXPERIMENTS),
     output:
         f"{{CACHE}}/{report_key}",
     threads: 1
@@ -213,6 +213,9 @@ rule report:
         out = s(out),
         twins = twins.join(", "),
         report_key = REPORT_KEY,
+        twin_key = Stage::Synth.key_name(),
+        detect_key = Stage::Detect.key_name(),
+        analysis_key = Stage::Analyze.key_name(),
     ))
 }
 

@@ -6,17 +6,24 @@ use crate::report::{self, Summary};
 use anyhow::Result;
 use std::path::PathBuf;
 
+/// The manifest and the two folders every verb over the manifest's experiments takes.
 #[derive(clap::Args)]
-pub struct BuildArgs {
-    /// The manifest listing the experiments.
+pub(super) struct Folders {
+    /// The manifest listing the experiments (report paths are relative to its folder).
     #[arg(long, default_value = "experiments/manifest.yaml")]
-    manifest: PathBuf,
+    pub manifest: PathBuf,
     /// Folder for the reports.
     #[arg(long, default_value = "reports")]
-    out: PathBuf,
+    pub out: PathBuf,
     /// Folder for the stages' cached outputs (rendered videos, angles, fits).
     #[arg(long, default_value = "build")]
-    cache: PathBuf,
+    pub cache: PathBuf,
+}
+
+#[derive(clap::Args)]
+pub struct BuildArgs {
+    #[command(flatten)]
+    folders: Folders,
     /// Experiments built at once (default: the number of cores).
     #[arg(long, short, value_parser = clap::value_parser!(u16).range(1..))]
     jobs: Option<u16>,
@@ -53,15 +60,8 @@ pub struct StageArgs {
     stage: StageName,
     /// The experiment: its name or its file, one of the manifest's.
     experiment: String,
-    /// The manifest listing the experiments (report paths are relative to its folder).
-    #[arg(long, default_value = "experiments/manifest.yaml")]
-    manifest: PathBuf,
-    /// Folder for the reports (the `analyze` stage writes the experiment's pages there).
-    #[arg(long, default_value = "reports")]
-    out: PathBuf,
-    /// Folder for the stages' cached outputs, as `rollfric build` lays it out.
-    #[arg(long, default_value = "build")]
-    cache: PathBuf,
+    #[command(flatten)]
+    folders: Folders,
     /// No progress output.
     #[arg(long, short)]
     quiet: bool,
@@ -83,11 +83,11 @@ pub fn stage(a: StageArgs) -> Result<Done> {
         StageName::Analyze => Stage::Analyze,
     };
     build::stage(&StageOptions {
-        manifest: a.manifest,
+        manifest: a.folders.manifest,
         experiment: a.experiment,
         stage,
-        out: a.out,
-        cache: a.cache,
+        out: a.folders.out,
+        cache: a.folders.cache,
         quiet: a.quiet,
         no_wait: a.no_wait,
         record_failure: a.record_failure,
@@ -97,10 +97,11 @@ pub fn stage(a: StageArgs) -> Result<Done> {
 
 /// `rollfric build`, or with `cached` `rollfric report` (every result from the cache).
 pub fn build(a: BuildArgs, cached: bool) -> Result<Done> {
+    let out = a.folders.out.clone();
     let opts = BuildOptions {
-        manifest: a.manifest,
-        out: a.out.clone(),
-        cache: a.cache,
+        manifest: a.folders.manifest,
+        out: a.folders.out,
+        cache: a.folders.cache,
         jobs: a.jobs.map(usize::from),
         quiet: a.quiet,
         no_wait: a.no_wait,
@@ -129,7 +130,7 @@ pub fn build(a: BuildArgs, cached: bool) -> Result<Done> {
             o.missed,
             o.suspect,
             o.written,
-            a.out.join("index.html").display()
+            out.join("index.html").display()
         ),
         // A build's exit status judges the results; a report's says only that the
         // reports were assembled (a workflow's job), `rollfric check` judges them.

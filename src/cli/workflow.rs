@@ -21,20 +21,15 @@ pub struct WorkflowArgs {
     /// command is not replaced.
     #[arg(short, long, default_value = "Snakefile")]
     output: PathBuf,
-    /// The manifest listing the experiments.
-    #[arg(long, default_value = "experiments/manifest.yaml")]
-    manifest: PathBuf,
-    /// Folder for the reports, as the jobs will see it.
-    #[arg(long, default_value = "reports")]
-    out: PathBuf,
-    /// Folder for the stages' cached outputs, as the jobs will see it.
-    #[arg(long, default_value = "build")]
-    cache: PathBuf,
+    /// The manifest and the folders, as the jobs will see them.
+    #[command(flatten)]
+    folders: super::build::Folders,
 }
 
 pub fn workflow(a: WorkflowArgs) -> Result<String> {
     let Engine::Snakemake = a.engine;
-    let text = workflow::snakefile(&a.manifest, &a.cache, &a.out)?;
+    let f = &a.folders;
+    let text = workflow::snakefile(&f.manifest, &f.cache, &f.out)?;
     if let Ok(old) = std::fs::read_to_string(&a.output) {
         if !old.starts_with(SNAKEFILE_MARK) {
             bail!(
@@ -53,7 +48,7 @@ pub fn workflow(a: WorkflowArgs) -> Result<String> {
     let mut said = format!(
         "{}: Snakefile for {}\n",
         a.output.display(),
-        a.manifest.display()
+        f.manifest.display()
     );
     let dir = a.output.parent().unwrap_or(Path::new(""));
     for (name, body) in [("local", LOCAL_PROFILE), ("slurm", SLURM_PROFILE)] {

@@ -66,8 +66,17 @@ impl std::fmt::Debug for ReviewFrame {
 }
 
 impl ReviewFrame {
-    fn of(row: &AngleRow, f: &Frame, pred: Option<f64>, ordinal: u64) -> Result<Self> {
-        let (width, height, grey) = shrink(f)?;
+    /// `f` as kept, its pixels written into `grey` (a buffer given back for reuse) with
+    /// `scratch` for the shrinking.
+    fn of(
+        row: &AngleRow,
+        f: &Frame,
+        pred: Option<f64>,
+        ordinal: u64,
+        mut grey: Vec<u8>,
+        scratch: &mut Mat,
+    ) -> Result<Self> {
+        let (width, height) = shrink(f, &mut grey, scratch)?;
         Ok(Self {
             frame: f.index,
             t_s: f.t_s,
@@ -93,12 +102,14 @@ impl ReviewFrame {
     }
 }
 
-/// The frame's region, shrunk (area average) so that its longer side is at most
-/// [`MAX_SIDE`].
-fn shrink(f: &Frame) -> Result<(usize, usize, Vec<u8>)> {
+/// The frame's region, shrunk (area average, through `scratch`) so that its longer side
+/// is at most [`MAX_SIDE`], into `grey`; returns its size.
+fn shrink(f: &Frame, grey: &mut Vec<u8>, scratch: &mut Mat) -> Result<(usize, usize)> {
+    grey.clear();
     let side = f.width.max(f.height);
     if side <= MAX_SIDE {
-        return Ok((f.width, f.height, f.data.clone()));
+        grey.extend_from_slice(&f.data);
+        return Ok((f.width, f.height));
     }
     let s = MAX_SIDE as f64 / side as f64;
     let (w, h) = (
@@ -106,16 +117,16 @@ fn shrink(f: &Frame) -> Result<(usize, usize, Vec<u8>)> {
         ((f.height as f64 * s).round() as usize).max(1),
     );
     let src = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
-    let mut dst = Mat::default();
     imgproc::resize(
         &src,
-        &mut dst,
+        scratch,
         core::Size::new(w as i32, h as i32),
         0.0,
         0.0,
         imgproc::INTER_AREA,
     )?;
-    Ok((w, h, dst.data_bytes()?.to_vec()))
+    grey.extend_from_slice(scratch.data_bytes()?);
+    Ok((w, h))
 }
 
 /// What the pass kept for the review page.
@@ -159,6 +170,8 @@ pub(super) struct Keeper {
     hold: VecDeque<ReviewFrame>,
     first_angle: Option<f64>,
     holding: bool,
+    /// The shrinking's output, reused from frame to frame.
+    scratch: Mat,
 }
 
 impl Keeper {
@@ -170,6 +183,7 @@ impl Keeper {
             hold: VecDeque::new(),
             first_angle: None,
             holding: true,
+            scratch: Mat::default(),
         }
     }
 
@@ -180,7 +194,14 @@ impl Keeper {
             self.seen += 1;
             if ordinal.is_multiple_of(self.stride) {
                 let flagged = &mut self.review.flagged;
-                flagged.push(ReviewFrame::of(row, frame, pred, ordinal)?);
+                flagged.push(ReviewFrame::of(
+                    row,
+                    frame,
+                    pred,
+                    ordinal,
+                    Vec::new(),
+                    &mut self.scratch,
+                )?);
                 if flagged.len() > MAX_FLAGGED {
                     self.stride *= 2;
                     let stride = self.stride;
@@ -193,10 +214,15 @@ impl Keeper {
                 let first = *self.first_angle.get_or_insert(a);
                 self.holding = (a - first).abs() <= HOLD_DEG.to_radians();
             }
-            self.hold.push_back(ReviewFrame::of(row, frame, pred, 0)?);
-            if self.hold.len() > HOLD_FRAMES {
-                self.hold.pop_front();
-            }
+            // A full ring gives its oldest frame's buffer to the newest: no allocation
+            // per frame however long the hold.
+            let buffer = if self.hold.len() >= HOLD_FRAMES {
+                self.hold.pop_front().map(|f| f.grey).unwrap_or_default()
+            } else {
+                Vec::new()
+            };
+            let kept = ReviewFrame::of(row, frame, pred, 0, buffer, &mut self.scratch)?;
+            self.hold.push_back(kept);
         }
         Ok(())
     }

@@ -126,6 +126,9 @@ pub fn twin_cached(exp: &Experiment, cache: &Path) -> Result<Option<(PathBuf, St
     Ok(hash::fresh(&key_file, &key, &[&video]).then_some((video, key)))
 }
 
+/// The file under `cache/<name>/` holding the twin's render key.
+pub const TWIN_KEY: &str = "twin.key";
+
 /// The twin's video, its render key and the key's file under `cache/<name>/`.
 fn twin_files(exp: &Experiment, cache: &Path) -> Result<(PathBuf, String, PathBuf)> {
     let Some(syn) = &exp.file.synthetic else {
@@ -138,7 +141,7 @@ fn twin_files(exp: &Experiment, cache: &Path) -> Result<(PathBuf, String, PathBu
         .json("synthetic", syn)
         .hex();
     let dir = cache.join(&exp.name);
-    Ok((dir.join("twin.avi"), key, dir.join("twin.key")))
+    Ok((dir.join("twin.avi"), key, dir.join(TWIN_KEY)))
 }
 
 /// The detector's settings for `exp` (its `video:` block; defaults without one).

@@ -32,6 +32,53 @@ pub const GLASS_TWIN_YAML: &str = "geometry:
 synthetic: { s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 80, fps: 25, angle_noise_deg: 0.05 }
 ";
 
+/// A short glass twin as an experiment file: Table 1's glass geometry, 20 s at 25
+/// frames/s, 640x360, 0.05 deg of angle noise, the given `s_r` (m) and `video` block
+/// (its lines, or empty).
+pub fn short_glass_twin(name: &str, s_r: &str, video: &str) -> String {
+    format!(
+        "name: {name}
+geometry:
+  incline: {{ h_m: 0.142, l_m: 1.500 }}
+  pendulum: {{ d_m: 0.1774 }}
+  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
+{video}synthetic: {{ s_r_m: {s_r}, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_deg: 0.05, width: 640, height: 360 }}
+"
+    )
+}
+
+/// Every file under `dir`, relative path -> bytes.
+pub fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().display().to_string();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// Assert that folders `a` and `b` hold the same files with the same bytes (`what`
+/// names the comparison in a failure).
+pub fn same_tree(a: &Path, b: &Path, what: &str) {
+    let (x, y) = (snapshot(a), snapshot(b));
+    assert_eq!(
+        x.keys().collect::<Vec<_>>(),
+        y.keys().collect::<Vec<_>>(),
+        "{what}: not the same files"
+    );
+    for (k, v) in &x {
+        assert!(y[k] == *v, "{what}: {k} differs");
+    }
+}
+
 /// The crate's folder (where `experiments/` and `tests/` are).
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

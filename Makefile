@@ -5,6 +5,7 @@
 #   make bench     timing figures
 #   make fuzz      a long run of the property tests of the readers and the fit
 #   make robustness  the randomised sweep of twins (detected with no options, fitted)
+#   make coverage    the 95 % intervals' coverage on the sweep's twins
 SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
@@ -18,7 +19,7 @@ SNAKEMAKE_VERSION := 8.30.0
 SNAKEMAKE_PINS := snakemake==$(SNAKEMAKE_VERSION) snakemake-executor-plugin-cluster-generic==1.0.9 \
                   snakemake-executor-plugin-slurm==2.8.0
 
-.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench fuzz robustness clean
+.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench fuzz robustness coverage clean
 
 all: build
 
@@ -103,6 +104,17 @@ ROBUSTNESS_SECONDS ?= 40
 robustness: deps
 	$(CARGO) run --release --locked --example robustness -- \
 	  $(ROBUSTNESS_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS) $(ROBUSTNESS_ONLY)
+
+# The coverage of s_r's 95 % intervals: the robustness sweep with every measured scene
+# kept in target/coverage (COVERAGE_SCENES of them, enough that 60 or more are fitted),
+# then each scene fitted again and its intervals compared with the twin's truth. Prints
+# the share held and the median half-width, calibrated and least squares.
+COVERAGE_SCENES ?= 64
+coverage: deps
+	rm -rf target/coverage
+	ROBUSTNESS_KEEP=$(abspath target/coverage) $(CARGO) run --release --locked --example robustness -- \
+	  $(COVERAGE_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS)
+	$(CARGO) run --release --locked --example coverage -- target/coverage
 
 clean:
 	$(CARGO) clean

@@ -9,7 +9,10 @@
 //! `cargo run --release --example robustness -- [SCENES] [SEED] [DURATION_S]`
 //! (defaults 60, 1 and 40); a fourth argument, a scene's number, runs that scene alone and
 //! keeps its folder. Scenes are drawn from a fixed seed: the same arguments give
-//! the same scenes.
+//! the same scenes. With `ROBUSTNESS_KEEP=DIR`, each measured scene's experiment file,
+//! angles, truth and swing scale are kept in `DIR/scene-NNN/` (not its video), for
+//! analyses that re-fit the sweep's angles without detecting again (the interval
+//! coverage of `examples/coverage.rs`).
 
 use anyhow::{Context, Result};
 use rollfric::config::Experiment;
@@ -182,6 +185,11 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
         t.push_str(&format!("{},{},{}\n", r.t_s, r.angle_rad, r.spoiled));
     }
     std::fs::write(dir.join("truth.csv"), t)?;
+    // The detector's swing scale (the pivot check), for analyses of the kept angles.
+    std::fs::write(
+        dir.join("swing_scale.txt"),
+        d.swing_scale.map_or("none".to_string(), |s| s.to_string()),
+    )?;
     // Angle error of the accepted frames against the truth (mirrored footage and any
     // roll: compared modulo a turn).
     let errs: Vec<f64> = d
@@ -275,6 +283,7 @@ fn main() -> Result<()> {
     // A fourth argument runs that scene alone and keeps its folder (video, YAML) to look at.
     let only: Option<usize> = args.get(3).map(|a| a.parse()).transpose()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let keep = std::env::var_os("ROBUSTNESS_KEEP").map(std::path::PathBuf::from);
     let mut rng = Rng::new(seed);
     let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());
     let mut refused = 0;
@@ -299,6 +308,20 @@ fn main() -> Result<()> {
         };
         let started = std::time::Instant::now();
         let outcome = run(&scene, root, dir.path(), duration);
+        if let (Some(keep), Ok(Outcome::Measured { .. })) = (&keep, &outcome) {
+            let to = keep.join(format!("scene-{i:03}"));
+            std::fs::create_dir_all(&to)
+                .with_context(|| format!("{}: cannot create", to.display()))?;
+            for f in [
+                format!("{}.yaml", scene.material),
+                "angles.csv".into(),
+                "truth.csv".into(),
+                "swing_scale.txt".into(),
+            ] {
+                std::fs::copy(dir.path().join(&f), to.join(&f))
+                    .with_context(|| format!("{}: cannot copy {f}", to.display()))?;
+            }
+        }
         let line = match &outcome {
             Ok(Outcome::Measured {
                 angle_rms_deg,

@@ -27,6 +27,7 @@ pub mod simulate;
 pub mod sources;
 pub mod stats;
 pub mod synth;
+pub mod uncertainty;
 pub mod verdict;
 pub mod video;
 

@@ -4,7 +4,8 @@
 use crate::numerics::bisect;
 
 /// `ln Gamma(x)` for `x > 0` (Lanczos, g = 7, n = 9; ~1e-15 relative).
-fn ln_gamma(x: f64) -> f64 {
+/// `ln Γ(x)` for `x > 0`.
+pub fn ln_gamma(x: f64) -> f64 {
     const C: [f64; 9] = [
         0.999_999_999_999_809_9,
         676.520_368_121_885_1,
@@ -81,6 +82,13 @@ pub fn inc_beta(a: f64, b: f64, x: f64) -> f64 {
 }
 
 /// CDF of Student's t with `nu` degrees of freedom.
+/// Student's t density with `nu` degrees of freedom.
+pub fn student_t_pdf(t: f64, nu: f64) -> f64 {
+    let ln_c =
+        ln_gamma((nu + 1.0) / 2.0) - ln_gamma(nu / 2.0) - 0.5 * (nu * std::f64::consts::PI).ln();
+    (ln_c - (nu + 1.0) / 2.0 * (1.0 + t * t / nu).ln()).exp()
+}
+
 pub fn student_t_cdf(t: f64, nu: f64) -> f64 {
     let x = nu / (nu + t * t);
     let tail = 0.5 * inc_beta(0.5 * nu, 0.5, x);

@@ -6,6 +6,7 @@ use crate::detect::DetectOptions;
 use crate::fit::FitResult;
 use crate::hash;
 use crate::pipeline::{self, Angles, Overrides, Source};
+use crate::uncertainty::{Budget, MonteCarlo};
 use crate::verdict::Verdict;
 use anyhow::Result;
 use serde::Serialize;
@@ -61,6 +62,10 @@ pub struct FitReport {
     pub verdict: Verdict,
     #[serde(flatten)]
     pub fit: FitResult,
+    /// The uncertainty budget (GUM), and its Monte Carlo check when asked for.
+    pub budget: Budget,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<MonteCarlo>,
 }
 
 /// The experiment's angles: a CSV, or its video (the lab's, or the twin's rendered
@@ -196,6 +201,8 @@ pub fn fit_report(exp: &Experiment, a: &FitArgs) -> Result<FitReport> {
         angles: described,
         verdict: r.verdict,
         fit: r.fit,
+        budget: r.budget,
+        monte_carlo: r.monte_carlo,
     })
 }
 
@@ -253,6 +260,23 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
         "s_r              {:.4e} m  (95 % CI {:.4e} .. {:.4e}; beta = {:.4})",
         f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1], f.beta
     );
+    let _ = writeln!(
+        o,
+        "  the angles     {:.4e} .. {:.4e} m (95 %: statistics, drift, detector scale; u = {:.3e} m)",
+        f.s_r_interval95_m[0], f.s_r_interval95_m[1], f.s_r_u_m
+    );
+    let _ = writeln!(
+        o,
+        "  the budget     s_r ± U = {} (geometry's inputs added)",
+        crate::report::fmt_expanded(&r.budget)
+    );
+    if let Some(mc) = &r.monte_carlo {
+        let _ = writeln!(
+            o,
+            "  Monte Carlo    {} draws: u = {:.3e} m ({:.3} of u_c), 95 % {:.4e} .. {:.4e} m",
+            mc.draws, mc.u_m, mc.u_ratio, mc.interval95_m[0], mc.interval95_m[1]
+        );
+    }
     if let Some(t) = r.truth_s_r_m {
         let _ = writeln!(
             o,

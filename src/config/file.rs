@@ -36,6 +36,10 @@ pub struct ExperimentFile {
     pub angles: Option<String>,
     /// The video and the detector's settings. Optional.
     pub video: Option<Video>,
+    /// Draws of the Monte Carlo check of the uncertainty budget (JCGM 101) on the
+    /// experiment's page (its figure and comparison). Default: none (the check costs
+    /// about one fit per draw).
+    pub monte_carlo_draws: Option<usize>,
     /// Consistency warnings accepted, each with a written reason (the result stays
     /// `suspect`, and its page says the warning was accepted and why).
     #[serde(default)]
@@ -71,6 +75,37 @@ pub struct Geometry {
     /// Local gravitational acceleration, m/s^2. Default 9.81.
     #[serde(default = "default_g")]
     pub g_m_s2: f64,
+    /// Standard uncertainties of these inputs, for the uncertainty budget (GUM). Every
+    /// key has a default from the resolution of the instrument that usually measures it.
+    #[serde(default)]
+    pub uncertainty: InputUncertainty,
+}
+
+/// Standard uncertainties `u` of the geometry's inputs, in the inputs' own units (GUM
+/// Type B). A value given here is read as the standard deviation of a normal
+/// distribution. A key left out takes its default: half a division of the usual
+/// instrument, read as a rectangular distribution (`u = division / (2 sqrt 3)`).
+#[derive(Debug, Clone, Default, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct InputUncertainty {
+    /// `u(h)`, m. Default 2.9e-4 (a rule with 1 mm divisions).
+    pub h_m: Option<f64>,
+    /// `u(l)`, m. Default 2.9e-4 (a rule with 1 mm divisions).
+    pub l_m: Option<f64>,
+    /// `u(alpha)`, degrees. Default 0.029 (an inclinometer reading to 0.1 deg).
+    pub angle_deg: Option<f64>,
+    /// `u(d)`, m. Default 2.9e-4 (a rule with 1 mm divisions).
+    pub d_m: Option<f64>,
+    /// `u(L)`, m. Default 2.9e-4 (a rule with 1 mm divisions).
+    pub contact_length_m: Option<f64>,
+    /// `u(r)`, m. Default 5.8e-6 (a caliper reading to 0.02 mm).
+    pub radius_m: Option<f64>,
+    /// `u(m)`, kg. Default 2.9e-5 (a balance reading to 0.1 g).
+    pub mass_kg: Option<f64>,
+    /// `u(rho)`, kg/m^3. Default 0.58 % of the value (a handbook density, +-1 %).
+    pub density_kg_m3: Option<f64>,
+    /// `u(g)`, m/s^2. Default 0.017 (9.81 stands for 9.78..9.84 over the Earth).
+    pub g_m_s2: Option<f64>,
 }
 
 fn default_g() -> f64 {

@@ -101,6 +101,10 @@ pub(crate) fn quoted(s: &str, max: usize) -> String {
     excerpt(&s.escape_debug().to_string(), max)
 }
 
+/// Fewest and most draws of the budget's Monte Carlo check (`monte_carlo_draws`).
+pub const MIN_MONTE_CARLO_DRAWS: usize = 100;
+pub const MAX_MONTE_CARLO_DRAWS: usize = 100_000;
+
 /// The highest frame rate a digital twin may be asked for, frames/s.
 pub const MAX_FPS: f64 = 1000.0;
 /// The longest recording a digital twin may be asked for, s.
@@ -206,6 +210,27 @@ impl Experiment {
         let material = file.material.clone().unwrap_or_else(|| name.clone());
         let pendulum = pendulum_of(&file.geometry)?;
         let beta = parse_beta(&file.model.beta, "model.beta")?;
+        let u = &file.geometry.uncertainty;
+        for (k, v) in [
+            ("geometry.uncertainty.h_m", u.h_m),
+            ("geometry.uncertainty.l_m", u.l_m),
+            ("geometry.uncertainty.angle_deg", u.angle_deg),
+            ("geometry.uncertainty.d_m", u.d_m),
+            ("geometry.uncertainty.contact_length_m", u.contact_length_m),
+            ("geometry.uncertainty.radius_m", u.radius_m),
+            ("geometry.uncertainty.mass_kg", u.mass_kg),
+            ("geometry.uncertainty.density_kg_m3", u.density_kg_m3),
+            ("geometry.uncertainty.g_m_s2", u.g_m_s2),
+        ] {
+            if let Some(v) = v {
+                non_negative(k, v, "")?;
+            }
+        }
+        if let Some(n) = file.monte_carlo_draws {
+            if !(MIN_MONTE_CARLO_DRAWS..=MAX_MONTE_CARLO_DRAWS).contains(&n) {
+                bail!("`monte_carlo_draws` = {n}: expected {MIN_MONTE_CARLO_DRAWS}..{MAX_MONTE_CARLO_DRAWS} (each draw is a fit)");
+            }
+        }
         if let Some(t) = &file.torsion {
             positive("torsion.period_s", t.period_s, "s")?;
             positive("torsion.wire_length_m", t.wire_length_m, "m")?;
@@ -389,7 +414,9 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
 }
 
 /// Geometry block -> pendulum parameters (Eq. 36, 37, 9).
-fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
+/// The pendulum of a geometry's measured inputs (every value checked, errors name the
+/// key).
+pub fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
     bounded("geometry.g_m_s2", g.g_m_s2, 100.0, "m/s^2")?;
     let alpha = match (&g.incline.h_m, &g.incline.l_m, &g.incline.angle_deg) {
         (Some(h), Some(l), None) => {

@@ -88,7 +88,16 @@ pub struct Reactions {
 pub struct FitResult {
     pub s_r_m: f64,
     pub s_r_se_m: f64,
+    /// The least-squares 95 % interval (the turning points taken as independent).
     pub s_r_ci95_m: [f64; 2],
+    /// The angles' standard uncertainty of `s_r`: statistics with correlated
+    /// neighbours, drift and the detector's scale (`crate::uncertainty`; the geometry
+    /// taken as exact, its share is in the budget), m. Set by the pipeline.
+    #[serde(default)]
+    pub s_r_u_m: f64,
+    /// `s_r +- k s_r_u_m` (95 %), m. How both were made up: the budget's `angles`.
+    #[serde(default)]
+    pub s_r_interval95_m: [f64; 2],
     pub beta: f64,
     /// Fitted amplitude at the first measured turning point, rad.
     pub a_start_rad: f64,
@@ -210,24 +219,82 @@ struct Core {
     dof: usize,
 }
 
+/// Amplitude residuals `measured - model` of `(s_r, A)` for a fixed `beta`.
+fn residuals(p: &Pendulum, m: &Measurement, beta: f64, rtol: f64, s_r: f64, a0: f64) -> Vec<f64> {
+    let j_max = *m.index.last().expect("non-empty");
+    let model = model_amplitudes(p, &FrictionLaw::new(s_r, beta), a0, j_max, rtol);
+    m.index
+        .iter()
+        .zip(&m.amplitudes)
+        .map(|(&j, &y)| y - model[j])
+        .collect()
+}
+
+/// The model amplitudes' derivatives in `s_r` and `A` at `(s_r, a0)` (forward
+/// differences, the steps [`fit`] uses), one column each: the linearisation behind the
+/// interval's error model ([`crate::uncertainty`]).
+pub fn jacobian(
+    p: &Pendulum,
+    m: &Measurement,
+    beta: f64,
+    s_r: f64,
+    a0: f64,
+    rtol: f64,
+) -> [Vec<f64>; 2] {
+    let r = residuals(p, m, beta, rtol, s_r, a0);
+    let hs = 1e-3 * s_r.abs().max(1e-9);
+    let ha = 1e-4 * a0.abs().max(1e-3);
+    let rs = residuals(p, m, beta, rtol, s_r + hs, a0);
+    let ra = residuals(p, m, beta, rtol, s_r, a0 + ha);
+    // Derivatives of the model (minus those of the residuals).
+    [
+        r.iter().zip(&rs).map(|(a, b)| (a - b) / hs).collect(),
+        r.iter().zip(&ra).map(|(a, b)| (a - b) / ha).collect(),
+    ]
+}
+
+/// `(s_r, A)` fitted again to the same turning points for another pendulum (the
+/// uncertainty budget's sensitivity coefficients and Monte Carlo draws), started from
+/// `start` (a nearby solution) with `beta` fixed.
+pub fn refit(
+    p: &Pendulum,
+    m: &Measurement,
+    beta: f64,
+    start: [f64; 2],
+    rtol: f64,
+) -> Result<[f64; 2]> {
+    let c = fit_core_from(p, m, beta, rtol, Some(start))?;
+    Ok([c.s_r, c.a0])
+}
+
 /// Gauss–Newton with Levenberg damping on `(s_r, A)` for a fixed `beta`.
 fn fit_core(p: &Pendulum, m: &Measurement, beta: f64, rtol: f64) -> Result<Core> {
+    fit_core_from(p, m, beta, rtol, None)
+}
+
+/// [`fit_core`] from `start`, or (`None`) from the closed-form small-angle relation
+/// between the envelope slope and `s_r` (ERRATA §2).
+fn fit_core_from(
+    p: &Pendulum,
+    m: &Measurement,
+    beta: f64,
+    rtol: f64,
+    start: Option<[f64; 2]>,
+) -> Result<Core> {
     let n = m.amplitudes.len();
-    let j_max = *m.index.last().expect("non-empty");
-    let resid = |s_r: f64, a0: f64| -> Vec<f64> {
-        let model = model_amplitudes(p, &FrictionLaw::new(s_r, beta), a0, j_max, rtol);
-        m.index
-            .iter()
-            .zip(&m.amplitudes)
-            .map(|(&j, &y)| y - model[j])
-            .collect()
-    };
+    let resid = |s_r: f64, a0: f64| -> Vec<f64> { residuals(p, m, beta, rtol, s_r, a0) };
     let ss = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    // Start from the closed-form small-angle relation between a and s_r (ERRATA §2).
-    let unit = FrictionLaw::new(1.0, beta);
-    let per_unit = p.envelope_slope(&unit);
-    let mut s_r = (m.envelope.slope.abs() / per_unit).max(1e-12);
-    let mut a0 = m.amplitudes[0];
+    let (mut s_r, mut a0) = match start {
+        Some([s, a]) => (s.max(1e-12), a),
+        None => {
+            let unit = FrictionLaw::new(1.0, beta);
+            let per_unit = p.envelope_slope(&unit);
+            (
+                (m.envelope.slope.abs() / per_unit).max(1e-12),
+                m.amplitudes[0],
+            )
+        }
+    };
     let mut r = resid(s_r, a0);
     let mut rss = ss(&r);
     let mut lambda = 1e-6;
@@ -411,6 +478,8 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
         s_r_m: core.s_r,
         s_r_se_m: core.se,
         s_r_ci95_m: [core.s_r - tq * core.se, core.s_r + tq * core.se],
+        s_r_u_m: f64::NAN,
+        s_r_interval95_m: [f64::NAN; 2],
         beta,
         a_start_rad: core.a0,
         mu_r: core.s_r * n0.powf(beta - 1.0) / p.r,

@@ -18,6 +18,7 @@ use crate::hash::{self, Key};
 use crate::physics::torsion::{torsion_check, TorsionCheck};
 use crate::physics::{BetaChoice, FrictionLaw};
 use crate::series::AngleTable;
+use crate::uncertainty::{self, Budget, MonteCarlo};
 use crate::verdict::{self, Against, Check, Evidence, Limits, Quantity, Verdict};
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
@@ -211,6 +212,10 @@ pub struct Analysis {
     pub pure_rolling: Option<bool>,
     /// Whether the data agree with the physics of the fit (`ok` or `suspect`).
     pub verdict: Verdict,
+    /// The uncertainty budget of `s_r` (GUM): the angles' share and the geometry's.
+    pub budget: Budget,
+    /// Its Monte Carlo check (JCGM 101), when the experiment asks for one.
+    pub monte_carlo: Option<MonteCarlo>,
 }
 
 impl Analysis {
@@ -253,11 +258,16 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         // Frames of the recording (missing ones included) before the release.
         r.frame = angles.table.rows.partition_point(|row| row.t_s <= r.t_s);
     }
+    let swing_scale = angles.detection.as_ref().and_then(|d| d.swing_scale);
+    let angle_u = uncertainty::angle_uncertainty(p, &m, &f, swing_scale);
+    f.s_r_u_m = angle_u.u_m;
+    f.s_r_interval95_m = angle_u.interval95_m;
     for (key, v) in [
         ("s_r", f.s_r_m),
         ("its standard error", f.s_r_se_m),
         ("the 95 % interval's lower end", f.s_r_ci95_m[0]),
         ("the 95 % interval's upper end", f.s_r_ci95_m[1]),
+        ("its uncertainty", f.s_r_u_m),
         ("mu_r", f.mu_r),
         ("the envelope slope a", f.a_rad_s),
         ("the length implied by the period", f.d_from_period_m),
@@ -302,7 +312,7 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             outliers_dropped: &outliers_dropped,
             outliers_kept: &outliers_kept,
             outlier_cap: fit::outlier_cap(m.amplitudes.len() + outliers_dropped.len()),
-            swing_scale: angles.detection.as_ref().and_then(|d| d.swing_scale),
+            swing_scale,
         },
         &Limits {
             period_rel: tol.period_rel,
@@ -356,7 +366,20 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         )
     });
     let mu = exp.file.sliding.as_ref().map(|s| s.mu);
+    let budget = uncertainty::budget(exp, &m, &f, angle_u)
+        .context("the uncertainty budget")
+        .with_context(what)?;
+    let monte_carlo = match exp.file.monte_carlo_draws {
+        Some(draws) => Some(
+            uncertainty::monte_carlo(exp, &m, &f, &budget, draws, 1, &mut |_| {})
+                .context("the uncertainty budget's Monte Carlo check")
+                .with_context(what)?,
+        ),
+        None => None,
+    };
     Ok(Analysis {
+        budget,
+        monte_carlo,
         pure_rolling: mu.map(|mu| f.max_t_over_n < mu),
         sliding_mu: mu,
         measurement: m,

@@ -6,6 +6,7 @@ use crate::detect::summary::DetectionSummary;
 use crate::fit::FitResult;
 use crate::physics::torsion::TorsionCheck;
 use crate::physics::FrictionLaw;
+use crate::uncertainty::{Budget, MonteCarlo};
 use crate::verdict::{Check, Verdict};
 use serde::{Deserialize, Serialize};
 
@@ -67,6 +68,10 @@ pub struct ExperimentResult {
     pub pure_rolling: Option<bool>,
     pub torsion: Option<TorsionCheck>,
     pub detection: Option<DetectionSummary>,
+    /// The uncertainty budget of `s_r` (GUM), and its Monte Carlo check when asked for.
+    pub budget: Budget,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<MonteCarlo>,
     /// The report files written for it (filled in by the writer).
     pub pages: Vec<PageFile>,
 }
@@ -120,6 +125,8 @@ impl ExperimentResult {
             pure_rolling: a.pure_rolling,
             torsion: a.torsion,
             detection,
+            budget: a.budget.clone(),
+            monte_carlo: a.monte_carlo.clone(),
             pages: Vec::new(),
         }
     }

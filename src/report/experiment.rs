@@ -7,6 +7,7 @@ use crate::fit::Measurement;
 use crate::physics::torsion::TorsionCheck;
 use crate::pipeline::{Analysis, ExperimentResult};
 use crate::series::AngleRow;
+use crate::uncertainty::{Budget, Distribution, MonteCarlo};
 use crate::verdict::Check;
 use anyhow::Result;
 use serde::Serialize;
@@ -65,10 +66,141 @@ pub fn experiment_pages(
         }
         _ => false,
     };
+    if let Some(mc) = &r.monte_carlo {
+        let fg = figures::monte_carlo_figure(&exp.name, mc, &r.budget)?;
+        files.push(OutputFile::new(format!("{}/{}", exp.name, fg.file), fg.svg));
+    }
     let mut view = experiment_view(r, &a.measurement, has_fig11);
     view.has_review = has_review;
     files.extend(render_pair("experiment", &exp.name, &view)?);
     Ok(files)
+}
+
+/// `s_r +- U` of the budget, as the pages and Table 1 show it.
+pub fn fmt_expanded(b: &Budget) -> String {
+    format!(
+        "{:.4e} ± {:.2e} m (k = {:.2}, {:.2} %)",
+        b.s_r_m,
+        b.expanded_m,
+        b.k,
+        100.0 * b.expanded_m / b.s_r_m.abs()
+    )
+}
+
+fn s_r_expanded(r: &ExperimentResult) -> Kv {
+    kv(
+        "s_r ± U (95 %, the uncertainty budget)",
+        fmt_expanded(&r.budget),
+    )
+}
+
+/// The budget's rows: one per input, then the angles' parts.
+fn budget_rows(b: &Budget) -> Vec<BudgetRow> {
+    b.components
+        .iter()
+        .map(|c| BudgetRow {
+            quantity: c.quantity.clone(),
+            key: c.key.clone(),
+            value: if c.key == "angles" {
+                format!("{:.4e} m", c.value)
+            } else {
+                format!("{} {}", figures::trim(c.value), c.unit)
+            },
+            u: format!("{:.2e} {}", c.u, c.unit),
+            distribution: match c.distribution {
+                Distribution::Rectangular => "rectangular",
+                Distribution::Normal => "normal",
+                Distribution::Student => "Student t",
+            },
+            source: c.source.clone(),
+            sensitivity: if c.key == "angles" {
+                "1".to_string()
+            } else {
+                format!("{:.3e} m/{}", c.sensitivity, c.unit)
+            },
+            contribution: format!("{:.2e}", c.contribution_m),
+            share: format!("{:.1} %", 100.0 * (c.contribution_m / b.u_c_m).powi(2)),
+            dof: c.dof.map_or("∞".to_string(), |d| format!("{d:.0}")),
+        })
+        .collect()
+}
+
+fn budget_total(b: &Budget) -> Vec<Kv> {
+    vec![
+        kv(
+            "combined standard uncertainty u_c",
+            format!(
+                "{:.3e} m ({:.3} %)",
+                b.u_c_m,
+                100.0 * b.u_c_m / b.s_r_m.abs()
+            ),
+        ),
+        kv(
+            "effective degrees of freedom (Welch-Satterthwaite)",
+            b.nu_eff.map_or("∞".to_string(), |v| format!("{v:.0}")),
+        ),
+        kv("coverage factor k (95 %)", format!("{:.3}", b.k)),
+        kv(
+            "expanded uncertainty U = k u_c",
+            format!("{:.3e} m", b.expanded_m),
+        ),
+        kv(
+            "s_r ± U",
+            format!(
+                "{} ({:.4e} .. {:.4e} m)",
+                fmt_expanded(b),
+                b.interval95_m[0],
+                b.interval95_m[1]
+            ),
+        ),
+    ]
+}
+
+fn monte_carlo_rows(mc: &MonteCarlo, b: &Budget) -> Vec<Kv> {
+    let rel = |v: f64| 100.0 * v / b.s_r_m.abs();
+    vec![
+        kv("draws (seed)", format!("{} ({})", mc.draws, mc.seed)),
+        kv(
+            "standard deviation of the draws / u_c",
+            format!(
+                "{:.3e} m / {:.3e} m = {:.3} ({:+.1} %)",
+                mc.u_m,
+                b.u_c_m,
+                mc.u_ratio,
+                100.0 * (mc.u_ratio - 1.0)
+            ),
+        ),
+        kv(
+            "95 % interval: Monte Carlo (2.5 %, 97.5 % quantiles)",
+            format!(
+                "{:.4e} .. {:.4e} m ({:+.3} % .. {:+.3} %)",
+                mc.interval95_m[0],
+                mc.interval95_m[1],
+                rel(mc.interval95_m[0] - b.s_r_m),
+                rel(mc.interval95_m[1] - b.s_r_m)
+            ),
+        ),
+        kv(
+            "95 % interval: the budget (s_r ± U)",
+            format!(
+                "{:.4e} .. {:.4e} m ({:+.3} % .. {:+.3} %)",
+                b.interval95_m[0],
+                b.interval95_m[1],
+                rel(b.interval95_m[0] - b.s_r_m),
+                rel(b.interval95_m[1] - b.s_r_m)
+            ),
+        ),
+        kv(
+            "agreement (JCGM 101 §8: within 10 % of u_c)",
+            if (mc.u_ratio - 1.0).abs() <= 0.1 {
+                "the budget's u_c is within 10 % of the Monte Carlo's".to_string()
+            } else {
+                "the budget's u_c differs from the Monte Carlo's by more than 10 %: the \
+                 linearisation does not hold; use the Monte Carlo interval"
+                    .to_string()
+            },
+        ),
+    ]
 }
 
 /// The Appendix A table's rows, label and formatted value (the text table and the
@@ -138,6 +270,25 @@ struct ExperimentView {
     /// `ok`, `suspect`, or `accepted` (suspect, every warning accepted): the banner's class.
     verdict_class: &'static str,
     warnings: Vec<WarningView>,
+    budget: Vec<BudgetRow>,
+    budget_total: Vec<Kv>,
+    /// The budget's Monte Carlo check (`<name>/mc.svg` and its rows), when run.
+    has_monte_carlo: bool,
+    monte_carlo: Vec<Kv>,
+}
+
+#[derive(Serialize)]
+struct BudgetRow {
+    quantity: String,
+    key: String,
+    value: String,
+    u: String,
+    distribution: &'static str,
+    source: String,
+    sensitivity: String,
+    contribution: String,
+    share: String,
+    dof: String,
 }
 
 #[derive(Serialize)]
@@ -344,12 +495,17 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             "envelope slope of the fitted model",
             format!("{:.4e} rad/s", f.a_model_rad_s),
         ),
+        s_r_expanded(r),
         kv(
-            "s_r (95 % CI)",
+            "s_r, the angles' 95 % interval (geometry exact)",
             format!(
-                "{:.4e} m ({:.4e} .. {:.4e})",
-                f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1]
+                "{:.4e} .. {:.4e} m (u = {:.4e} m, k = {:.2})",
+                f.s_r_interval95_m[0], f.s_r_interval95_m[1], f.s_r_u_m, r.budget.angles.k
             ),
+        ),
+        kv(
+            "s_r, least-squares 95 % CI (turning points independent)",
+            format!("{:.4e} .. {:.4e} m", f.s_r_ci95_m[0], f.s_r_ci95_m[1]),
         ),
         kv("beta", figures::trim(f.beta)),
         kv("mu_r = s_r N_0^(beta-1) / r", format!("{:.4e}", f.mu_r)),
@@ -493,13 +649,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             Vec::new()
         } else {
             vec![
-                kv(
-                    "s_r (95 % CI)",
-                    format!(
-                        "{:.4e} m ({:.4e} .. {:.4e})",
-                        f.s_r_m, f.s_r_ci95_m[0], f.s_r_ci95_m[1]
-                    ),
-                ),
+                s_r_expanded(r),
                 kv("mu_r", format!("{:.4e}", f.mu_r)),
                 kv("envelope slope a", format!("{:.4e} rad/s", f.a_rad_s)),
             ]
@@ -525,5 +675,13 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                 accepted: w.accepted.clone().unwrap_or_default(),
             })
             .collect(),
+        budget: budget_rows(&r.budget),
+        budget_total: budget_total(&r.budget),
+        has_monte_carlo: r.monte_carlo.is_some(),
+        monte_carlo: r
+            .monte_carlo
+            .as_ref()
+            .map(|mc| monte_carlo_rows(mc, &r.budget))
+            .unwrap_or_default(),
     }
 }

@@ -8,6 +8,7 @@ use crate::numerics::slope_through_origin;
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
 use crate::physics::{FrictionLaw, Pendulum};
 use crate::series::{AngleRow, Status};
+use crate::uncertainty::{Budget, MonteCarlo};
 use anyhow::Result;
 
 /// A named figure, ready to write.
@@ -394,6 +395,8 @@ pub struct Fig19Point {
     pub label: String,
     pub a_rad_s: f64,
     pub mu_r: f64,
+    /// The expanded uncertainty of `mu_r` (95 %, from the budget of `s_r`).
+    pub mu_r_expanded: f64,
     /// The model's analytic ratio `mu_r / a` for this experiment's geometry.
     pub model_ratio: f64,
     pub d_m: f64,
@@ -415,6 +418,21 @@ pub fn figure19(points: &[Fig19Point]) -> Result<Figure> {
         "mu_r (1e-3, dimensionless)",
     )
     .with(Series::markers("reproduced experiments", Rgb::RED, xs))
+    .with(Series::line(
+        "mu_r ± U (95 %, the uncertainty budget)",
+        Rgb::RED,
+        points
+            .iter()
+            .flat_map(|p| {
+                let x = p.a_rad_s * 1e3;
+                [
+                    (x, (p.mu_r - p.mu_r_expanded) * 1e3),
+                    (x, (p.mu_r + p.mu_r_expanded) * 1e3),
+                    (f64::NAN, f64::NAN),
+                ]
+            })
+            .collect(),
+    ))
     .with(Series::line(
         &format!("fitted proportionality mu_r = {k:.4} s x a"),
         Rgb::BLUE,
@@ -472,4 +490,78 @@ pub fn figure2(p: &Pendulum, s_r: f64, psi0: f64) -> Result<Vec<Figure>> {
         )?);
     }
     Ok(out)
+}
+
+/// The Monte Carlo check of the uncertainty budget (JCGM 101): the draws' histogram,
+/// the budget's distribution of `s_r` (Student's t with its effective degrees of
+/// freedom, scaled by `u_c`, or normal) in the same counts per bin, and both 95 %
+/// intervals. `s_r` in units of the budget's value (`s_r / s_r_fit - 1`, %).
+pub fn monte_carlo_figure(name: &str, mc: &MonteCarlo, b: &Budget) -> Result<Figure> {
+    let s0 = b.s_r_m;
+    let pct = |v: f64| 100.0 * (v / s0 - 1.0);
+    let h = &mc.histogram;
+    let bins = h.counts.len();
+    let w = (h.hi - h.lo) / bins as f64;
+    let mut steps = Vec::with_capacity(2 * bins + 2);
+    for (i, &c) in h.counts.iter().enumerate() {
+        let (x0, x1) = (h.lo + i as f64 * w, h.lo + (i + 1) as f64 * w);
+        steps.push((pct(x0), c as f64));
+        steps.push((pct(x1), c as f64));
+    }
+    let top = h.counts.iter().copied().max().unwrap_or(0) as f64;
+    let density = |x: f64| {
+        let z = (x - s0) / b.u_c_m;
+        let pdf = match b.nu_eff {
+            Some(nu) if nu.is_finite() && nu < 1e6 => crate::stats::student_t_pdf(z, nu),
+            _ => (-0.5 * z * z).exp() / (std::f64::consts::TAU).sqrt(),
+        };
+        mc.draws as f64 * w * pdf / b.u_c_m
+    };
+    let n = 200;
+    let (lo, hi) = (
+        h.lo.min(b.interval95_m[0] - b.u_c_m),
+        h.hi.max(b.interval95_m[1] + b.u_c_m),
+    );
+    let curve: Vec<(f64, f64)> = (0..=n)
+        .map(|i| {
+            let x = lo + (hi - lo) * i as f64 / n as f64;
+            (pct(x), density(x))
+        })
+        .collect();
+    let ymax = top.max(curve.iter().map(|p| p.1).fold(0.0, f64::max)) * 1.15;
+    let bars = |iv: [f64; 2]| {
+        vec![
+            (pct(iv[0]), 0.0),
+            (pct(iv[0]), ymax),
+            (f64::NAN, f64::NAN),
+            (pct(iv[1]), 0.0),
+            (pct(iv[1]), ymax),
+        ]
+    };
+    let c = Chart::new(
+        &format!("Monte Carlo check of the uncertainty budget - {name}"),
+        &format!("s_r / {s0:.4e} m - 1 (%)"),
+        &format!("draws per bin ({} in all)", mc.draws),
+    )
+    .with(Series::line(
+        &format!("Monte Carlo draws (u = {:.3e} m)", mc.u_m),
+        Rgb::BLUE,
+        steps,
+    ))
+    .with(Series::line(
+        &format!("the budget's distribution (u_c = {:.3e} m)", b.u_c_m),
+        Rgb::RED,
+        curve,
+    ))
+    .with(Series::dashed(
+        "95 %: Monte Carlo quantiles",
+        Rgb::BLUE,
+        bars(mc.interval95_m),
+    ))
+    .with(Series::dashed(
+        "95 %: s_r ± U",
+        Rgb::RED,
+        bars(b.interval95_m),
+    ));
+    fig("mc.svg", &c)
 }

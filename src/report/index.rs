@@ -4,6 +4,7 @@
 use super::summary::{Entry, Outcome, Summary};
 use super::{figures, fmt_pct, fmt_sci, kv, render_pair, Kv, OutputFile};
 use crate::config::Manifest;
+use crate::uncertainty::{self, Group, Run};
 use crate::verdict::{Against, Quantity};
 use anyhow::Result;
 use serde::Serialize;
@@ -15,6 +16,7 @@ struct IndexView {
     tool: &'static str,
     manifest_sha256: String,
     rows: Vec<TableRow>,
+    groups: Vec<GroupView>,
     failures: Vec<Kv>,
     torsion: Vec<TorsionRow>,
     provenance: Vec<Kv>,
@@ -55,6 +57,77 @@ struct TableRow {
 }
 
 #[derive(Serialize)]
+struct GroupView {
+    material: String,
+    runs: String,
+    n: usize,
+    mean: String,
+    sd: String,
+    u_mean: String,
+    u_geometry: String,
+    expanded: String,
+    birge: String,
+    consistent: bool,
+}
+
+fn group_view(g: &Group) -> GroupView {
+    let rel = |v: f64| format!("{v:.2e} m ({:.2} %)", 100.0 * v / g.mean_m.abs());
+    GroupView {
+        material: g.material.clone(),
+        runs: g
+            .runs
+            .iter()
+            .map(|r| format!("{} (d = {:.3} m: {:.4e})", r.name, r.d_m, r.s_r_m))
+            .collect::<Vec<_>>()
+            .join(", "),
+        n: g.runs.len(),
+        mean: format!(
+            "{:.4e} ± {:.2e} m (k = {:.2}, {})",
+            g.mean_m,
+            g.expanded_m,
+            g.k,
+            g.nu_eff
+                .map_or("ν = ∞".to_string(), |v| format!("ν = {v:.0}"))
+        ),
+        sd: rel(g.sd_m),
+        u_mean: rel(g.u_mean_m),
+        u_geometry: rel(g.u_geometry_m),
+        expanded: rel(g.expanded_m),
+        birge: format!(
+            "{:.2} (limit {:.2}; chi² {:.2} on {} dof)",
+            g.birge_ratio,
+            g.birge_limit,
+            g.chi2,
+            g.runs.len() - 1
+        ),
+        consistent: g.consistent,
+    }
+}
+
+/// The repeat runs: the built experiments that name the same material, two or more, in
+/// the manifest's order.
+fn groups(entries: &[Entry]) -> Vec<Group> {
+    let mut out: Vec<(String, Vec<Run>)> = Vec::new();
+    for r in entries.iter().filter_map(|e| e.result.as_ref()) {
+        let run = Run {
+            name: r.name.clone(),
+            d_m: r.geometry.d_m,
+            s_r_m: r.results.s_r_m,
+            u_angles_m: r.results.s_r_u_m,
+            u_c_m: r.budget.u_c_m,
+        };
+        match out.iter_mut().find(|(m, _)| *m == r.material) {
+            Some((_, runs)) => runs.push(run),
+            None => out.push((r.material.clone(), vec![run])),
+        }
+    }
+    out.into_iter()
+        .filter(|(_, runs)| runs.len() >= 2)
+        .map(|(m, runs)| uncertainty::group(&m, runs))
+        .collect()
+}
+
+#[derive(Serialize)]
 struct TorsionRow {
     material: String,
     k_t: String,
@@ -74,6 +147,14 @@ pub fn index_pages(
             .as_bytes(),
     );
     let entries: Vec<Entry> = outcomes.into_iter().map(Entry::new).collect();
+    // A material with repeat runs names each run's experiment beside it in Table 1.
+    let runs_of = |material: &str| {
+        entries
+            .iter()
+            .filter_map(|e| e.result.as_ref())
+            .filter(|r| r.material == material)
+            .count()
+    };
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     let mut torsion = Vec::new();
@@ -101,9 +182,13 @@ pub fn index_pages(
         let f = &r.results;
         rows.push(TableRow {
             name: r.name.clone(),
-            material: r.material.clone(),
+            material: if runs_of(&r.material) > 1 {
+                format!("{} ({})", r.material, r.name)
+            } else {
+                r.material.clone()
+            },
             synthetic: r.synthetic,
-            s_r: fmt_sci(f.s_r_m, 3),
+            s_r: format!("{} ± {:.1e}", fmt_sci(f.s_r_m, 4), r.budget.expanded_m),
             s_r_paper: paper(Quantity::SR),
             s_r_dev: dev(Quantity::SR),
             mu_r: fmt_sci(f.mu_r, 3),
@@ -153,10 +238,12 @@ pub fn index_pages(
             label: r.material.clone(),
             a_rad_s: f.a_rad_s,
             mu_r: f.mu_r,
+            mu_r_expanded: f.mu_r * r.budget.expanded_m / f.s_r_m.abs(),
             model_ratio: r.model_mu_r_per_a_s,
             d_m: r.geometry.d_m,
         });
     }
+    let groups = groups(&entries);
     let mut files: Vec<OutputFile> = Vec::new();
     if !f19.is_empty() {
         files.push(OutputFile::new("fig19.svg", figures::figure19(&f19)?.svg));
@@ -186,6 +273,7 @@ pub fn index_pages(
         tool: crate::hash::TOOL.into(),
         manifest_sha256: manifest_sha256.clone(),
         experiments: entries,
+        groups,
     };
     let results = || summary.experiments.iter().filter_map(|e| e.result.as_ref());
     let view = IndexView {
@@ -201,6 +289,7 @@ pub fn index_pages(
             .count(),
         total: summary.experiments.len(),
         rows,
+        groups: summary.groups.iter().map(group_view).collect(),
         failures,
         torsion,
         provenance,

@@ -17,7 +17,7 @@ pub mod plot;
 mod review;
 mod summary;
 
-pub use experiment::{experiment_pages, torsion_rows};
+pub use experiment::{experiment_pages, fmt_expanded, torsion_rows};
 pub use index::index_pages;
 pub use summary::{check, Entry, EntryStatus, Outcome, Summary};
 

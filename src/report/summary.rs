@@ -74,6 +74,9 @@ pub struct Summary {
     pub tool: String,
     pub manifest_sha256: String,
     pub experiments: Vec<Entry>,
+    /// Repeat runs: the experiments that name the same material.
+    #[serde(default)]
+    pub groups: Vec<crate::uncertainty::Group>,
 }
 
 impl Summary {

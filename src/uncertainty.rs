@@ -1,0 +1,877 @@
+//! The uncertainty of `s_r`: the angles' share (their statistics and the detector's
+//! systematic behaviour), and the uncertainty budget that adds the geometry's inputs
+//! (GUM, JCGM 100:2008) with its Monte Carlo check (JCGM 101:2008).
+//!
+//! **The angles' share** ([`angle_uncertainty`]) is what the video measures, the geometry
+//! taken as exact:
+//!
+//! - *statistical*, from the turning points' residuals by a circular block bootstrap over
+//!   half swings ([`BLOCK_BOOTSTRAP_DRAWS`] draws, blocks of `ceil(n^(1/3))` turning
+//!   points, residuals rescaled for the two fitted parameters), each draw solved on the
+//!   fit's linearisation. Blocks keep the correlation between neighbouring extremes that
+//!   the least-squares interval (which treats them as independent) leaves out; the larger
+//!   of the two is kept;
+//! - *drift*: the turning points split into their earlier and later halves, each fitted
+//!   (linearised) alone. A detector error that grows or shrinks with the amplitude bends
+//!   the envelope, and the halves then disagree; half their difference is the drift
+//!   component (it also holds some of the statistics again, which errs on the safe
+//!   side);
+//! - *scale*: a detector that measures every swing a little too large or too small scales
+//!   `s_r` by the same factor, and no residual shows it. Its relative standard
+//!   uncertainty is [`DETECTOR_SCALE_REL`] (the detector's validation on randomised twins),
+//!   combined with the swing scale's own departure from 1 when the video's pivot check
+//!   measured one (read as the half-width of a rectangular distribution).
+//!
+//! They combine in quadrature into `s_r_u_m`, with Welch–Satterthwaite degrees of freedom
+//! (the statistical part has `n - 2`, the others are Type B with infinitely many), and
+//! `s_r_interval95_m = s_r +- k u` with `k` Student's 97.5 % quantile.
+//!
+//! **The budget** ([`budget`]) adds every geometry input (`h`, `l` or `alpha`, `d` or
+//! `L`, `r`, `m` or `rho`, `g`) with its standard uncertainty (given, or the default of
+//! its instrument's resolution, [`crate::config::InputUncertainty`]). Each sensitivity
+//! coefficient `c_i = ds_r/dx_i` is a central difference of two re-fits of the same
+//! turning points with `x_i +- u_i` (the model integrated again: no small-angle formula).
+//! Contributions `|c_i| u_i`, combined `u_c`, effective degrees of freedom, coverage
+//! factor `k` and expanded uncertainty `U = k u_c` follow JCGM 100 §5–6 and Annex G.
+//!
+//! **The Monte Carlo check** ([`monte_carlo`]) draws every input from its distribution
+//! (rectangular for the defaults, normal for given values; the angles' statistical part
+//! Student's t, its scale and drift normal), re-fits `s_r` for each draw, and compares
+//! the distribution's standard deviation and 95 % probabilistically symmetric interval
+//! with the budget's (JCGM 101 §8).
+
+use crate::config::{pendulum_of, Experiment};
+use crate::fit::{self, FitResult, Measurement};
+use crate::physics::Pendulum;
+use crate::rng::Rng;
+use crate::stats::student_t_quantile;
+use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
+
+/// Draws of the block bootstrap of the angles' statistical uncertainty.
+pub const BLOCK_BOOTSTRAP_DRAWS: usize = 2000;
+
+/// Relative standard uncertainty of the detector's angle scale: how much larger or
+/// smaller than the truth it measures every swing of a video. A Type B value from the
+/// detector's validation: the smallest that lets the 95 % interval hold the truth in
+/// at least 90 % of the randomised robustness sweep's twins (`make coverage`, seed 1;
+/// the README's "Uncertainty of s_r" gives the figures). Its main source is a pivot
+/// found a pixel or two off along the wire, which scales every swing alike and which
+/// no residual shows.
+pub const DETECTOR_SCALE_REL: f64 = 0.0013;
+
+/// Relative tolerance of the budget's re-fits (the fit's own).
+const RTOL: f64 = 1e-7;
+
+/// The angles' share of the uncertainty of `s_r` (the geometry taken as exact).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct AngleUncertainty {
+    /// Statistical standard uncertainty (block bootstrap, or the least-squares one when
+    /// larger), m.
+    pub u_stat_m: f64,
+    /// Its degrees of freedom (`n - 2`).
+    pub dof_stat: f64,
+    /// The block length of the bootstrap, turning points.
+    pub block: usize,
+    /// Drift between the earlier and later turning points, m.
+    pub u_drift_m: f64,
+    /// The detector's angle scale: relative standard uncertainty, and in m.
+    pub scale_rel: f64,
+    pub u_scale_m: f64,
+    /// Combined standard uncertainty, m.
+    pub u_m: f64,
+    /// Effective degrees of freedom (`None`: infinitely many).
+    pub dof: Option<f64>,
+    /// Coverage factor for 95 %.
+    pub k: f64,
+    /// `s_r +- k u`, m.
+    pub interval95_m: [f64; 2],
+}
+
+/// The least-squares solution of the linearised model for residuals `r`: the change of
+/// `(s_r, A)`.
+fn solve(j: &[Vec<f64>; 2], r: &[f64], rows: impl Iterator<Item = usize> + Clone) -> [f64; 2] {
+    let (mut a, mut b, mut c, mut g0, mut g1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in rows {
+        a += j[0][i] * j[0][i];
+        b += j[0][i] * j[1][i];
+        c += j[1][i] * j[1][i];
+        g0 += j[0][i] * r[i];
+        g1 += j[1][i] * r[i];
+    }
+    let det = a * c - b * b;
+    if det.abs() <= f64::MIN_POSITIVE {
+        return [f64::NAN, f64::NAN];
+    }
+    [(c * g0 - b * g1) / det, (a * g1 - b * g0) / det]
+}
+
+fn sd(v: &[f64]) -> f64 {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt()
+}
+
+/// The coverage factor for 95 % at `dof` degrees of freedom (`None`: the normal one).
+pub fn coverage_factor(dof: Option<f64>) -> f64 {
+    match dof {
+        Some(nu) if nu.is_finite() => student_t_quantile(0.975, nu.max(1.0)),
+        _ => 1.959_963_984_540_054,
+    }
+}
+
+/// Welch–Satterthwaite (JCGM 100 G.4.1): effective degrees of freedom of a combined
+/// `u_c` from contributions `(u_i, nu_i)` (`None`: infinitely many).
+pub fn welch_satterthwaite(u_c: f64, parts: &[(f64, Option<f64>)]) -> Option<f64> {
+    let s: f64 = parts
+        .iter()
+        .filter_map(|&(u, nu)| nu.map(|nu| u.powi(4) / nu))
+        .sum();
+    (s > 0.0).then(|| u_c.powi(4) / s)
+}
+
+/// The angles' share of the uncertainty of the fitted `s_r` of `m` ([`fit::fit`]'s
+/// result `f`), with the detector's swing scale when the angles come from a video.
+pub fn angle_uncertainty(
+    p: &Pendulum,
+    m: &Measurement,
+    f: &FitResult,
+    swing_scale: Option<f64>,
+) -> AngleUncertainty {
+    let n = m.amplitudes.len();
+    let j = fit::jacobian(p, m, f.beta, f.s_r_m, f.a_start_rad, RTOL);
+    let r = &f.residuals_rad;
+    // Residuals of a two-parameter fit are smaller than the errors behind them.
+    let inflate = (n as f64 / (n as f64 - 2.0).max(1.0)).sqrt();
+    let block = ((n as f64).cbrt().ceil() as usize).clamp(1, n);
+    let mut rng = Rng::new(0x5EED_B10C);
+    let mut draws = Vec::with_capacity(BLOCK_BOOTSTRAP_DRAWS);
+    let mut rs = vec![0.0; n];
+    for _ in 0..BLOCK_BOOTSTRAP_DRAWS {
+        let mut i = 0;
+        while i < n {
+            let start = ((rng.uniform() * n as f64) as usize).min(n - 1);
+            for k in 0..block {
+                if i + k >= n {
+                    break;
+                }
+                rs[i + k] = inflate * r[(start + k) % n];
+            }
+            i += block;
+        }
+        draws.push(solve(&j, &rs, 0..n)[0]);
+    }
+    let u_boot = sd(&draws);
+    let u_stat = if u_boot.is_finite() {
+        u_boot.max(f.s_r_se_m)
+    } else {
+        f.s_r_se_m
+    };
+    let dof_stat = (n as f64 - 2.0).max(1.0);
+    // Drift: the earlier and the later half fitted alone, on the same linearisation.
+    let half = n / 2;
+    let u_drift = if half >= 3 {
+        let early = solve(&j, r, 0..half)[0];
+        let late = solve(&j, r, half..n)[0];
+        // Half their difference, whole: subtracting what statistics alone would give
+        // covered fewer of the validation twins (see DETECTOR_SCALE_REL).
+        let half_diff = (early - late).abs() / 2.0;
+        if half_diff.is_finite() {
+            half_diff
+        } else {
+            0.0
+        }
+    } else {
+        0.0
+    };
+    let scale_rel = match swing_scale {
+        Some(s) if s.is_finite() => (DETECTOR_SCALE_REL.powi(2) + (s - 1.0).powi(2) / 3.0).sqrt(),
+        _ => DETECTOR_SCALE_REL,
+    };
+    let u_scale = scale_rel * f.s_r_m.abs();
+    let u = (u_stat.powi(2) + u_drift.powi(2) + u_scale.powi(2)).sqrt();
+    let dof = welch_satterthwaite(
+        u,
+        &[(u_stat, Some(dof_stat)), (u_drift, None), (u_scale, None)],
+    );
+    let k = coverage_factor(dof);
+    AngleUncertainty {
+        u_stat_m: u_stat,
+        dof_stat,
+        block,
+        u_drift_m: u_drift,
+        scale_rel,
+        u_scale_m: u_scale,
+        u_m: u,
+        dof,
+        k,
+        interval95_m: [f.s_r_m - k * u, f.s_r_m + k * u],
+    }
+}
+
+/// How an input's value is distributed about its estimate.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Distribution {
+    /// Half-width `sqrt(3) u` (an instrument's resolution).
+    Rectangular,
+    Normal,
+    /// Student's t with the component's degrees of freedom.
+    Student,
+}
+
+/// One line of the budget.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Component {
+    /// The quantity's symbol, e.g. `d`.
+    pub quantity: String,
+    /// Where its value comes from: the experiment file's key, or `angles`.
+    pub key: String,
+    /// Its estimate, in `unit` (`s_r` itself for the angles' parts).
+    pub value: f64,
+    pub unit: String,
+    /// Standard uncertainty, in `unit`.
+    pub u: f64,
+    pub distribution: Distribution,
+    /// Why this `u`: given, or the default's instrument.
+    pub source: String,
+    /// Sensitivity coefficient `ds_r/dx`, m per `unit`.
+    pub sensitivity: f64,
+    /// `|c| u`, m.
+    pub contribution_m: f64,
+    /// Degrees of freedom (`None`: infinitely many).
+    pub dof: Option<f64>,
+}
+
+/// The uncertainty budget of `s_r` (JCGM 100).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Budget {
+    pub s_r_m: f64,
+    /// The angles' share, as `s_r_u_m` and `s_r_interval95_m` report it.
+    pub angles: AngleUncertainty,
+    pub components: Vec<Component>,
+    /// Combined standard uncertainty `u_c`, m.
+    pub u_c_m: f64,
+    /// Effective degrees of freedom (`None`: infinitely many).
+    pub nu_eff: Option<f64>,
+    /// Coverage factor for 95 %.
+    pub k: f64,
+    /// Expanded uncertainty `U = k u_c`, m.
+    pub expanded_m: f64,
+    /// `s_r +- U`, m.
+    pub interval95_m: [f64; 2],
+}
+
+/// A geometry input: its symbol, key, value, unit, given or default `u`, and how to set
+/// it in a copy of the geometry.
+struct Input {
+    quantity: &'static str,
+    key: &'static str,
+    value: f64,
+    unit: &'static str,
+    given: Option<f64>,
+    default_u: f64,
+    default_why: &'static str,
+    set: fn(&mut crate::config::Geometry, f64),
+}
+
+/// Half a division of `division`, as a rectangular standard uncertainty.
+fn resolution(division: f64) -> f64 {
+    division / (2.0 * 3.0_f64.sqrt())
+}
+
+fn inputs(exp: &Experiment) -> Vec<Input> {
+    let g = &exp.file.geometry;
+    let u = &g.uncertainty;
+    let rule = resolution(1e-3);
+    let mut v = Vec::new();
+    if let (Some(h), Some(l)) = (g.incline.h_m, g.incline.l_m) {
+        v.push(Input {
+            quantity: "h",
+            key: "geometry.incline.h_m",
+            value: h,
+            unit: "m",
+            given: u.h_m,
+            default_u: rule,
+            default_why: "a rule with 1 mm divisions",
+            set: |g, x| g.incline.h_m = Some(x),
+        });
+        v.push(Input {
+            quantity: "l",
+            key: "geometry.incline.l_m",
+            value: l,
+            unit: "m",
+            given: u.l_m,
+            default_u: rule,
+            default_why: "a rule with 1 mm divisions",
+            set: |g, x| g.incline.l_m = Some(x),
+        });
+    }
+    if let Some(a) = g.incline.angle_deg {
+        v.push(Input {
+            quantity: "alpha",
+            key: "geometry.incline.angle_deg",
+            value: a,
+            unit: "deg",
+            given: u.angle_deg,
+            default_u: resolution(0.1),
+            default_why: "an inclinometer reading to 0.1 deg",
+            set: |g, x| g.incline.angle_deg = Some(x),
+        });
+    }
+    if let Some(d) = g.pendulum.d_m {
+        v.push(Input {
+            quantity: "d",
+            key: "geometry.pendulum.d_m",
+            value: d,
+            unit: "m",
+            given: u.d_m,
+            default_u: rule,
+            default_why: "a rule with 1 mm divisions",
+            set: |g, x| g.pendulum.d_m = Some(x),
+        });
+    }
+    if let Some(l) = g.pendulum.contact_length_m {
+        v.push(Input {
+            quantity: "L",
+            key: "geometry.pendulum.contact_length_m",
+            value: l,
+            unit: "m",
+            given: u.contact_length_m,
+            default_u: rule,
+            default_why: "a rule with 1 mm divisions",
+            set: |g, x| g.pendulum.contact_length_m = Some(x),
+        });
+    }
+    v.push(Input {
+        quantity: "r",
+        key: "geometry.ball.radius_m",
+        value: g.ball.radius_m,
+        unit: "m",
+        given: u.radius_m,
+        default_u: resolution(0.02e-3),
+        default_why: "a caliper reading to 0.02 mm",
+        set: |g, x| g.ball.radius_m = x,
+    });
+    if let Some(m) = g.ball.mass_kg {
+        v.push(Input {
+            quantity: "m",
+            key: "geometry.ball.mass_kg",
+            value: m,
+            unit: "kg",
+            given: u.mass_kg,
+            default_u: resolution(0.1e-3),
+            default_why: "a balance reading to 0.1 g",
+            set: |g, x| g.ball.mass_kg = Some(x),
+        });
+    }
+    if let Some(rho) = g.ball.density_kg_m3 {
+        v.push(Input {
+            quantity: "rho",
+            key: "geometry.ball.density_kg_m3",
+            value: rho,
+            unit: "kg/m^3",
+            given: u.density_kg_m3,
+            default_u: 0.01 * rho / 3.0_f64.sqrt(),
+            default_why: "a handbook density, +-1 %",
+            set: |g, x| g.ball.density_kg_m3 = Some(x),
+        });
+    }
+    v.push(Input {
+        quantity: "g",
+        key: "geometry.g_m_s2",
+        value: g.g_m_s2,
+        unit: "m/s^2",
+        given: u.g_m_s2,
+        default_u: 0.03 / 3.0_f64.sqrt(),
+        default_why: "9.81 stands for 9.78..9.84 over the Earth",
+        set: |g, x| g.g_m_s2 = x,
+    });
+    v
+}
+
+/// The pendulum with input `i` set to `x`.
+fn pendulum_with(exp: &Experiment, i: &Input, x: f64) -> Result<Pendulum> {
+    let mut g = exp.file.geometry.clone();
+    (i.set)(&mut g, x);
+    pendulum_of(&g).with_context(|| format!("`{}` = {x} {}", i.key, i.unit))
+}
+
+/// The uncertainty budget of the fitted `s_r` (result `f` of the turning points `m`),
+/// with the angles' share `a`.
+pub fn budget(
+    exp: &Experiment,
+    m: &Measurement,
+    f: &FitResult,
+    a: AngleUncertainty,
+) -> Result<Budget> {
+    let start = [f.s_r_m, f.a_start_rad];
+    let mut components = Vec::new();
+    for i in inputs(exp) {
+        let (u, distribution, source) = match i.given {
+            Some(u) => (u, Distribution::Normal, "given".to_string()),
+            None => (
+                i.default_u,
+                Distribution::Rectangular,
+                format!("default: {}", i.default_why),
+            ),
+        };
+        let sensitivity = if u > 0.0 {
+            let s_at = |x: f64| -> Result<f64> {
+                let p = pendulum_with(exp, &i, x)?;
+                Ok(fit::refit(&p, m, f.beta, start, RTOL)
+                    .with_context(|| format!("re-fitting with `{}` = {x}", i.key))?[0])
+            };
+            (s_at(i.value + u)? - s_at(i.value - u)?) / (2.0 * u)
+        } else {
+            0.0
+        };
+        components.push(Component {
+            quantity: i.quantity.to_string(),
+            key: i.key.to_string(),
+            value: i.value,
+            unit: i.unit.to_string(),
+            u,
+            distribution,
+            source,
+            sensitivity,
+            contribution_m: (sensitivity * u).abs(),
+            dof: None,
+        });
+    }
+    let angles = |quantity: &str, u: f64, distribution, source: &str, dof| Component {
+        quantity: quantity.to_string(),
+        key: "angles".to_string(),
+        value: f.s_r_m,
+        unit: "m".to_string(),
+        u,
+        distribution,
+        source: source.to_string(),
+        sensitivity: 1.0,
+        contribution_m: u,
+        dof,
+    };
+    components.push(angles(
+        "s_r (statistics)",
+        a.u_stat_m,
+        Distribution::Student,
+        &format!(
+            "block bootstrap of the turning points' residuals (blocks of {})",
+            a.block
+        ),
+        Some(a.dof_stat),
+    ));
+    components.push(angles(
+        "s_r (drift)",
+        a.u_drift_m,
+        Distribution::Normal,
+        "the earlier and later turning points fitted apart",
+        None,
+    ));
+    components.push(angles(
+        "s_r (detector scale)",
+        a.u_scale_m,
+        Distribution::Normal,
+        &format!(
+            "the detector's angle scale, {:.2} % (validated on randomised twins)",
+            100.0 * a.scale_rel
+        ),
+        None,
+    ));
+    let u_c = components
+        .iter()
+        .map(|c| c.contribution_m.powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let parts: Vec<(f64, Option<f64>)> = components
+        .iter()
+        .map(|c| (c.contribution_m, c.dof))
+        .collect();
+    let nu_eff = welch_satterthwaite(u_c, &parts);
+    let k = coverage_factor(nu_eff);
+    Ok(Budget {
+        s_r_m: f.s_r_m,
+        angles: a,
+        components,
+        u_c_m: u_c,
+        nu_eff,
+        k,
+        expanded_m: k * u_c,
+        interval95_m: [f.s_r_m - k * u_c, f.s_r_m + k * u_c],
+    })
+}
+
+/// The Monte Carlo check of a budget (JCGM 101).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct MonteCarlo {
+    pub draws: usize,
+    pub seed: u64,
+    pub mean_m: f64,
+    /// The draws' standard deviation, m.
+    pub u_m: f64,
+    /// The 2.5 % and 97.5 % quantiles of the draws, m.
+    pub interval95_m: [f64; 2],
+    /// `u_m / u_c` of the budget.
+    pub u_ratio: f64,
+    /// The draws' histogram (for the figure): [`HISTOGRAM_BINS`] equal bins from the
+    /// smallest draw to the largest.
+    pub histogram: Histogram,
+}
+
+/// Bins of the Monte Carlo histogram.
+pub const HISTOGRAM_BINS: usize = 40;
+
+/// Counts of values in equal bins over `[lo, hi]`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Histogram {
+    pub lo: f64,
+    pub hi: f64,
+    pub counts: Vec<usize>,
+}
+
+impl Histogram {
+    /// `bins` equal bins over the range of the sorted `values`.
+    pub fn of_sorted(values: &[f64], bins: usize) -> Self {
+        let (lo, hi) = (values[0], values[values.len() - 1]);
+        let mut counts = vec![0; bins];
+        let w = (hi - lo) / bins as f64;
+        for v in values {
+            let i = if w > 0.0 {
+                (((v - lo) / w) as usize).min(bins - 1)
+            } else {
+                0
+            };
+            counts[i] += 1;
+        }
+        Self { lo, hi, counts }
+    }
+}
+
+/// A Student's t deviate with `nu` degrees of freedom.
+fn student(rng: &mut Rng, nu: f64) -> f64 {
+    let z = rng.normal();
+    if !nu.is_finite() || nu > 1000.0 {
+        return z;
+    }
+    let k = nu.round().max(1.0) as usize;
+    let chi2: f64 = (0..k).map(|_| rng.normal().powi(2)).sum();
+    z / (chi2 / k as f64).sqrt()
+}
+
+/// JCGM 101: `draws` draws of every input of `b` from its distribution, `s_r` re-fitted
+/// for each draw of the geometry, the angles' parts added; `progress` is called with the
+/// draws done.
+pub fn monte_carlo(
+    exp: &Experiment,
+    m: &Measurement,
+    f: &FitResult,
+    b: &Budget,
+    draws: usize,
+    seed: u64,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MonteCarlo> {
+    let ins = inputs(exp);
+    let start = [f.s_r_m, f.a_start_rad];
+    let mut rng = Rng::new(seed);
+    let mut values = Vec::with_capacity(draws);
+    for done in 0..draws {
+        let mut g = exp.file.geometry.clone();
+        for c in &b.components {
+            let Some(i) = ins.iter().find(|i| i.key == c.key) else {
+                continue;
+            };
+            let x = match c.distribution {
+                Distribution::Rectangular => {
+                    i.value + c.u * 3.0_f64.sqrt() * (2.0 * rng.uniform() - 1.0)
+                }
+                _ => i.value + c.u * rng.normal(),
+            };
+            (i.set)(&mut g, x);
+        }
+        let p = pendulum_of(&g).context("a Monte Carlo draw of the geometry")?;
+        let mut s =
+            fit::refit(&p, m, f.beta, start, RTOL).context("re-fitting a Monte Carlo draw")?[0];
+        for c in b.components.iter().filter(|c| c.key == "angles") {
+            s += c.u
+                * match c.distribution {
+                    Distribution::Student => student(&mut rng, c.dof.unwrap_or(f64::INFINITY)),
+                    _ => rng.normal(),
+                };
+        }
+        values.push(s);
+        progress(done + 1);
+    }
+    let mean = values.iter().sum::<f64>() / draws as f64;
+    let u = sd(&values);
+    values.sort_by(f64::total_cmp);
+    let q = |p: f64| values[((draws as f64 * p).round() as usize).min(draws - 1)];
+    Ok(MonteCarlo {
+        draws,
+        seed,
+        mean_m: mean,
+        u_m: u,
+        interval95_m: [q(0.025), q(0.975)],
+        u_ratio: u / b.u_c_m,
+        histogram: Histogram::of_sorted(&values, HISTOGRAM_BINS),
+    })
+}
+
+/// One run of a group: an experiment's `s_r`, its angles' standard uncertainty (what
+/// differs from run to run) and its budget's combined one.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Run {
+    pub name: String,
+    pub d_m: f64,
+    pub s_r_m: f64,
+    pub u_angles_m: f64,
+    pub u_c_m: f64,
+}
+
+/// Repeat runs of one material (the experiments of a manifest that name the same
+/// `material`): their mean and spread, and whether the spread agrees with the runs'
+/// own uncertainties.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Group {
+    pub material: String,
+    pub runs: Vec<Run>,
+    /// Arithmetic mean, m.
+    pub mean_m: f64,
+    /// Standard deviation of the runs, m.
+    pub sd_m: f64,
+    /// Standard uncertainty of the mean from the spread, `sd / sqrt(n)` (Type A, `n - 1`
+    /// degrees of freedom), m.
+    pub u_mean_m: f64,
+    /// The runs' geometry share (the RMS over runs of `sqrt(u_c^2 - u_angles^2)`): the
+    /// rig's rulers and balance, not averaged away by repeating, m.
+    pub u_geometry_m: f64,
+    /// Combined standard uncertainty of the mean, `sqrt(u_mean^2 + u_geometry^2)`, m.
+    pub u_c_m: f64,
+    pub nu_eff: Option<f64>,
+    pub k: f64,
+    /// Expanded uncertainty of the mean (95 %), m.
+    pub expanded_m: f64,
+    /// `chi^2 = sum ((s_i - mean_w) / u_i)^2` about the weighted mean, with each run's
+    /// angles' uncertainty `u_i`, and the Birge ratio `sqrt(chi^2 / (n - 1))`.
+    pub chi2: f64,
+    pub birge_ratio: f64,
+    /// The Birge ratio's limit: `1 + 2 sqrt(2 / (n - 1))` (two of its standard
+    /// deviations for consistent runs).
+    pub birge_limit: f64,
+    /// The spread is within the runs' uncertainties (`birge_ratio <= birge_limit`).
+    pub consistent: bool,
+}
+
+/// The statistics of a group of at least two runs.
+pub fn group(material: &str, runs: Vec<Run>) -> Group {
+    let n = runs.len() as f64;
+    let mean = runs.iter().map(|r| r.s_r_m).sum::<f64>() / n;
+    let s: Vec<f64> = runs.iter().map(|r| r.s_r_m).collect();
+    let sd = sd(&s);
+    let u_mean = sd / n.sqrt();
+    let u_geometry = (runs
+        .iter()
+        .map(|r| (r.u_c_m.powi(2) - r.u_angles_m.powi(2)).max(0.0))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let u_c = (u_mean.powi(2) + u_geometry.powi(2)).sqrt();
+    let nu_eff = welch_satterthwaite(u_c, &[(u_mean, Some(n - 1.0)), (u_geometry, None)]);
+    let k = coverage_factor(nu_eff);
+    let w: Vec<f64> = runs.iter().map(|r| 1.0 / r.u_angles_m.powi(2)).collect();
+    let mean_w = runs.iter().zip(&w).map(|(r, w)| w * r.s_r_m).sum::<f64>() / w.iter().sum::<f64>();
+    let chi2: f64 = runs
+        .iter()
+        .map(|r| ((r.s_r_m - mean_w) / r.u_angles_m).powi(2))
+        .sum();
+    let birge_ratio = (chi2 / (n - 1.0)).sqrt();
+    let birge_limit = 1.0 + 2.0 * (2.0 / (n - 1.0)).sqrt();
+    Group {
+        material: material.to_string(),
+        runs,
+        mean_m: mean,
+        sd_m: sd,
+        u_mean_m: u_mean,
+        u_geometry_m: u_geometry,
+        u_c_m: u_c,
+        nu_eff,
+        k,
+        expanded_m: k * u_c,
+        chi2,
+        birge_ratio,
+        birge_limit,
+        consistent: birge_ratio <= birge_limit,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::{analyze, fit, FitOptions};
+    use crate::physics::ode::{integrate, OdeOptions};
+    use crate::physics::{BetaChoice, FrictionLaw};
+    use crate::series::AngleSeries;
+
+    const GLASS: &str = "geometry:\n  incline: { h_m: 0.142, l_m: 1.500 }\n  pendulum: { d_m: 0.1774 }\n  ball: { radius_m: 0.03175, mass_kg: 1.0458 }\n";
+
+    fn experiment(extra: &str) -> Experiment {
+        Experiment::parse(
+            std::path::Path::new("glass.yaml"),
+            &format!("{GLASS}{extra}"),
+        )
+        .unwrap()
+    }
+
+    /// The model's angles at 25 frames/s for 60 s, with Gaussian noise `noise_rad`
+    /// (seeded), measured and fitted.
+    fn fitted(exp: &Experiment, noise_rad: f64) -> (Measurement, FitResult) {
+        let p = &exp.pendulum;
+        let law = FrictionLaw::new(3.714e-6, 1.0);
+        let tr = integrate(
+            p,
+            &law,
+            0.0,
+            [10f64.to_radians(), 0.0],
+            &OdeOptions {
+                t_end: 60.0,
+                ..OdeOptions::default()
+            },
+        );
+        let mut rng = Rng::new(7);
+        let t: Vec<f64> = (0..1500).map(|i| i as f64 / 25.0).collect();
+        let a = t
+            .iter()
+            .map(|&x| 1.3 - tr.state(x)[0] + noise_rad * rng.normal())
+            .collect();
+        let m = analyze(p, &AngleSeries::new(t, a), BetaChoice::Fixed(1.0)).unwrap();
+        let f = fit(p, &m, &FitOptions::default()).unwrap();
+        (m, f)
+    }
+
+    #[test]
+    fn welch_satterthwaite_by_hand() {
+        // u_c = sqrt(2), one part with 4 dof: nu = 4 / (1/4) = 16 (JCGM 100 G.4.1).
+        let nu = welch_satterthwaite(2f64.sqrt(), &[(1.0, Some(4.0)), (1.0, None)]).unwrap();
+        assert!((nu - 16.0).abs() < 1e-12, "{nu}");
+        assert_eq!(welch_satterthwaite(1.0, &[(1.0, None)]), None);
+        assert!((coverage_factor(None) - 1.96).abs() < 1e-3);
+        assert!((coverage_factor(Some(16.0)) - 2.120).abs() < 1e-3);
+    }
+
+    #[test]
+    fn sensitivities_agree_with_the_small_angle_relation() {
+        // For beta = 1 the drop per half swing is 2 s_r N_0 / (m g r sin(alpha))
+        // (ERRATA §2) with N_0 = m g (cos(alpha) + sin(alpha) tan(delta)): for fixed
+        // amplitudes s_r does not depend on m or g, and
+        // d ln s_r / d alpha = cot(alpha) + (sin(alpha) - cos(alpha) tan(delta)) / (cos(alpha) + sin(alpha) tan(delta)).
+        let exp = experiment("");
+        let (m, f) = fitted(&exp, 0.0);
+        let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
+        let b = budget(&exp, &m, &f, a.clone()).unwrap();
+        let c = |q: &str| {
+            b.components
+                .iter()
+                .find(|c| c.quantity == q)
+                .unwrap()
+                .sensitivity
+        };
+        let s = f.s_r_m;
+        assert!((c("m") * 1.0458 / s).abs() < 1e-4, "m: {}", c("m"));
+        assert!((c("g") * 9.81 / s).abs() < 1e-4, "g: {}", c("g"));
+        let p = &exp.pendulum;
+        let (sa, ca, td) = (p.alpha.sin(), p.alpha.cos(), p.delta.tan());
+        let dln_dalpha = ca / sa + (sa - ca * td) / (ca + sa * td);
+        // alpha = asin(h / l): d alpha / d h = 1 / (l cos(alpha)).
+        let expected = dln_dalpha / (1.5 * ca);
+        let got = c("h") / s;
+        assert!(
+            (got / expected - 1.0).abs() < 0.02,
+            "d ln s_r / d h: {got} vs {expected}"
+        );
+        // The budget: defaults, every part counted once, U = k u_c.
+        assert_eq!(b.components.len(), 6 + 3);
+        let sum: f64 = b.components.iter().map(|c| c.contribution_m.powi(2)).sum();
+        assert!((sum.sqrt() - b.u_c_m).abs() < 1e-15);
+        assert!((b.expanded_m - b.k * b.u_c_m).abs() < 1e-18);
+        let h = b.components.iter().find(|c| c.quantity == "h").unwrap();
+        assert_eq!(h.distribution, Distribution::Rectangular);
+        assert!((h.u - 1e-3 / (2.0 * 3f64.sqrt())).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_given_uncertainty_replaces_the_default() {
+        let exp = experiment("  uncertainty: { d_m: 0.002, g_m_s2: 0 }\n");
+        let (m, f) = fitted(&exp, 0.0);
+        let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
+        let b = budget(&exp, &m, &f, a.clone()).unwrap();
+        let d = b.components.iter().find(|c| c.quantity == "d").unwrap();
+        assert_eq!((d.u, d.distribution), (0.002, Distribution::Normal));
+        let g = b.components.iter().find(|c| c.quantity == "g").unwrap();
+        assert_eq!(g.contribution_m, 0.0);
+    }
+
+    #[test]
+    fn the_angles_share_holds_the_detector_scale_and_grows_with_noise() {
+        let exp = experiment("");
+        let p = &exp.pendulum;
+        let (m, f) = fitted(&exp, 0.0);
+        let quiet = angle_uncertainty(p, &m, &f, None);
+        // Noise-free angles: the scale alone.
+        assert!((quiet.u_scale_m / f.s_r_m - DETECTOR_SCALE_REL).abs() < 1e-12);
+        assert!(quiet.u_m >= quiet.u_scale_m);
+        let [lo, hi] = quiet.interval95_m;
+        assert!((hi - lo) / 2.0 - quiet.k * quiet.u_m < 1e-18);
+        // A swing scale 1 % off widens it.
+        let off = angle_uncertainty(p, &m, &f, Some(1.01));
+        assert!(off.scale_rel > 0.005, "{}", off.scale_rel);
+        // Noisy angles: the statistics grow, and the block bootstrap is at least the
+        // least-squares standard error.
+        let (m2, f2) = fitted(&exp, 0.2f64.to_radians());
+        let noisy = angle_uncertainty(p, &m2, &f2, None);
+        assert!(noisy.u_stat_m >= f2.s_r_se_m);
+        assert!(
+            noisy.u_stat_m > 10.0 * quiet.u_stat_m,
+            "{noisy:?} {quiet:?}"
+        );
+        assert_eq!(noisy.dof_stat, (m2.amplitudes.len() - 2) as f64);
+    }
+
+    #[test]
+    fn the_monte_carlo_check_agrees_with_the_budget() {
+        let exp = experiment("");
+        let (m, f) = fitted(&exp, 0.05f64.to_radians());
+        let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
+        let b = budget(&exp, &m, &f, a.clone()).unwrap();
+        let mut calls = 0;
+        let mc = monte_carlo(&exp, &m, &f, &b, 1000, 1, &mut |_| calls += 1).unwrap();
+        assert_eq!(calls, 1000);
+        assert!((mc.u_ratio - 1.0).abs() < 0.1, "{}", mc.u_ratio);
+        assert!((mc.mean_m / f.s_r_m - 1.0).abs() < 0.2 * b.u_c_m / f.s_r_m);
+        assert!(mc.interval95_m[0] < f.s_r_m && f.s_r_m < mc.interval95_m[1]);
+        assert_eq!(mc.histogram.counts.iter().sum::<usize>(), 1000);
+        // The same seed, the same draws.
+        let again = monte_carlo(&exp, &m, &f, &b, 1000, 1, &mut |_| {}).unwrap();
+        assert_eq!(mc, again);
+    }
+
+    #[test]
+    fn a_group_by_hand() {
+        let run = |s: f64| Run {
+            name: format!("r{s}"),
+            d_m: 0.2,
+            s_r_m: s,
+            u_angles_m: 1.0,
+            u_c_m: 5f64.sqrt(),
+        };
+        let g = group("x", vec![run(1.0), run(2.0), run(3.0)]);
+        assert_eq!(g.mean_m, 2.0);
+        assert!((g.sd_m - 1.0).abs() < 1e-12);
+        assert!((g.u_mean_m - 1.0 / 3f64.sqrt()).abs() < 1e-12);
+        // u_c^2 - u_angles^2 = 4 for every run.
+        assert!((g.u_geometry_m - 2.0).abs() < 1e-12);
+        assert!((g.chi2 - 2.0).abs() < 1e-12 && (g.birge_ratio - 1.0).abs() < 1e-12);
+        assert!(g.consistent);
+        // Runs 10 of their uncertainties apart are not.
+        let g = group("x", vec![run(0.0), run(10.0), run(20.0)]);
+        assert!(g.birge_ratio > 9.0 && !g.consistent);
+    }
+}

@@ -76,15 +76,6 @@ fn scene(dir: &Path) -> Result<Option<(String, Row)>> {
     Ok(Some((line, row)))
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        f64::NAN
-    } else {
-        v[v.len() / 2]
-    }
-}
-
 fn main() -> Result<()> {
     let dir = std::env::args()
         .nth(1)
@@ -113,6 +104,13 @@ fn main() -> Result<()> {
             }
         }
     }
+    let median = |mut v: Vec<f64>| {
+        if v.is_empty() {
+            f64::NAN
+        } else {
+            rollfric::numerics::upper_median(&mut v)
+        }
+    };
     for (label, ok_only) in [("every scene fitted", false), ("scenes judged ok", true)] {
         let set: Vec<&Row> = rows.iter().filter(|r| !ok_only || r.ok).collect();
         let n = set.len();

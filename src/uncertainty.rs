@@ -283,29 +283,25 @@ fn resolution(division: f64) -> f64 {
 fn inputs(exp: &Experiment) -> Vec<Input> {
     let g = &exp.file.geometry;
     let u = &g.uncertainty;
-    let rule = resolution(1e-3);
+    // A length read off a rule with 1 mm divisions.
+    let ruled = |quantity, key, value, given, set| Input {
+        quantity,
+        key,
+        value,
+        unit: "m",
+        given,
+        default_u: resolution(1e-3),
+        default_why: "a rule with 1 mm divisions",
+        set,
+    };
     let mut v = Vec::new();
     if let (Some(h), Some(l)) = (g.incline.h_m, g.incline.l_m) {
-        v.push(Input {
-            quantity: "h",
-            key: "geometry.incline.h_m",
-            value: h,
-            unit: "m",
-            given: u.h_m,
-            default_u: rule,
-            default_why: "a rule with 1 mm divisions",
-            set: |g, x| g.incline.h_m = Some(x),
-        });
-        v.push(Input {
-            quantity: "l",
-            key: "geometry.incline.l_m",
-            value: l,
-            unit: "m",
-            given: u.l_m,
-            default_u: rule,
-            default_why: "a rule with 1 mm divisions",
-            set: |g, x| g.incline.l_m = Some(x),
-        });
+        v.push(ruled("h", "geometry.incline.h_m", h, u.h_m, |g, x| {
+            g.incline.h_m = Some(x)
+        }));
+        v.push(ruled("l", "geometry.incline.l_m", l, u.l_m, |g, x| {
+            g.incline.l_m = Some(x)
+        }));
     }
     if let Some(a) = g.incline.angle_deg {
         v.push(Input {
@@ -320,28 +316,18 @@ fn inputs(exp: &Experiment) -> Vec<Input> {
         });
     }
     if let Some(d) = g.pendulum.d_m {
-        v.push(Input {
-            quantity: "d",
-            key: "geometry.pendulum.d_m",
-            value: d,
-            unit: "m",
-            given: u.d_m,
-            default_u: rule,
-            default_why: "a rule with 1 mm divisions",
-            set: |g, x| g.pendulum.d_m = Some(x),
-        });
+        v.push(ruled("d", "geometry.pendulum.d_m", d, u.d_m, |g, x| {
+            g.pendulum.d_m = Some(x)
+        }));
     }
     if let Some(l) = g.pendulum.contact_length_m {
-        v.push(Input {
-            quantity: "L",
-            key: "geometry.pendulum.contact_length_m",
-            value: l,
-            unit: "m",
-            given: u.contact_length_m,
-            default_u: rule,
-            default_why: "a rule with 1 mm divisions",
-            set: |g, x| g.pendulum.contact_length_m = Some(x),
-        });
+        v.push(ruled(
+            "L",
+            "geometry.pendulum.contact_length_m",
+            l,
+            u.contact_length_m,
+            |g, x| g.pendulum.contact_length_m = Some(x),
+        ));
     }
     v.push(Input {
         quantity: "r",

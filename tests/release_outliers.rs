@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::rollfric_ok;
+use common::{rollfric_ok, GLASS_GEOMETRY};
 use serde_json::Value;
 use std::path::Path;
 
@@ -81,11 +81,7 @@ fn experiment(dir: &Path, name: &str, rows: &[(f64, f64)], extra: &str) {
         dir.join(format!("{name}.yaml")),
         format!(
             "name: {name}
-geometry:
-  incline: {{ h_m: 0.142, l_m: 1.500 }}
-  pendulum: {{ d_m: 0.1774 }}
-  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
-angles: {name}.csv
+{GLASS_GEOMETRY}angles: {name}.csv
 {extra}"
         ),
     )

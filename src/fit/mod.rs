@@ -242,14 +242,28 @@ pub fn jacobian(
     rtol: f64,
 ) -> [Vec<f64>; 2] {
     let r = residuals(p, m, beta, rtol, s_r, a0);
+    // Derivatives of the model: minus those of the residuals.
+    residual_jacobian(p, m, beta, rtol, s_r, a0, &r).map(|c| c.iter().map(|v| -v).collect())
+}
+
+/// The residuals' derivatives in `s_r` and `A` at `(s_r, a0)`, whose residuals are `r`:
+/// forward differences (two integrations), one column each.
+fn residual_jacobian(
+    p: &Pendulum,
+    m: &Measurement,
+    beta: f64,
+    rtol: f64,
+    s_r: f64,
+    a0: f64,
+    r: &[f64],
+) -> [Vec<f64>; 2] {
     let hs = 1e-3 * s_r.abs().max(1e-9);
     let ha = 1e-4 * a0.abs().max(1e-3);
     let rs = residuals(p, m, beta, rtol, s_r + hs, a0);
     let ra = residuals(p, m, beta, rtol, s_r, a0 + ha);
-    // Derivatives of the model (minus those of the residuals).
     [
-        r.iter().zip(&rs).map(|(a, b)| (a - b) / hs).collect(),
-        r.iter().zip(&ra).map(|(a, b)| (a - b) / ha).collect(),
+        rs.iter().zip(r).map(|(b, a)| (b - a) / hs).collect(),
+        ra.iter().zip(r).map(|(b, a)| (b - a) / ha).collect(),
     ]
 }
 
@@ -299,21 +313,14 @@ fn fit_core_from(
     let mut rss = ss(&r);
     let mut lambda = 1e-6;
     let mut iterations = 0;
-    let mut jac = [vec![0.0; n], vec![0.0; n]];
+    let mut jac = [Vec::new(), Vec::new()];
     for it in 1..=60 {
         iterations = it;
         // Forward-difference Jacobian, computed at the start only (a chord iteration:
         // the amplitudes are nearly linear in s_r and A, so it converges in a few steps
         // at one integration each).
         if it == 1 {
-            let hs = 1e-3 * s_r.abs().max(1e-9);
-            let ha = 1e-4 * a0.abs().max(1e-3);
-            let rs = resid(s_r + hs, a0);
-            let ra = resid(s_r, a0 + ha);
-            for i in 0..n {
-                jac[0][i] = (rs[i] - r[i]) / hs;
-                jac[1][i] = (ra[i] - r[i]) / ha;
-            }
+            jac = residual_jacobian(p, m, beta, rtol, s_r, a0, &r);
         }
         let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let (j00, j01, j11) = (

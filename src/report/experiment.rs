@@ -158,6 +158,16 @@ fn budget_total(b: &Budget) -> Vec<Kv> {
 
 fn monte_carlo_rows(mc: &MonteCarlo, b: &Budget) -> Vec<Kv> {
     let rel = |v: f64| 100.0 * v / b.s_r_m.abs();
+    let interval = |label: &str, [lo, hi]: [f64; 2]| {
+        kv(
+            label,
+            format!(
+                "{lo:.4e} .. {hi:.4e} m ({:+.3} % .. {:+.3} %)",
+                rel(lo - b.s_r_m),
+                rel(hi - b.s_r_m)
+            ),
+        )
+    };
     vec![
         kv("draws (seed)", format!("{} ({})", mc.draws, mc.seed)),
         kv(
@@ -170,26 +180,11 @@ fn monte_carlo_rows(mc: &MonteCarlo, b: &Budget) -> Vec<Kv> {
                 100.0 * (mc.u_ratio - 1.0)
             ),
         ),
-        kv(
+        interval(
             "95 % interval: Monte Carlo (2.5 %, 97.5 % quantiles)",
-            format!(
-                "{:.4e} .. {:.4e} m ({:+.3} % .. {:+.3} %)",
-                mc.interval95_m[0],
-                mc.interval95_m[1],
-                rel(mc.interval95_m[0] - b.s_r_m),
-                rel(mc.interval95_m[1] - b.s_r_m)
-            ),
+            mc.interval95_m,
         ),
-        kv(
-            "95 % interval: the budget (s_r ± U)",
-            format!(
-                "{:.4e} .. {:.4e} m ({:+.3} % .. {:+.3} %)",
-                b.interval95_m[0],
-                b.interval95_m[1],
-                rel(b.interval95_m[0] - b.s_r_m),
-                rel(b.interval95_m[1] - b.s_r_m)
-            ),
-        ),
+        interval("95 % interval: the budget (s_r ± U)", b.interval95_m),
         kv(
             "agreement (JCGM 101 §8: within 10 % of u_c)",
             if (mc.u_ratio - 1.0).abs() <= 0.1 {

@@ -32,17 +32,20 @@ pub const GLASS_TWIN_YAML: &str = "geometry:
 synthetic: { s_r_m: 3.714e-6, psi0_deg: 10, duration_s: 80, fps: 25, angle_noise_deg: 0.05 }
 ";
 
+/// Table 1's glass geometry as the `geometry:` block of an experiment file.
+pub const GLASS_GEOMETRY: &str = "geometry:
+  incline: { h_m: 0.142, l_m: 1.500 }
+  pendulum: { d_m: 0.1774 }
+  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
+";
+
 /// A short glass twin as an experiment file: Table 1's glass geometry, 20 s at 25
 /// frames/s, 640x360, 0.05 deg of angle noise, the given `s_r` (m) and `video` block
 /// (its lines, or empty).
 pub fn short_glass_twin(name: &str, s_r: &str, video: &str) -> String {
     format!(
         "name: {name}
-geometry:
-  incline: {{ h_m: 0.142, l_m: 1.500 }}
-  pendulum: {{ d_m: 0.1774 }}
-  ball: {{ radius_m: 0.03175, mass_kg: 1.0458 }}
-{video}synthetic: {{ s_r_m: {s_r}, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_deg: 0.05, width: 640, height: 360 }}
+{GLASS_GEOMETRY}{video}synthetic: {{ s_r_m: {s_r}, psi0_deg: 10, duration_s: 20, fps: 25, angle_noise_deg: 0.05, width: 640, height: 360 }}
 "
     )
 }

@@ -19,6 +19,7 @@ pub mod hash;
 pub mod numerics;
 pub mod physics;
 pub mod pipeline;
+pub mod plane;
 pub mod report;
 pub mod rng;
 pub mod series;

@@ -243,6 +243,14 @@ pub struct Component {
     pub dof: Option<f64>,
 }
 
+impl Component {
+    /// A part that adds to `s_r` itself (the angles' parts, the plate calibration),
+    /// rather than a geometry input with a sensitivity coefficient.
+    pub fn adds_to_s_r(&self) -> bool {
+        !self.key.starts_with("geometry.")
+    }
+}
+
 /// The uncertainty budget of `s_r` (JCGM 100).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Budget {
@@ -390,6 +398,7 @@ pub fn budget(
     m: &Measurement,
     f: &FitResult,
     a: AngleUncertainty,
+    calibration: Option<&PlaneScale>,
 ) -> Result<Budget> {
     let start = [f.s_r_m, f.a_start_rad];
     let mut components = Vec::new();
@@ -464,6 +473,31 @@ pub fn budget(
         ),
         None,
     ));
+    if let Some(c) = calibration {
+        let u = c.u_rel * f.s_r_m.abs();
+        components.push(Component {
+            quantity: "s_r (plate calibration)".to_string(),
+            key: "video.calibration".to_string(),
+            value: f.s_r_m,
+            unit: "m".to_string(),
+            u,
+            distribution: if c.dof.is_some() {
+                Distribution::Student
+            } else {
+                Distribution::Normal
+            },
+            source: format!(
+                "the swing's scale through the homography of {} points, each to {:.2} px ({}): {:.3} %",
+                c.points,
+                c.point_u_px,
+                c.point_u_why,
+                100.0 * c.u_rel
+            ),
+            sensitivity: 1.0,
+            contribution_m: u,
+            dof: c.dof,
+        });
+    }
     let u_c = components
         .iter()
         .map(|c| c.contribution_m.powi(2))
@@ -485,6 +519,39 @@ pub fn budget(
         expanded_m: k * u_c,
         interval95_m: [f.s_r_m - k * u_c, f.s_r_m + k * u_c],
     })
+}
+
+/// What a plate calibration adds to the budget: the relative standard uncertainty of
+/// the swing's scale ([`crate::plane::Calibration::scale_u_rel`]), which `s_r` follows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlaneScale {
+    pub u_rel: f64,
+    pub points: usize,
+    pub point_u_px: f64,
+    /// Where the points' uncertainty comes from, in words.
+    pub point_u_why: &'static str,
+    /// Degrees of freedom (`2 n - 8` when the residual estimated the points'
+    /// uncertainty; `None`: a given or default value).
+    pub dof: Option<f64>,
+}
+
+impl PlaneScale {
+    /// The scale uncertainty of `c` for a wire through the image point `pivot` swinging
+    /// `amp` about the plate angle `rest` (rad).
+    pub fn of(c: &crate::plane::Calibration, pivot: [f64; 2], rest: f64, amp: f64) -> Self {
+        use crate::plane::PointUSource;
+        Self {
+            u_rel: c.scale_u_rel(pivot, rest, amp),
+            points: c.image.len(),
+            point_u_px: c.point_u_px,
+            point_u_why: match c.point_u_source {
+                PointUSource::Given => "given",
+                PointUSource::Residual => "the fit's residual",
+                PointUSource::Default => "default: four points leave no residual",
+            },
+            dof: (c.point_u_source == PointUSource::Residual).then_some(c.dof as f64),
+        }
+    }
 }
 
 /// The Monte Carlo check of a budget (JCGM 101).
@@ -577,7 +644,8 @@ pub fn monte_carlo(
         let p = pendulum_of(&g).context("a Monte Carlo draw of the geometry")?;
         let mut s =
             fit::refit(&p, m, f.beta, start, RTOL).context("re-fitting a Monte Carlo draw")?[0];
-        for c in b.components.iter().filter(|c| c.key == "angles") {
+        // The angles' parts and the plate calibration add to s_r directly.
+        for c in b.components.iter().filter(|c| c.adds_to_s_r()) {
             s += c.u
                 * match c.distribution {
                     Distribution::Student => student(&mut rng, c.dof.unwrap_or(f64::INFINITY)),
@@ -752,7 +820,7 @@ mod tests {
         let exp = experiment("");
         let (m, f) = fitted(&exp, 0.0);
         let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-        let b = budget(&exp, &m, &f, a.clone()).unwrap();
+        let b = budget(&exp, &m, &f, a.clone(), None).unwrap();
         let c = |q: &str| {
             b.components
                 .iter()
@@ -788,7 +856,7 @@ mod tests {
         let exp = experiment("  uncertainty: { d_m: 0.002, g_m_s2: 0 }\n");
         let (m, f) = fitted(&exp, 0.0);
         let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-        let b = budget(&exp, &m, &f, a.clone()).unwrap();
+        let b = budget(&exp, &m, &f, a.clone(), None).unwrap();
         let d = b.components.iter().find(|c| c.quantity == "d").unwrap();
         assert_eq!((d.u, d.distribution), (0.002, Distribution::Normal));
         let g = b.components.iter().find(|c| c.quantity == "g").unwrap();
@@ -826,7 +894,7 @@ mod tests {
         let exp = experiment("");
         let (m, f) = fitted(&exp, 0.05f64.to_radians());
         let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-        let b = budget(&exp, &m, &f, a.clone()).unwrap();
+        let b = budget(&exp, &m, &f, a.clone(), None).unwrap();
         let mut calls = 0;
         let mc = monte_carlo(&exp, &m, &f, &b, 1000, 1, &mut |_| calls += 1).unwrap();
         assert_eq!(calls, 1000);

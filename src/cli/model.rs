@@ -78,19 +78,47 @@ pub struct SynthArgs {
     /// Experiment file, or its name: NAME.yaml here, then in experiments/.
     experiment: String,
     /// Output video.
-    #[arg(short, long)]
-    output: PathBuf,
+    #[arg(short, long, required_unless_present = "calibration")]
+    output: Option<PathBuf>,
     /// Also write the true angle of every frame (t_s,angle_rad,spoiled).
     #[arg(long)]
     truth: Option<PathBuf>,
     /// Recording length, s (default: the experiment's).
     #[arg(long)]
     duration: Option<f64>,
+    /// Print, instead of rendering, a `video.calibration` block of protractor marks as
+    /// the twin's camera sees them (image px) with their plate coordinates (mm from
+    /// the fulcrum, the untilted view's axes): for a twin filmed at a tilt.
+    #[arg(long, conflicts_with_all = ["output", "truth", "duration"])]
+    calibration: bool,
+}
+
+/// The `video.calibration` block of the twin's protractor marks.
+fn calibration_block(exp: &Experiment) -> Result<String> {
+    let pts = crate::synth::calibration_points(exp)?;
+    if pts.len() < 4 {
+        bail!(
+            "{}: only {} protractor mark(s) in the frame; a calibration needs four",
+            exp.path.display(),
+            pts.len()
+        );
+    }
+    let mut out = String::from("  calibration:\n    points:\n");
+    for (i, p) in pts {
+        out.push_str(&format!(
+            "      - {{image: [{:.1}, {:.1}], plate: [{:.2}, {:.2}]}}\n",
+            i[0], i[1], p[0], p[1]
+        ));
+    }
+    Ok(out)
 }
 
 /// `rollfric synth`: render the experiment's digital-twin video (and its truth CSV).
 pub fn synth(a: SynthArgs) -> Result<String> {
     let exp = Experiment::load(&locate(&a.experiment))?;
+    let Some(output) = a.output.filter(|_| !a.calibration) else {
+        return calibration_block(&exp);
+    };
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let started = std::time::Instant::now();
     let mut progress = |done: usize, total: usize| {
@@ -101,7 +129,7 @@ pub fn synth(a: SynthArgs) -> Result<String> {
     if let (Some(s), Some(_)) = (&exp.file.synthetic, a.duration) {
         crate::config::frame_budget(("synthetic.fps", s.fps), ("--duration", a.duration))?;
     }
-    let r = crate::synth::render(&exp, &a.output, a.duration, &mut progress)?;
+    let r = crate::synth::render(&exp, &output, a.duration, &mut progress)?;
     if tty {
         eprintln!();
     }

@@ -422,6 +422,24 @@ pub struct Synthetic {
     /// constant rate, `k / fps`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vfr_jitter: Option<f64>,
+    /// The camera tilted from the plate's normal by this angle, degrees, 0 to 40: a
+    /// pinhole camera (its focal length `camera_focal_px`) on the plate's normal through
+    /// the frame's centre, turned about an axis in the plate (`tilt_axis_deg`), so that
+    /// the plate is seen in perspective and angles about the fulcrum are scaled by
+    /// between `cos` and `1 / cos` of the tilt, by direction. The scene is zoomed out
+    /// to keep the ball's swing in the frame. The truth stays in plate angles (those of
+    /// the untilted view); `rollfric synth --calibration` prints protractor marks'
+    /// image points for `video.calibration`. Not with `mirror`. Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera_tilt_deg: Option<f64>,
+    /// The axis of `camera_tilt_deg`, an image angle of the untilted view from the x
+    /// axis (y down), degrees. Default 0 (the camera tips about the image's x axis).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt_axis_deg: Option<f64>,
+    /// Focal length of the tilted camera, px, 0.3 to 10 times the frame's width (0.8:
+    /// a phone's wide lens). Default 1.2 times the width.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera_focal_px: Option<f64>,
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:
@@ -523,6 +541,39 @@ pub struct Video {
     /// px. They replace the detection for that frame (status `manual`).
     #[serde(default)]
     pub marks: std::collections::BTreeMap<u64, [[f64; 2]; 2]>,
+    /// Plate calibration for a camera not square to the plate: at least four image
+    /// points with their plate coordinates (protractor marks, say). Every angle is then
+    /// measured in the plate's plane, through the homography the points fix, and the
+    /// angles CSV holds plate angles (from the plate's x axis towards its y axis). The
+    /// calibration's own uncertainty enters the budget of `s_r`. Absent: angles are the
+    /// image's (a camera square to the plate).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<PlateCalibration>,
+}
+
+/// `video.calibration`, e.g. `{points: [{image: [412.5, 96.0], plate: [0, 0]}, ...]}`.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PlateCalibration {
+    /// Four or more points, no three of four on a line.
+    pub points: Vec<CalibrationPoint>,
+    /// Standard uncertainty of each image coordinate, px. Default: estimated from the
+    /// fit's residual with more than four points (`2 n - 8` degrees of freedom), 0.5
+    /// px with exactly four.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub u_px: Option<f64>,
+}
+
+/// One point of `video.calibration.points`.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationPoint {
+    /// Where the point is in the image, `[x, y]`, px (x right, y down, pixel centres at
+    /// whole numbers).
+    pub image: [f64; 2],
+    /// Where it is on the plate, `[x, y]`, in any one unit of length (mm, say), axes of
+    /// your choosing: plate angles are measured from this x axis towards this y axis.
+    pub plate: [f64; 2],
 }
 
 fn default_angle_noise() -> f64 {

@@ -276,6 +276,9 @@ impl Experiment {
                 );
             }
         }
+        if let Some(c) = file.video.as_ref().and_then(|v| v.calibration.as_ref()) {
+            plate_calibration(c)?;
+        }
         if let Some(s) = &file.synthetic {
             non_negative("synthetic.s_r_m", s.s_r_m, "m")?;
             if parse_beta(&s.beta, "synthetic.beta")? == BetaChoice::Free {
@@ -341,6 +344,19 @@ impl Experiment {
                     bail!("`synthetic.vfr_jitter` = {j} at `synthetic.fps` = {}: frames would come less than 2 ms apart (the times are whole milliseconds)", s.fps);
                 }
             }
+            if let Some(t) = s.camera_tilt_deg {
+                within("synthetic.camera_tilt_deg", t, 0.0, 40.0, "deg")?;
+                if t > 0.0 && s.mirror {
+                    bail!("`synthetic.camera_tilt_deg` = {t} with `synthetic.mirror`: a tilted camera's twin is not mirrored (its truth is in plate angles)");
+                }
+            }
+            if let Some(a) = s.tilt_axis_deg {
+                within("synthetic.tilt_axis_deg", a, -360.0, 360.0, "deg")?;
+            }
+            if let Some(f) = s.camera_focal_px {
+                let w = s.width as f64;
+                within("synthetic.camera_focal_px", f, 0.3 * w, 10.0 * w, "px")?;
+            }
             if let Some(h) = s.hold_s {
                 non_negative("synthetic.hold_s", h, "s")?;
                 let most = s.duration_s.unwrap_or(DEFAULT_MAX_DURATION_S);
@@ -371,6 +387,40 @@ impl Experiment {
     /// A path given in the file, resolved against the file's folder.
     pub fn resolve(&self, rel: &str) -> PathBuf {
         self.path.parent().unwrap_or(Path::new(".")).join(rel)
+    }
+}
+
+/// `video.calibration`: four or more finite points that fix a homography.
+fn plate_calibration(c: &PlateCalibration) -> Result<crate::plane::Calibration> {
+    let key = "video.calibration.points";
+    if c.points.len() < 4 {
+        bail!(
+            "`{key}`: {} point(s); a plate calibration needs at least four",
+            c.points.len()
+        );
+    }
+    for (i, p) in c.points.iter().enumerate() {
+        if !p.image.iter().chain(&p.plate).all(|v| v.is_finite()) {
+            bail!(
+                "`{key}[{i}]` = image {:?}, plate {:?}: expected finite numbers",
+                p.image,
+                p.plate
+            );
+        }
+    }
+    if let Some(u) = c.u_px {
+        positive("video.calibration.u_px", u, "px")?;
+        bounded("video.calibration.u_px", u, 100.0, "px")?;
+    }
+    let image: Vec<[f64; 2]> = c.points.iter().map(|p| p.image).collect();
+    let plate: Vec<[f64; 2]> = c.points.iter().map(|p| p.plate).collect();
+    crate::plane::Calibration::new(&image, &plate, c.u_px).with_context(|| format!("`{key}`"))
+}
+
+impl PlateCalibration {
+    /// The calibration these points fix (validated when the experiment was loaded).
+    pub fn calibration(&self) -> Result<crate::plane::Calibration> {
+        plate_calibration(self)
     }
 }
 
@@ -536,6 +586,68 @@ synthetic: { s_r_m: 3.2e-6 }
         let e = Experiment::parse(Path::new("g.yaml"), &text).unwrap();
         assert!((e.pendulum.d - 0.14).abs() < 1e-4);
         assert!((e.pendulum.m - 1.0458).abs() < 0.01);
+    }
+
+    #[test]
+    fn a_plate_calibration_needs_four_points_that_fix_a_homography() {
+        let with = |pts: &str| format!("{GOOD}video:\n  calibration:\n    points: [{pts}]\n");
+        let p = |i: [f64; 2], q: [f64; 2]| {
+            format!(
+                "{{image: [{}, {}], plate: [{}, {}]}}",
+                i[0], i[1], q[0], q[1]
+            )
+        };
+        let square = [
+            p([100.0, 100.0], [0.0, 0.0]),
+            p([300.0, 110.0], [60.0, 0.0]),
+            p([290.0, 300.0], [60.0, 60.0]),
+            p([110.0, 290.0], [0.0, 60.0]),
+        ];
+        let e = Experiment::parse(Path::new("g.yaml"), &with(&square.join(", "))).unwrap();
+        let c = e
+            .file
+            .video
+            .unwrap()
+            .calibration
+            .unwrap()
+            .calibration()
+            .unwrap();
+        assert_eq!((c.image.len(), c.dof), (4, 0));
+        let e = err(&with(&square[..3].join(", ")));
+        assert!(
+            e.contains("`video.calibration.points`: 3 point(s)") && e.contains("four"),
+            "{e}"
+        );
+        let line = [
+            p([0.0, 0.0], [0.0, 0.0]),
+            p([10.0, 10.0], [1.0, 0.0]),
+            p([20.0, 20.0], [2.0, 0.0]),
+            p([30.0, 30.0], [3.0, 0.0]),
+        ];
+        let e = err(&with(&line.join(", ")));
+        assert!(
+            e.contains("`video.calibration.points`") && e.contains("on a line"),
+            "{e}"
+        );
+        let e = err(&format!("{}    u_px: -1\n", with(&square.join(", "))));
+        assert!(e.contains("video.calibration.u_px"), "{e}");
+    }
+
+    #[test]
+    fn a_tilted_twin_is_not_mirrored() {
+        let e = err(&GOOD.replace(
+            "synthetic: { s_r_m: 3.2e-6 }",
+            "synthetic: { s_r_m: 3.2e-6, camera_tilt_deg: 20, mirror: true }",
+        ));
+        assert!(
+            e.contains("`synthetic.camera_tilt_deg` = 20 with `synthetic.mirror`"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace(
+            "synthetic: { s_r_m: 3.2e-6 }",
+            "synthetic: { s_r_m: 3.2e-6, camera_tilt_deg: 50 }",
+        ));
+        assert!(e.contains("synthetic.camera_tilt_deg"), "{e}");
     }
 
     #[test]

@@ -289,6 +289,7 @@ mod tests {
             figure11,
             review: Default::default(),
             swing_scale: None,
+            calibration: None,
         }
     }
 

@@ -253,6 +253,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         figure11,
         review: review.take(),
         swing_scale,
+        calibration: opts.calibration.clone(),
     })
 }
 

@@ -15,6 +15,9 @@ pub struct DetectOptions {
     pub threshold_sigma: f64,
     pub gate_deg: f64,
     pub marks: BTreeMap<u64, [[f64; 2]; 2]>,
+    /// The plate calibration (`video.calibration`): the angles CSV then holds plate
+    /// angles ([`super::Detection::to_csv`]); the detection itself works in the image.
+    pub calibration: Option<crate::plane::Calibration>,
     /// Folder for the diagnostic images of flagged frames (none if `None`).
     pub diag_dir: Option<PathBuf>,
     /// Use OpenCV's decoder even when `ffmpeg` is available ([`super::detect`]; a
@@ -45,6 +48,7 @@ impl Default for DetectOptions {
             threshold_sigma: 4.0,
             gate_deg: 1.5,
             marks: BTreeMap::new(),
+            calibration: None,
             diag_dir: None,
             force_opencv: false,
             progress: None,
@@ -63,6 +67,8 @@ impl DetectOptions {
             threshold_sigma: v.threshold_sigma.unwrap_or(4.0),
             gate_deg: v.gate_deg.unwrap_or(1.5),
             marks: v.marks.clone(),
+            // Validated when the experiment was loaded.
+            calibration: v.calibration.as_ref().and_then(|c| c.calibration().ok()),
             ..Self::default()
         }
     }

@@ -86,6 +86,10 @@ pub struct Detection {
     /// How much more the wire's own direction turns than its angle about the pivot
     /// (1 when the pivot lies on the wire's line; see the `pivot` check).
     pub swing_scale: Option<f64>,
+    /// The plate calibration the angles CSV is measured through (the rows keep image
+    /// angles).
+    #[serde(skip)]
+    pub calibration: Option<crate::plane::Calibration>,
 }
 
 impl Detection {
@@ -94,12 +98,23 @@ impl Detection {
         self.rows.iter().filter(|r| r.status == st).count()
     }
 
-    /// CSV: `t_s,angle_rad,status,quality` (angle empty when missing).
+    /// Each row's angle as the CSV gives it: the image angle, or with a plate
+    /// calibration the plate angle of the wire through the pivot (kept continuous).
+    pub fn angles(&self) -> Vec<Option<f64>> {
+        let image: Vec<Option<f64>> = self.rows.iter().map(|r| r.angle_rad).collect();
+        match &self.calibration {
+            Some(c) => c.plate_angles(self.pivot_px, &image),
+            None => image,
+        }
+    }
+
+    /// CSV: `t_s,angle_rad,status,quality` (angle empty when missing); with a plate
+    /// calibration, `angle_rad` is the plate angle ([`Detection::angles`]).
     pub fn to_csv(&self) -> String {
         let mut out = String::with_capacity(40 * self.rows.len() + 32);
         out.push_str("t_s,angle_rad,status,quality\n");
-        for r in &self.rows {
-            let a = r.angle_rad.map(|a| format!("{a:.9}")).unwrap_or_default();
+        for (r, a) in self.rows.iter().zip(self.angles()) {
+            let a = a.map(|a| format!("{a:.9}")).unwrap_or_default();
             out.push_str(&format!(
                 "{:.6},{a},{},{:.3}\n",
                 r.t_s,

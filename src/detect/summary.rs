@@ -38,6 +38,9 @@ pub struct DetectionSummary {
     /// (1 when the pivot lies on the wire's line): the `pivot` check's value.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub swing_scale: Option<f64>,
+    /// The plate calibration the angles were measured through, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<crate::plane::CalibrationSummary>,
 }
 
 impl DetectionSummary {
@@ -76,6 +79,7 @@ impl DetectionSummary {
             flagged,
             figure11_frame,
             swing_scale: d.swing_scale,
+            calibration: d.calibration.as_ref().map(Into::into),
         }
     }
 }

@@ -366,7 +366,26 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         )
     });
     let mu = exp.file.sliding.as_ref().map(|s| s.mu);
-    let budget = uncertainty::budget(exp, &m, &f, angle_u)
+    // A plate calibration's share: the angles were measured through it.
+    let plane = angles.detection.as_ref().and_then(|d| {
+        d.calibration.as_ref()?;
+        let c = exp
+            .file
+            .video
+            .as_ref()?
+            .calibration
+            .as_ref()?
+            .calibration()
+            .ok()?;
+        let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
+        Some(uncertainty::PlaneScale::of(
+            &c,
+            d.pivot_px,
+            m.equilibrium.envelope,
+            amp,
+        ))
+    });
+    let budget = uncertainty::budget(exp, &m, &f, angle_u, plane.as_ref())
         .context("the uncertainty budget")
         .with_context(what)?;
     let monte_carlo = match exp.file.monte_carlo_draws {

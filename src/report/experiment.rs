@@ -101,7 +101,7 @@ fn budget_rows(b: &Budget) -> Vec<BudgetRow> {
         .map(|c| BudgetRow {
             quantity: c.quantity.clone(),
             key: c.key.clone(),
-            value: if c.key == "angles" {
+            value: if c.adds_to_s_r() {
                 format!("{:.4e} m", c.value)
             } else {
                 format!("{} {}", figures::trim(c.value), c.unit)
@@ -113,7 +113,7 @@ fn budget_rows(b: &Budget) -> Vec<BudgetRow> {
                 Distribution::Student => "Student t",
             },
             source: c.source.clone(),
-            sensitivity: if c.key == "angles" {
+            sensitivity: if c.adds_to_s_r() {
                 "1".to_string()
             } else {
                 format!("{:.3e} m/{}", c.sensitivity, c.unit)
@@ -458,6 +458,29 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                 "swing of the wire's own direction / of its angle about the pivot",
                 format!("{s:.4} (1 when the pivot lies on the wire's line)"),
             ));
+        }
+        match &d.calibration {
+            Some(c) => detection.push(kv(
+                "angles measured in",
+                format!(
+                    "the plate's plane, through the homography of {} calibration points \
+                     (`video.calibration`; residual {:.3} px RMS, {} degrees of freedom; \
+                     each image point to {:.3} px, {})",
+                    c.points,
+                    c.residual_rms_px,
+                    c.dof,
+                    c.point_u_px,
+                    match c.point_u_source {
+                        crate::plane::PointUSource::Given => "given",
+                        crate::plane::PointUSource::Residual => "from the residual",
+                        crate::plane::PointUSource::Default => "default for four points",
+                    }
+                ),
+            )),
+            None => detection.push(kv(
+                "angles measured in",
+                "the image (no `video.calibration`: a camera square to the plate)".into(),
+            )),
         }
         const SHOW: usize = 40;
         for fl in d.flagged.iter().take(SHOW) {

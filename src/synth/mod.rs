@@ -219,6 +219,12 @@ fn pump(
     })
 }
 
+/// Protractor marks of the twin's picture with their plate coordinates, as
+/// `video.calibration` takes them: `(image px, plate mm)` (see `camera_tilt_deg`).
+pub fn calibration_points(exp: &Experiment) -> Result<Vec<([f64; 2], [f64; 2])>> {
+    Ok(Plan::new(exp, Some(1.0))?.calibration_points())
+}
+
 fn render_inner(
     exp: &Experiment,
     out: &Path,

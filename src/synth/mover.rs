@@ -3,6 +3,7 @@
 use super::look::{mix, scale, to_u8, Look};
 use super::plan::Geometry;
 use crate::config::WireShadow;
+use crate::plane::Homography;
 
 /// `erf` (Abramowitz & Stegun 7.1.26, |error| < 1.5e-7).
 fn erf(x: f64) -> f64 {
@@ -85,7 +86,12 @@ struct ShadowLine {
 pub(super) struct Mover {
     w: usize,
     h: usize,
+    /// The pivot in the image.
     pivot: [f64; 2],
+    /// The pivot in the untilted view (the same as `pivot` without `view`).
+    plate_pivot: [f64; 2],
+    /// The tilted camera's view: the untilted view's pixels to the image's.
+    view: Option<Homography>,
     d_px: f64,
     ball_r: f64,
     screw_r: f64,
@@ -110,6 +116,7 @@ pub(super) struct Mover {
 impl Mover {
     pub(super) fn new(
         g: &Geometry,
+        view: Option<Homography>,
         look: &Look,
         sigma: f64,
         contrast: f64,
@@ -131,13 +138,17 @@ impl Mover {
         });
         let s2 = sigma * std::f64::consts::SQRT_2;
         let reach = hw + 4.0 * sigma + 0.5;
+        // With a tilted view the ball and the screw are drawn at their local scale.
+        let at_pivot = view.map_or(1.0, |v| v.local_scale(g.pivot));
         Self {
             w: g.w,
             h: g.h,
-            pivot: g.pivot,
+            pivot: view.map_or(g.pivot, |v| v.apply(g.pivot)),
+            plate_pivot: g.pivot,
+            view,
             d_px: g.d_px,
             ball_r: g.ball_r,
-            screw_r: g.screw_r,
+            screw_r: g.screw_r * at_pivot,
             wire: look.wire,
             contrast: contrast as f32,
             ball_tab: ball_table(look.ball),
@@ -165,9 +176,23 @@ impl Mover {
         theta_mid: f64,
     ) {
         let [px, py] = self.pivot;
-        let end = |th: f64| [px + self.d_px * th.cos(), py + self.d_px * th.sin()];
+        let [qx, qy] = self.plate_pivot;
+        let view = self.view;
+        let end = |th: f64| {
+            let e = [qx + self.d_px * th.cos(), qy + self.d_px * th.sin()];
+            view.map_or(e, |v| v.apply(e))
+        };
         let c = end(theta_mid);
-        let r = self.ball_r;
+        let r = match view {
+            Some(v) => {
+                let e = [
+                    qx + self.d_px * theta_mid.cos(),
+                    qy + self.d_px * theta_mid.sin(),
+                ];
+                self.ball_r * v.local_scale(e)
+            }
+            None => self.ball_r,
+        };
         let ball_reach = 1.6 * r + 4.0 * self.sigma + 2.0;
         let (mut x0, mut x1) = (c[0] - ball_reach, c[0] + ball_reach);
         let (mut y0, mut y1) = (c[1] - ball_reach, c[1] + ball_reach);

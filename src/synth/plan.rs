@@ -4,6 +4,7 @@ use super::look::Look;
 use super::vfr::Vfr;
 use super::TruthRow;
 use crate::config::{Experiment, Synthetic};
+use crate::plane::{self, Homography};
 use crate::rng::Rng;
 use crate::simulate;
 use anyhow::{ensure, Context, Result};
@@ -51,6 +52,9 @@ pub(super) struct Plan {
     pub(super) geo: Geometry,
     /// The wire's rest angle as the image shows it (mirrored if `s.mirror`), rad.
     pub(super) image_rest: f64,
+    /// The tilted camera's view (`camera_tilt_deg`): the untilted view's pixels (where
+    /// `geo` places things, the plate's own frame for the truth) to the image's.
+    pub(super) view: Option<Homography>,
     pub(super) fps: f64,
     /// Each frame's own time, with `vfr_jitter`.
     pub(super) vfr: Option<Vfr>,
@@ -87,6 +91,10 @@ impl Plan {
             s.wire_width_px,
             s.pivot_frac,
         )?;
+        let view = match s.camera_tilt_deg.filter(|&t| t > 0.0) {
+            Some(t) => Some(tilted(&geo, &s, t)?),
+            None => None,
+        };
         // The image's own rest angle and sense of rotation: mirrored, `pi - theta`.
         let image_rest = if s.mirror {
             wrap_deg(180.0 - rest_deg).to_radians()
@@ -134,6 +142,7 @@ impl Plan {
             look,
             geo,
             image_rest,
+            view,
             vfr,
             trajectory: rec.trajectory,
             truth,
@@ -146,15 +155,112 @@ impl Plan {
         self.geo.theta_rest - self.trajectory.state(t)[0]
     }
 
-    /// The pivot as the image shows it (mirrored if `s.mirror`), px.
+    /// The pivot as the image shows it (mirrored if `s.mirror`, through the tilted
+    /// camera's view), px.
     pub(super) fn image_pivot(&self) -> [f64; 2] {
-        let p = self.geo.pivot;
+        let p = self.to_image(self.geo.pivot);
         if self.s.mirror {
             [(self.geo.w - 1) as f64 - p[0], p[1]]
         } else {
             p
         }
     }
+}
+
+impl Plan {
+    /// A point of the untilted view in the image (before any mirroring).
+    pub(super) fn to_image(&self, p: [f64; 2]) -> [f64; 2] {
+        self.view.map_or(p, |v| v.apply(p))
+    }
+
+    /// Protractor marks a user could pick for `video.calibration`: the fulcrum, both
+    /// ends of the base line and the outer ticks at 30, 60, 90, 120 and 150 degrees,
+    /// each `(image px, plate mm)`, those at least 2 px inside the frame. Plate
+    /// coordinates are the untilted view's axes (x right, y down, the truth's), from
+    /// the fulcrum, with the protractor's radius taken as 60 mm; image points are
+    /// rounded to 0.1 px, as a mark picked on a zoomed picture.
+    pub(super) fn calibration_points(&self) -> Vec<([f64; 2], [f64; 2])> {
+        let g = &self.geo;
+        let rot = g.theta_rest - std::f64::consts::FRAC_PI_2;
+        let mm = 60.0 / g.rp;
+        let mut marks = vec![(0.0, 0.0), (0.0, g.rp), (180.0, g.rp)];
+        marks.extend([30.0, 60.0, 90.0, 120.0, 150.0].map(|a| (a, 0.975 * g.rp)));
+        marks
+            .into_iter()
+            .filter_map(|(a, r): (f64, f64)| {
+                let a = a.to_radians() + rot;
+                let off = [r * a.cos(), r * a.sin()];
+                let q = self.to_image([g.pivot[0] + off[0], g.pivot[1] + off[1]]);
+                let q = q.map(|v| (v * 10.0).round() / 10.0);
+                let inside = q[0] >= 2.0
+                    && q[1] >= 2.0
+                    && q[0] <= g.w as f64 - 3.0
+                    && q[1] <= g.h as f64 - 3.0;
+                inside.then(|| (q, off.map(|v| (v * mm * 100.0).round() / 100.0)))
+            })
+            .collect()
+    }
+}
+
+/// The tilted camera's view of `g` (`camera_tilt_deg` = `tilt`), zoomed out about the
+/// frame's centre until the ball's swing lies 3 % inside the frame.
+fn tilted(g: &Geometry, s: &Synthetic, tilt: f64) -> Result<Homography> {
+    let (w, h) = (g.w as f64, g.h as f64);
+    let f = s.camera_focal_px.unwrap_or(1.2 * w);
+    let centre = [w / 2.0, h / 2.0];
+    let view = plane::tilted_view(
+        f,
+        tilt.to_radians(),
+        s.tilt_axis_deg.unwrap_or(0.0).to_radians(),
+        centre,
+        centre,
+    );
+    // The ball's outline over the swing, and the pivot when it is in the frame.
+    let amp = s.psi0_deg.to_radians() + 3f64.to_radians();
+    let mut pts = Vec::new();
+    for j in 0..=32 {
+        let th = g.theta_rest - amp + 2.0 * amp * j as f64 / 32.0;
+        let c = [
+            g.pivot[0] + g.d_px * th.cos(),
+            g.pivot[1] + g.d_px * th.sin(),
+        ];
+        for k in 0..16 {
+            let a = std::f64::consts::TAU * k as f64 / 16.0;
+            let r = 1.3 * g.ball_r;
+            pts.push([c[0] + r * a.cos(), c[1] + r * a.sin()]);
+        }
+    }
+    let mut zoom = 1.0f64;
+    for p in pts {
+        let q = view.apply(p);
+        for (axis, size) in [w, h].into_iter().enumerate() {
+            let (lo, hi, c) = (0.03 * size, 0.97 * size, centre[axis]);
+            let d = q[axis] - c;
+            if d > 0.0 {
+                zoom = zoom.min((hi - c) / d);
+            } else if d < 0.0 {
+                zoom = zoom.min((lo - c) / d);
+            }
+        }
+    }
+    ensure!(
+        zoom > 0.2,
+        "`synthetic.camera_tilt_deg` = {tilt}: the tilted view cannot keep the ball's swing in the frame"
+    );
+    let shrink = Homography {
+        m: nalgebra::Matrix3::new(
+            zoom,
+            0.0,
+            (1.0 - zoom) * centre[0],
+            0.0,
+            zoom,
+            (1.0 - zoom) * centre[1],
+            0.0,
+            0.0,
+            1.0,
+        ),
+    };
+    Ok(shrink.after(&view))
 }
 
 /// `deg` taken into (-180, 180] (returned as is when it already lies there).

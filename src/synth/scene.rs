@@ -4,7 +4,7 @@
 use super::look::{bgr, illumination, mix, pt, scale, to_u8, Look};
 use super::plan::{stream, Geometry, Plan};
 use crate::rng::Rng;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use opencv::core::{self, Mat, Point, Rect, Scalar, Size};
 use opencv::imgproc;
 use opencv::prelude::*;
@@ -387,7 +387,15 @@ pub(super) fn build_background(plan: &Plan, defocus: Option<f64>) -> Result<(Vec
     let (w, h) = (g.w as i32, g.h as i32);
     let rot = g.theta_rest - FRAC_PI_2;
     let (c, s) = (rot.cos(), rot.sin());
-    // The frame's corners in the plate's frame (pivot at the origin).
+    // The frame's corners in the untilted view, then in the plate's frame (pivot at
+    // the origin).
+    let back = match &plan.view {
+        Some(v) => Some(
+            v.inverse()
+                .context("the tilted camera's view is singular")?,
+        ),
+        None => None,
+    };
     let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
     for (x, y) in [
         (0.0, 0.0),
@@ -395,6 +403,7 @@ pub(super) fn build_background(plan: &Plan, defocus: Option<f64>) -> Result<(Vec
         (0.0, h as f64),
         (w as f64, h as f64),
     ] {
+        let [x, y] = back.map_or([x, y], |b| b.apply([x, y]));
         let (dx, dy) = (x - g.pivot[0], y - g.pivot[1]);
         let (u, v) = (c * dx + s * dy, -s * dx + c * dy);
         lo = [lo[0].min(u), lo[1].min(v)];
@@ -410,15 +419,43 @@ pub(super) fn build_background(plan: &Plan, defocus: Option<f64>) -> Result<(Vec
         [s, c, g.pivot[1] - (s * cp[0] + c * cp[1])],
     ])?;
     let mut img = Mat::default();
-    imgproc::warp_affine(
-        &canvas,
-        &mut img,
-        &m,
-        Size::new(w, h),
-        imgproc::INTER_LINEAR,
-        core::BORDER_REFLECT,
-        Scalar::all(0.0),
-    )?;
+    match &plan.view {
+        None => imgproc::warp_affine(
+            &canvas,
+            &mut img,
+            &m,
+            Size::new(w, h),
+            imgproc::INTER_LINEAR,
+            core::BORDER_REFLECT,
+            Scalar::all(0.0),
+        )?,
+        Some(v) => {
+            // The canvas to the untilted view (the affine map above), then the view.
+            let a = nalgebra::Matrix3::new(
+                c,
+                -s,
+                g.pivot[0] - (c * cp[0] - s * cp[1]),
+                s,
+                c,
+                g.pivot[1] - (s * cp[0] + c * cp[1]),
+                0.0,
+                0.0,
+                1.0,
+            );
+            let t = v.m * a;
+            let rows: Vec<[f64; 3]> = (0..3).map(|r| [t[(r, 0)], t[(r, 1)], t[(r, 2)]]).collect();
+            let m3 = Mat::from_slice_2d(&rows)?;
+            imgproc::warp_perspective(
+                &canvas,
+                &mut img,
+                &m3,
+                Size::new(w, h),
+                imgproc::INTER_LINEAR,
+                core::BORDER_REFLECT,
+                Scalar::all(0.0),
+            )?
+        }
+    }
     let (wf, hf) = (w as f32, h as f32);
     let mut illum = Vec::with_capacity(g.w * g.h);
     for y in 0..g.h {

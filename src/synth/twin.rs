@@ -31,7 +31,14 @@ impl Twin {
         // Pixel integration (~0.4 px) combined with the defocus.
         let sigma = (0.4f64.powi(2) + defocus.unwrap_or(0.0).powi(2)).sqrt();
         let contrast = plan.s.wire_contrast.unwrap_or(1.0);
-        let mover = Mover::new(&plan.geo, &plan.look, sigma, contrast, plan.s.shadow);
+        let mover = Mover::new(
+            &plan.geo,
+            plan.view,
+            &plan.look,
+            sigma,
+            contrast,
+            plan.s.shadow,
+        );
         let s = &plan.s;
         let lights = Lights {
             flicker_hz: s.flicker_hz.unwrap_or(DEFAULT_FLICKER_HZ),

@@ -120,7 +120,7 @@ fn budget_rows(b: &Budget) -> Vec<BudgetRow> {
             },
             contribution: format!("{:.2e}", c.contribution_m),
             share: format!("{:.1} %", 100.0 * (c.contribution_m / b.u_c_m).powi(2)),
-            dof: c.dof.map_or("∞".to_string(), |d| format!("{d:.0}")),
+            dof: figures::dof(c.dof),
         })
         .collect()
 }
@@ -137,7 +137,7 @@ fn budget_total(b: &Budget) -> Vec<Kv> {
         ),
         kv(
             "effective degrees of freedom (Welch-Satterthwaite)",
-            b.nu_eff.map_or("∞".to_string(), |v| format!("{v:.0}")),
+            figures::dof(b.nu_eff),
         ),
         kv("coverage factor k (95 %)", format!("{:.3}", b.k)),
         kv(

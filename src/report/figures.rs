@@ -384,6 +384,16 @@ pub fn s_r_unit(beta: f64) -> String {
 }
 
 /// A number without trailing zeros (`1`, `1.5`, `1.3333`).
+/// Degrees of freedom as a reader takes them: `∞` for infinitely many, and for so many
+/// that Student's k is the normal one to three figures (more than 1000).
+pub fn dof(nu: Option<f64>) -> String {
+    match nu {
+        Some(v) if v.is_finite() && v <= 1000.0 => format!("{v:.0}"),
+        Some(_) => "> 1000".to_string(),
+        None => "∞".to_string(),
+    }
+}
+
 pub fn trim(v: f64) -> String {
     let s = format!("{v:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
@@ -564,4 +574,16 @@ pub fn monte_carlo_figure(name: &str, mc: &MonteCarlo, b: &Budget) -> Result<Fig
         bars(b.interval95_m),
     ));
     fig("mc.svg", &c)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn degrees_of_freedom_read_as_a_reader_takes_them() {
+        assert_eq!(super::dof(None), "∞");
+        assert_eq!(super::dof(Some(16.4)), "16");
+        assert_eq!(super::dof(Some(1000.0)), "1000");
+        assert_eq!(super::dof(Some(152_064_263.0)), "> 1000");
+        assert_eq!(super::dof(Some(f64::INFINITY)), "> 1000");
+    }
 }

@@ -82,12 +82,11 @@ fn group_view(g: &Group) -> GroupView {
             .join(", "),
         n: g.runs.len(),
         mean: format!(
-            "{:.4e} ± {:.2e} m (k = {:.2}, {})",
+            "{:.4e} ± {:.2e} m (k = {:.2}, ν = {})",
             g.mean_m,
             g.expanded_m,
             g.k,
-            g.nu_eff
-                .map_or("ν = ∞".to_string(), |v| format!("ν = {v:.0}"))
+            super::figures::dof(g.nu_eff)
         ),
         sd: rel(g.sd_m),
         u_mean: rel(g.u_mean_m),

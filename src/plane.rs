@@ -3,8 +3,9 @@
 //! plane rather than in the image.
 //!
 //! A camera tilted by `tau` from the plate's normal maps the plate onto the image by a
-//! homography (a pinhole camera looking at a plane), which scales angles about the
-//! fulcrum by between `cos tau` and `1 / cos tau` depending on the direction. Four or
+//! homography (a pinhole camera looking at a plane), which scales angles about a point
+//! at the picture's centre by between `cos tau` and `1 / cos tau` depending on the
+//! direction, and by more or less elsewhere (perspective). Four or
 //! more image points with their plate coordinates (protractor marks, say) give that
 //! homography back: the normalised direct linear transform (Hartley & Zisserman,
 //! *Multiple View Geometry*, 2nd ed., Alg. 4.2). A straight line maps to a straight
@@ -120,6 +121,19 @@ impl Homography {
                  repeated)"
             );
         }
+        if n == 4 {
+            for pts in [from, to] {
+                if let Some(t) = collinear_triple(pts) {
+                    bail!(
+                        "points {}, {} and {} of four lie on a line: add a point off that line \
+                         (or a fifth point)",
+                        t[0] + 1,
+                        t[1] + 1,
+                        t[2] + 1
+                    );
+                }
+            }
+        }
         let h = vt.row(order[0]);
         let hn = Matrix3::new(h[0], h[1], h[2], h[3], h[4], h[5], h[6], h[7], h[8]);
         let Some(tb_inv) = tb.inverse() else {
@@ -133,12 +147,51 @@ impl Homography {
             m /= m.norm();
         }
         let out = Self { m };
+        let sv = hn.singular_values();
+        let (lo, hi) = (sv.min(), sv.max());
         ensure!(
-            out.inverse().is_some(),
-            "the points do not fix a homography (it is singular)"
+            lo > 1e-6 * hi && out.inverse().is_some(),
+            "the points do not fix a homography (it is singular: three of them on a line?)"
+        );
+        // Every point on the same side of the map's horizon (no point behind the camera).
+        let sides: Vec<f64> = from.iter().map(|p| out.w(*p)).collect();
+        ensure!(
+            sides.iter().all(|&w| w > 0.0) || sides.iter().all(|&w| w < 0.0),
+            "the points do not fit one view of a plane (they lie on both sides of its horizon)"
         );
         Ok(out)
     }
+}
+
+impl Homography {
+    /// The third homogeneous coordinate of `p`'s image: its sign tells the sides of the
+    /// map's horizon apart.
+    pub fn w(&self, p: [f64; 2]) -> f64 {
+        self.m[(2, 0)] * p[0] + self.m[(2, 1)] * p[1] + self.m[(2, 2)]
+    }
+}
+
+/// Three of four points on a line (twice their triangle's area below 1 % of the square
+/// of the set's largest distance): their indices.
+fn collinear_triple(pts: &[[f64; 2]]) -> Option<[usize; 3]> {
+    let mut span2 = 0.0f64;
+    for a in pts {
+        for b in pts {
+            span2 = span2.max((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2));
+        }
+    }
+    for i in 0..pts.len() {
+        for j in i + 1..pts.len() {
+            for k in j + 1..pts.len() {
+                let (a, b, c) = (pts[i], pts[j], pts[k]);
+                let area2 = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+                if area2 < 0.01 * span2 {
+                    return Some([i, j, k]);
+                }
+            }
+        }
+    }
+    None
 }
 
 /// Hartley's normalisation of `pts`: their centroid to the origin, their mean distance
@@ -164,6 +217,12 @@ fn normaliser(pts: &[[f64; 2]]) -> Result<Homography> {
 /// as a standard uncertainty.
 pub const DEFAULT_POINT_U_PX: f64 = 0.5;
 
+/// The least uncertainty of an image coordinate estimated from a calibration's residual,
+/// px: a mark is not located better than a tenth of a pixel, however well a few points
+/// happen to agree (with 2 to 4 degrees of freedom the estimate alone is often far too
+/// small).
+pub const MIN_POINT_U_PX: f64 = 0.1;
+
 /// Monte Carlo draws of the calibration's effect on the swing's scale.
 const SCALE_DRAWS: usize = 400;
 
@@ -181,8 +240,9 @@ pub struct Calibration {
     /// Degrees of freedom of that residual, `2 n - 8`.
     pub dof: usize,
     /// The standard uncertainty of each image coordinate, px: given, else the residual's
-    /// own estimate `sqrt(sum r^2 / (2 n - 8))` when there are more than four points,
-    /// else [`DEFAULT_POINT_U_PX`].
+    /// own estimate `sqrt(sum r^2 / (2 n - 8))` (at least [`MIN_POINT_U_PX`]) when there
+    /// are more than four points, else [`DEFAULT_POINT_U_PX`]. The plate coordinates are
+    /// taken as exact.
     pub point_u_px: f64,
     /// Where `point_u_px` comes from.
     pub point_u_source: PointUSource,
@@ -220,7 +280,10 @@ impl Calibration {
         let dof = 2 * n - 8;
         let (point_u_px, point_u_source) = match u_px {
             Some(u) => (u, PointUSource::Given),
-            None if dof > 0 => ((ss / dof as f64).sqrt(), PointUSource::Residual),
+            None if dof > 0 => (
+                (ss / dof as f64).sqrt().max(MIN_POINT_U_PX),
+                PointUSource::Residual,
+            ),
             None => (DEFAULT_POINT_U_PX, PointUSource::Default),
         };
         Ok(Self {
@@ -235,9 +298,17 @@ impl Calibration {
     }
 
     /// The plate angle of a wire seen at image angle `theta` through the image point
-    /// `pivot`, rad (in (-pi, pi]).
+    /// `pivot`, rad (in (-pi, pi]): exact for a straight wire through the pivot on the
+    /// calibration points' side of the horizon (see [`Calibration::new`]).
     pub fn plate_angle(&self, pivot: [f64; 2], theta: f64) -> f64 {
         self.to_plate.direction(pivot, theta)
+    }
+
+    /// Whether the image point `p` lies on the calibration points' side of the plate's
+    /// horizon (where the homography describes the plate).
+    pub fn sees(&self, p: [f64; 2]) -> bool {
+        let (a, b) = (self.to_plate.w(p), self.to_plate.w(self.image[0]));
+        a * b > 0.0
     }
 
     /// Image angles about `pivot` as plate angles, kept continuous: each is taken within
@@ -330,7 +401,8 @@ impl From<&Calibration> for CalibrationSummary {
 /// A pinhole camera of focal length `f` px looking at the plate, tilted by `tilt`
 /// (rad) from the plate's normal about the plate axis at angle `axis` (rad, from the
 /// x axis), its optical axis through the plate point `centre`, which it shows at
-/// `image_centre`, at unit scale there: plate (px of the untilted view) to image.
+/// `image_centre`, at unit scale along the axis there (`cos(tilt)` across it): plate
+/// (px of the untilted view) to image.
 /// With `tilt` 0 it is a translation.
 pub fn tilted_view(
     f: f64,
@@ -458,6 +530,37 @@ mod tests {
         let image = [[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [3.0, 3.0]];
         let plate = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]];
         assert!(Homography::fit(&image, &plate).is_err());
+        // The natural four marks: the fulcrum, both ends of the base line (on one line
+        // with it) and the 90 degree tick, picked with a little noise.
+        let h = tilted_view(900.0, 0.35, 0.3, [320.0, 100.0], [320.0, 240.0]);
+        let plate = [[0.0, 0.0], [60.0, 0.0], [-60.0, 0.0], [0.0, 58.5]];
+        let image: Vec<[f64; 2]> = plate
+            .iter()
+            .zip([[0.1, -0.2], [-0.3, 0.1], [0.2, 0.2], [0.0, -0.1]])
+            .map(|(p, e)| {
+                let q = h.apply([320.0 + 2.0 * p[0], 100.0 + 2.0 * p[1]]);
+                [q[0] + e[0], q[1] + e[1]]
+            })
+            .collect();
+        let e = Homography::fit(&image, &plate).unwrap_err().to_string();
+        assert!(e.contains("points 1, 2 and 3 of four lie on a line"), "{e}");
+    }
+
+    #[test]
+    fn a_few_agreeing_points_do_not_claim_a_perfect_calibration() {
+        let h = tilted_view(800.0, 0.3, 0.0, [0.0, 0.0], [320.0, 240.0]);
+        let plate = [
+            [0.0, 0.0],
+            [100.0, 0.0],
+            [0.0, 100.0],
+            [100.0, 100.0],
+            [50.0, 30.0],
+        ];
+        let image: Vec<[f64; 2]> = plate.iter().map(|p| h.apply(*p)).collect();
+        let c = Calibration::new(&image, &plate, None).unwrap();
+        assert_eq!(c.point_u_source, PointUSource::Residual);
+        assert_eq!(c.point_u_px, MIN_POINT_U_PX);
+        assert!(c.sees(h.apply([50.0, 50.0])));
     }
 
     #[test]

@@ -225,7 +225,8 @@ pub enum Distribution {
 pub struct Component {
     /// The quantity's symbol, e.g. `d`.
     pub quantity: String,
-    /// Where its value comes from: the experiment file's key, or `angles`.
+    /// Where its value comes from: the experiment file's key, `angles`, or
+    /// `video.calibration` (the plate calibration's share).
     pub key: String,
     /// Its estimate, in `unit` (`s_r` itself for the angles' parts).
     pub value: f64,

@@ -95,6 +95,12 @@ pub struct SynthArgs {
 
 /// The `video.calibration` block of the twin's protractor marks.
 fn calibration_block(exp: &Experiment) -> Result<String> {
+    if exp.file.synthetic.as_ref().is_some_and(|s| s.mirror) {
+        bail!(
+            "{}: `synthetic.mirror`: the protractor marks are printed for an unmirrored twin only",
+            exp.path.display()
+        );
+    }
     let pts = crate::synth::calibration_points(exp)?;
     if pts.len() < 4 {
         bail!(

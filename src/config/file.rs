@@ -426,7 +426,8 @@ pub struct Synthetic {
     /// pinhole camera (its focal length `camera_focal_px`) on the plate's normal through
     /// the frame's centre, turned about an axis in the plate (`tilt_axis_deg`), so that
     /// the plate is seen in perspective and angles about the fulcrum are scaled by
-    /// between `cos` and `1 / cos` of the tilt, by direction. The scene is zoomed out
+    /// between `cos` and `1 / cos` of the tilt at the frame's centre, by direction, and
+    /// by more or less elsewhere. The scene is zoomed out
     /// to keep the ball's swing in the frame. The truth stays in plate angles (those of
     /// the untilted view); `rollfric synth --calibration` prints protractor marks'
     /// image points for `video.calibration`. Not with `mirror`. Default 0.
@@ -437,7 +438,8 @@ pub struct Synthetic {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt_axis_deg: Option<f64>,
     /// Focal length of the tilted camera, px, 0.3 to 10 times the frame's width (0.8:
-    /// a phone's wide lens). Default 1.2 times the width.
+    /// a phone's wide lens); the render is refused when the frame would reach too near
+    /// the plate's horizon. Default 1.2 times the width.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera_focal_px: Option<f64>,
 }

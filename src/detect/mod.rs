@@ -57,7 +57,7 @@ pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, ensure, Context, Result};
 use fill::{apply_marks, fill_flagged};
 use geometry::InitFrames;
 use nalgebra::Vector2;
@@ -238,6 +238,16 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                 .rev()
                 .find(|r| r.status == Status::Ok)
                 .map_or(0, |r| r.frame)
+        );
+    }
+    if let Some(c) = &opts.calibration {
+        ensure!(
+            c.sees([pivot.x, pivot.y]),
+            "{}: the pivot ({:.1}, {:.1}) px lies beyond the plate's horizon as \
+             `video.calibration` fixes it: check the calibration's points",
+            name,
+            pivot.x,
+            pivot.y
         );
     }
     let swing_scale = tracker.swing_scale(&rows, pivot);

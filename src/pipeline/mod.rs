@@ -367,24 +367,25 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
     });
     let mu = exp.file.sliding.as_ref().map(|s| s.mu);
     // A plate calibration's share: the angles were measured through it.
-    let plane = angles.detection.as_ref().and_then(|d| {
-        d.calibration.as_ref()?;
-        let c = exp
-            .file
-            .video
-            .as_ref()?
-            .calibration
-            .as_ref()?
-            .calibration()
-            .ok()?;
-        let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
-        Some(uncertainty::PlaneScale::of(
-            &c,
-            d.pivot_px,
-            m.equilibrium.envelope,
-            amp,
-        ))
-    });
+    let plane = match (
+        angles
+            .detection
+            .as_ref()
+            .filter(|d| d.calibration.is_some()),
+        exp.file.video.as_ref().and_then(|v| v.calibration.as_ref()),
+    ) {
+        (Some(d), Some(c)) => {
+            let c = c.calibration().with_context(what)?;
+            let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
+            Some(uncertainty::PlaneScale::of(
+                &c,
+                d.pivot_px,
+                m.equilibrium.envelope,
+                amp,
+            ))
+        }
+        _ => None,
+    };
     let budget = uncertainty::budget(exp, &m, &f, angle_u, plane.as_ref())
         .context("the uncertainty budget")
         .with_context(what)?;

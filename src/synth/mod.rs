@@ -88,14 +88,17 @@ pub struct SynthReport {
     pub fps: f64,
     /// The wire's pivot in the image, px (pixel centres at integer coordinates).
     pub pivot_px: [f64; 2],
-    /// Pivot to the end of the wire (the ball's centre), px.
+    /// Pivot to the end of the wire (the ball's centre), px (of the untilted view, with
+    /// `camera_tilt_deg`).
     pub wire_length_px: f64,
     /// Drawn width of the wire, px.
     pub wire_width_px: f64,
-    /// Radius of the ball drawn at the wire's end, px.
+    /// Radius of the ball drawn at the wire's end, px (of the untilted view, with
+    /// `camera_tilt_deg`).
     pub ball_radius_px: f64,
     /// Image angle of the wire at rest (`rest_angle_deg` plus the style's turn, taken
-    /// into (-pi, pi]; `pi` minus that when mirrored, likewise taken), rad.
+    /// into (-pi, pi]; `pi` minus that when mirrored, likewise taken), rad; with
+    /// `camera_tilt_deg`, the plate angle (the truth's).
     pub rest_angle_rad: f64,
     pub style: Style,
     /// Rendered without camera defects.

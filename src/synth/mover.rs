@@ -70,7 +70,7 @@ fn ball_table(base: [f32; 3]) -> Vec<[f32; 3]> {
 /// The wire's shadow on the plate: a blurred line from the pivot, at an angle from the
 /// wire.
 struct ShadowLine {
-    /// Image angle from the wire (before mirroring), rad.
+    /// Angle from the wire (before mirroring; in the untilted view), rad.
     offset: f64,
     /// Darkening per unit of coverage: `strength / profile(0)`, so that the shadow's
     /// middle takes `strength` of the plate's brightness.

@@ -50,7 +50,8 @@ pub(super) struct Plan {
     pub(super) look: Look,
     /// Where things are in the scene as drawn, before any mirroring.
     pub(super) geo: Geometry,
-    /// The wire's rest angle as the image shows it (mirrored if `s.mirror`), rad.
+    /// The wire's rest angle as the image shows it (mirrored if `s.mirror`), rad; with a
+    /// tilted camera, the plate's (the truth's).
     pub(super) image_rest: f64,
     /// The tilted camera's view (`camera_tilt_deg`): the untilted view's pixels (where
     /// `geo` places things, the plate's own frame for the truth) to the image's.
@@ -215,7 +216,7 @@ fn tilted(g: &Geometry, s: &Synthetic, tilt: f64) -> Result<Homography> {
         centre,
         centre,
     );
-    // The ball's outline over the swing, and the pivot when it is in the frame.
+    // The ball's outline over the swing.
     let amp = s.psi0_deg.to_radians() + 3f64.to_radians();
     let mut pts = Vec::new();
     for j in 0..=32 {
@@ -229,6 +230,19 @@ fn tilted(g: &Geometry, s: &Synthetic, tilt: f64) -> Result<Homography> {
             let r = 1.3 * g.ball_r;
             pts.push([c[0] + r * a.cos(), c[1] + r * a.sin()]);
         }
+    }
+    let horizon = || {
+        anyhow::anyhow!(
+            "`synthetic.camera_tilt_deg` = {tilt} with `synthetic.camera_focal_px` = {f}: the \
+             frame reaches too near the plate's horizon (a longer focal length or less tilt)"
+        )
+    };
+    // The swing in front of the camera, its depths within a factor 3 of each other.
+    let (d_lo, d_hi) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), &p| {
+        (a.min(view.w(p)), b.max(view.w(p)))
+    });
+    if !(d_lo > 0.0 && d_hi < 3.0 * d_lo) {
+        return Err(horizon());
     }
     let mut zoom = 1.0f64;
     for p in pts {
@@ -260,7 +274,23 @@ fn tilted(g: &Geometry, s: &Synthetic, tilt: f64) -> Result<Homography> {
             1.0,
         ),
     };
-    Ok(shrink.after(&view))
+    let out = shrink.after(&view);
+    // The whole frame well on the near side of the plate's horizon: the back-mapped
+    // corners' depths within a factor 3 of each other.
+    let back = out
+        .inverse()
+        .context("`synthetic.camera_tilt_deg`: the tilted view is singular")?;
+    let depths: Vec<f64> = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]]
+        .iter()
+        .map(|&c| back.w(c) / back.w(centre))
+        .collect();
+    let (lo, hi) = depths
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &d| (a.min(d), b.max(d)));
+    if !(lo > 0.0 && lo > hi / 3.0) {
+        return Err(horizon());
+    }
+    Ok(out)
 }
 
 /// `deg` taken into (-180, 180] (returned as is when it already lies there).

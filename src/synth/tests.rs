@@ -818,3 +818,29 @@ fn variable_frame_rate_videos_carry_each_frames_own_time() {
         "{err}"
     );
 }
+
+#[test]
+fn a_tilted_camera_keeps_the_swing_in_the_frame_and_refuses_the_horizon() {
+    // 20 degrees: the protractor's marks land where the view puts them, inside.
+    let plan = Plan::new(
+        &exp(", camera_tilt_deg: 20, tilt_axis_deg: 180, pivot_frac: [0.35, 0.2]"),
+        Some(1.0),
+    )
+    .unwrap();
+    let marks = plan.calibration_points();
+    assert_eq!(marks.len(), 8, "{marks:?}");
+    let (w, h) = (plan.geo.w as f64, plan.geo.h as f64);
+    for (q, _) in &marks {
+        assert!(q[0] > 0.0 && q[0] < w && q[1] > 0.0 && q[1] < h, "{q:?}");
+    }
+    // The fulcrum mark is the image pivot, to the 0.1 px the marks are rounded to.
+    let p = plan.image_pivot();
+    assert!((marks[0].0[0] - p[0]).abs() <= 0.05 && (marks[0].0[1] - p[1]).abs() <= 0.05);
+    // 40 degrees through a wide lens puts the plate's horizon near the frame: refused.
+    let wide = exp(", camera_tilt_deg: 40, tilt_axis_deg: 90, camera_focal_px: 100");
+    let e = Plan::new(&wide, Some(1.0))
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(e.contains("horizon"), "{e}");
+}

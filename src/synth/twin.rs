@@ -94,10 +94,10 @@ impl Twin {
             let tilt = dir * (0.25 + 0.2 * rng.uniform());
             // Start of the event: the hand crosses the wire's middle.
             let th0 = plan.theta(plan.truth[i - k as usize].t_s);
-            let mid = [
+            let mid = plan.to_image([
                 g.pivot[0] + 0.55 * g.d_px * th0.cos(),
                 g.pivot[1] + 0.55 * g.d_px * th0.sin(),
-            ];
+            ]);
             let u = 0.1 * g.h as f64;
             let step = 0.3 * g.w as f64;
             let off = k as f64 - (n as f64 - 1.0) / 2.0;

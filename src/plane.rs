@@ -49,10 +49,16 @@ impl Homography {
         }
     }
 
+    /// The third homogeneous coordinate of `p`'s image: its sign tells the sides of the
+    /// map's horizon apart.
+    pub fn w(&self, p: [f64; 2]) -> f64 {
+        self.m[(2, 0)] * p[0] + self.m[(2, 1)] * p[1] + self.m[(2, 2)]
+    }
+
     /// The derivative of the map at `p` (2 x 2, row-major).
     pub fn jacobian(&self, p: [f64; 2]) -> [[f64; 2]; 2] {
         let m = &self.m;
-        let w = m[(2, 0)] * p[0] + m[(2, 1)] * p[1] + m[(2, 2)];
+        let w = self.w(p);
         let q = self.apply(p);
         let mut j = [[0.0; 2]; 2];
         for (r, row) in j.iter_mut().enumerate() {
@@ -163,14 +169,6 @@ impl Homography {
     }
 }
 
-impl Homography {
-    /// The third homogeneous coordinate of `p`'s image: its sign tells the sides of the
-    /// map's horizon apart.
-    pub fn w(&self, p: [f64; 2]) -> f64 {
-        self.m[(2, 0)] * p[0] + self.m[(2, 1)] * p[1] + self.m[(2, 2)]
-    }
-}
-
 /// Three of four points on a line (twice their triangle's area below 1 % of the square
 /// of the set's largest distance): their indices.
 fn collinear_triple(pts: &[[f64; 2]]) -> Option<[usize; 3]> {
@@ -258,6 +256,17 @@ pub enum PointUSource {
     Residual,
     /// [`DEFAULT_POINT_U_PX`] (four points leave no residual).
     Default,
+}
+
+impl PointUSource {
+    /// In words, as the reports give it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            PointUSource::Given => "given",
+            PointUSource::Residual => "the fit's residual",
+            PointUSource::Default => "default: four points leave no residual",
+        }
+    }
 }
 
 impl Calibration {

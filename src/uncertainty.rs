@@ -540,17 +540,12 @@ impl PlaneScale {
     /// The scale uncertainty of `c` for a wire through the image point `pivot` swinging
     /// `amp` about the plate angle `rest` (rad).
     pub fn of(c: &crate::plane::Calibration, pivot: [f64; 2], rest: f64, amp: f64) -> Self {
-        use crate::plane::PointUSource;
         Self {
             u_rel: c.scale_u_rel(pivot, rest, amp),
             points: c.image.len(),
             point_u_px: c.point_u_px,
-            point_u_why: match c.point_u_source {
-                PointUSource::Given => "given",
-                PointUSource::Residual => "the fit's residual",
-                PointUSource::Default => "default: four points leave no residual",
-            },
-            dof: (c.point_u_source == PointUSource::Residual).then_some(c.dof as f64),
+            point_u_why: c.point_u_source.describe(),
+            dof: (c.point_u_source == crate::plane::PointUSource::Residual).then_some(c.dof as f64),
         }
     }
 }

@@ -4,7 +4,8 @@
 
 mod common;
 
-use common::{need_ffmpeg, rollfric_ok, root, GLASS_GEOMETRY};
+use common::{need_ffmpeg, rollfric_ok, root, scatter_deg, GLASS_GEOMETRY};
+use rollfric::series::AngleTable;
 use std::path::Path;
 
 /// The tilted glass twin, 24 s at 30 frames/s, 960x540, with `video` (lines or empty).
@@ -32,28 +33,25 @@ fn fit(dir: &Path, name: &str) -> (f64, String, Vec<String>) {
     (s_r / 3.714e-6 - 1.0, verdict, parts)
 }
 
-/// Angles of a CSV (`angle_rad` column; `None` when empty).
+/// Every frame's angle in an angles CSV (`None` when missing).
 fn angles(path: &Path) -> Vec<Option<f64>> {
     let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let ia = head.iter().position(|h| *h == "angle_rad").unwrap();
-    lines
-        .map(|l| l.split(',').nth(ia).unwrap().parse().ok())
+    AngleTable::parse_csv(&text)
+        .unwrap()
+        .rows
+        .iter()
+        .map(|r| r.angle_rad)
         .collect()
 }
 
-/// The RMS, degrees, of measured minus true angles about their mean.
-fn scatter_deg(measured: &[Option<f64>], truth: &[Option<f64>]) -> f64 {
+/// The scatter, degrees, of measured minus true angles about their mean.
+fn scatter_about_truth(measured: &[Option<f64>], truth: &[Option<f64>]) -> f64 {
     let d: Vec<f64> = measured
         .iter()
         .zip(truth)
         .filter_map(|(m, t)| Some((*m)? - (*t)?))
         .collect();
-    let mean = d.iter().sum::<f64>() / d.len() as f64;
-    (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / d.len() as f64)
-        .sqrt()
-        .to_degrees()
+    scatter_deg(&d)
 }
 
 #[test]
@@ -107,8 +105,8 @@ fn a_tilted_camera_is_measured_in_the_plate_plane_through_the_calibration() {
     );
     rollfric_ok(&["detect", "twin.avi", "-o", "image.csv"], d);
     let truth = angles(&d.join("truth.csv"));
-    let plate = scatter_deg(&angles(&d.join("plate.csv")), &truth);
-    let image = scatter_deg(&angles(&d.join("image.csv")), &truth);
+    let plate = scatter_about_truth(&angles(&d.join("plate.csv")), &truth);
+    let image = scatter_about_truth(&angles(&d.join("image.csv")), &truth);
     assert!(
         plate < 0.03,
         "calibrated angles scatter {plate:.4} deg about the truth"

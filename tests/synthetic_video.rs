@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{need_ffmpeg, pivot_in, rollfric_ok, root};
+use common::{need_ffmpeg, pivot_in, rollfric_ok, root, scatter_deg};
 use std::path::Path;
 
 struct Row {
@@ -27,15 +27,6 @@ fn read(path: &Path, col: &str) -> Vec<Row> {
             }
         })
         .collect()
-}
-
-/// The RMS about their mean of angle differences (rad), in degrees: the scatter, not a
-/// constant offset.
-fn rms_deg(diffs: &[f64]) -> f64 {
-    let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
-    (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / diffs.len() as f64)
-        .sqrt()
-        .to_degrees()
 }
 
 #[test]
@@ -125,7 +116,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
         assert!(spoiled >= 3, "{style}: {spoiled} spoiled frames");
         let missing = a.iter().filter(|r| r.tag == "missing").count();
         assert!(missing * 100 <= a.len(), "{style}: {missing} missing");
-        let rms = rms_deg(&diffs);
+        let rms = scatter_deg(&diffs);
         assert!(rms <= 0.05, "{style}: angle RMS {rms:.4} deg");
     }
 }
@@ -218,7 +209,7 @@ fn a_ball_held_for_two_seconds_is_measured_in_every_frame() {
         diffs.len(),
         a.len()
     );
-    let rms = rms_deg(&diffs);
+    let rms = scatter_deg(&diffs);
     // As every style's bar: 10 s leave the pivot a few hundredths of a degree of
     // amplitude scale (40 s of the same scene: 0.010 deg).
     assert!(rms <= 0.05, "angle RMS {rms:.4} deg");

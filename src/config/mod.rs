@@ -59,6 +59,8 @@ pub struct Experiment {
     pub file: ExperimentFile,
     pub pendulum: Pendulum,
     pub beta: BetaChoice,
+    /// The plate calibration `video.calibration` fixes (fitted when the file is read).
+    pub calibration: Option<crate::plane::Calibration>,
 }
 
 /// The parser's message on one line: its first line, plus the offending source line.
@@ -276,9 +278,12 @@ impl Experiment {
                 );
             }
         }
-        if let Some(c) = file.video.as_ref().and_then(|v| v.calibration.as_ref()) {
-            plate_calibration(c)?;
-        }
+        let calibration = file
+            .video
+            .as_ref()
+            .and_then(|v| v.calibration.as_ref())
+            .map(plate_calibration)
+            .transpose()?;
         if let Some(s) = &file.synthetic {
             non_negative("synthetic.s_r_m", s.s_r_m, "m")?;
             if parse_beta(&s.beta, "synthetic.beta")? == BetaChoice::Free {
@@ -372,6 +377,7 @@ impl Experiment {
             file,
             pendulum,
             beta,
+            calibration,
         })
     }
 
@@ -415,13 +421,6 @@ fn plate_calibration(c: &PlateCalibration) -> Result<crate::plane::Calibration> 
     let image: Vec<[f64; 2]> = c.points.iter().map(|p| p.image).collect();
     let plate: Vec<[f64; 2]> = c.points.iter().map(|p| p.plate).collect();
     crate::plane::Calibration::new(&image, &plate, c.u_px).with_context(|| format!("`{key}`"))
-}
-
-impl PlateCalibration {
-    /// The calibration these points fix (validated when the experiment was loaded).
-    pub fn calibration(&self) -> Result<crate::plane::Calibration> {
-        plate_calibration(self)
-    }
 }
 
 fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
@@ -604,14 +603,7 @@ synthetic: { s_r_m: 3.2e-6 }
             p([110.0, 290.0], [0.0, 60.0]),
         ];
         let e = Experiment::parse(Path::new("g.yaml"), &with(&square.join(", "))).unwrap();
-        let c = e
-            .file
-            .video
-            .unwrap()
-            .calibration
-            .unwrap()
-            .calibration()
-            .unwrap();
+        let c = e.calibration.unwrap();
         assert_eq!((c.image.len(), c.dof), (4, 0));
         let e = err(&with(&square[..3].join(", ")));
         assert!(

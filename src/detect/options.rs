@@ -57,7 +57,8 @@ impl Default for DetectOptions {
 }
 
 impl DetectOptions {
-    /// Settings from an experiment's `video:` block.
+    /// Settings from an experiment's `video:` block (but its plate calibration, which
+    /// the experiment fits once: [`crate::pipeline::detect_options`]).
     pub fn from_video(v: &Video) -> Self {
         Self {
             roi: v.roi.map(|[x, y, w, h]| Roi { x, y, w, h }),
@@ -67,8 +68,6 @@ impl DetectOptions {
             threshold_sigma: v.threshold_sigma.unwrap_or(4.0),
             gate_deg: v.gate_deg.unwrap_or(1.5),
             marks: v.marks.clone(),
-            // Validated when the experiment was loaded.
-            calibration: v.calibration.as_ref().and_then(|c| c.calibration().ok()),
             ..Self::default()
         }
     }

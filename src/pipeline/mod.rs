@@ -145,13 +145,18 @@ fn twin_files(exp: &Experiment, cache: &Path) -> Result<(PathBuf, String, PathBu
     Ok((dir.join("twin.avi"), key, dir.join(TWIN_KEY)))
 }
 
-/// The detector's settings for `exp` (its `video:` block; defaults without one).
+/// The detector's settings for `exp` (its `video:` block and plate calibration;
+/// defaults without them).
 pub fn detect_options(exp: &Experiment) -> DetectOptions {
-    exp.file
-        .video
-        .as_ref()
-        .map(DetectOptions::from_video)
-        .unwrap_or_default()
+    DetectOptions {
+        calibration: exp.calibration.clone(),
+        ..exp
+            .file
+            .video
+            .as_ref()
+            .map(DetectOptions::from_video)
+            .unwrap_or_default()
+    }
 }
 
 /// The part of `exp`'s `video:` block that changes a detection (everything but the
@@ -372,13 +377,12 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             .detection
             .as_ref()
             .filter(|d| d.calibration.is_some()),
-        exp.file.video.as_ref().and_then(|v| v.calibration.as_ref()),
+        &exp.calibration,
     ) {
         (Some(d), Some(c)) => {
-            let c = c.calibration().with_context(what)?;
             let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
             Some(uncertainty::PlaneScale::of(
-                &c,
+                c,
                 d.pivot_px,
                 m.equilibrium.envelope,
                 amp,

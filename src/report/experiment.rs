@@ -470,11 +470,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                     c.residual_rms_px,
                     c.dof,
                     c.point_u_px,
-                    match c.point_u_source {
-                        crate::plane::PointUSource::Given => "given",
-                        crate::plane::PointUSource::Residual => "from the residual",
-                        crate::plane::PointUSource::Default => "default for four points",
-                    }
+                    c.point_u_source.describe()
                 ),
             )),
             None => detection.push(kv(

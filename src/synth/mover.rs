@@ -178,21 +178,13 @@ impl Mover {
         let [px, py] = self.pivot;
         let [qx, qy] = self.plate_pivot;
         let view = self.view;
-        let end = |th: f64| {
-            let e = [qx + self.d_px * th.cos(), qy + self.d_px * th.sin()];
-            view.map_or(e, |v| v.apply(e))
-        };
+        // The wire's end in the untilted view, and in the image.
+        let plate_end = |th: f64| [qx + self.d_px * th.cos(), qy + self.d_px * th.sin()];
+        let end = |th: f64| view.map_or(plate_end(th), |v| v.apply(plate_end(th)));
         let c = end(theta_mid);
-        let r = match view {
-            Some(v) => {
-                let e = [
-                    qx + self.d_px * theta_mid.cos(),
-                    qy + self.d_px * theta_mid.sin(),
-                ];
-                self.ball_r * v.local_scale(e)
-            }
-            None => self.ball_r,
-        };
+        let r = view.map_or(self.ball_r, |v| {
+            self.ball_r * v.local_scale(plate_end(theta_mid))
+        });
         let ball_reach = 1.6 * r + 4.0 * self.sigma + 2.0;
         let (mut x0, mut x1) = (c[0] - ball_reach, c[0] + ball_reach);
         let (mut y0, mut y1) = (c[1] - ball_reach, c[1] + ball_reach);

@@ -389,13 +389,10 @@ pub(super) fn build_background(plan: &Plan, defocus: Option<f64>) -> Result<(Vec
     let (c, s) = (rot.cos(), rot.sin());
     // The frame's corners in the untilted view, then in the plate's frame (pivot at
     // the origin).
-    let back = match &plan.view {
-        Some(v) => Some(
-            v.inverse()
-                .context("the tilted camera's view is singular")?,
-        ),
-        None => None,
-    };
+    let back = plan
+        .view
+        .map(|v| v.inverse().context("the tilted camera's view is singular"))
+        .transpose()?;
     let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
     for (x, y) in [
         (0.0, 0.0),
@@ -414,47 +411,43 @@ pub(super) fn build_background(plan: &Plan, defocus: Option<f64>) -> Result<(Vec
     let cp = [-lo[0] + 4.0, -lo[1] + 4.0];
     let mut canvas = plate_texture(cw, ch, look, &mut rng)?;
     draw_instruments(&mut canvas, cp, g, look)?;
-    let m = Mat::from_slice_2d(&[
-        [c, -s, g.pivot[0] - (c * cp[0] - s * cp[1])],
-        [s, c, g.pivot[1] - (s * cp[0] + c * cp[1])],
-    ])?;
+    // The canvas to the untilted view: a turn about the pivot.
+    let a = nalgebra::Matrix3::new(
+        c,
+        -s,
+        g.pivot[0] - (c * cp[0] - s * cp[1]),
+        s,
+        c,
+        g.pivot[1] - (s * cp[0] + c * cp[1]),
+        0.0,
+        0.0,
+        1.0,
+    );
+    let rows = |t: &nalgebra::Matrix3<f64>, n: usize| -> Vec<[f64; 3]> {
+        (0..n).map(|r| [t[(r, 0)], t[(r, 1)], t[(r, 2)]]).collect()
+    };
     let mut img = Mat::default();
+    let size = Size::new(w, h);
     match &plan.view {
         None => imgproc::warp_affine(
             &canvas,
             &mut img,
-            &m,
-            Size::new(w, h),
+            &Mat::from_slice_2d(&rows(&a, 2))?,
+            size,
             imgproc::INTER_LINEAR,
             core::BORDER_REFLECT,
             Scalar::all(0.0),
         )?,
-        Some(v) => {
-            // The canvas to the untilted view (the affine map above), then the view.
-            let a = nalgebra::Matrix3::new(
-                c,
-                -s,
-                g.pivot[0] - (c * cp[0] - s * cp[1]),
-                s,
-                c,
-                g.pivot[1] - (s * cp[0] + c * cp[1]),
-                0.0,
-                0.0,
-                1.0,
-            );
-            let t = v.m * a;
-            let rows: Vec<[f64; 3]> = (0..3).map(|r| [t[(r, 0)], t[(r, 1)], t[(r, 2)]]).collect();
-            let m3 = Mat::from_slice_2d(&rows)?;
-            imgproc::warp_perspective(
-                &canvas,
-                &mut img,
-                &m3,
-                Size::new(w, h),
-                imgproc::INTER_LINEAR,
-                core::BORDER_REFLECT,
-                Scalar::all(0.0),
-            )?
-        }
+        // Then the tilted camera's view.
+        Some(v) => imgproc::warp_perspective(
+            &canvas,
+            &mut img,
+            &Mat::from_slice_2d(&rows(&(v.m * a), 3))?,
+            size,
+            imgproc::INTER_LINEAR,
+            core::BORDER_REFLECT,
+            Scalar::all(0.0),
+        )?,
     }
     let (wf, hf) = (w as f32, h as f32);
     let mut illum = Vec::with_capacity(g.w * g.h);

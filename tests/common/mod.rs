@@ -50,6 +50,15 @@ pub fn short_glass_twin(name: &str, s_r: &str, video: &str) -> String {
     )
 }
 
+/// The RMS about their mean of angle differences (rad), in degrees: the scatter, not a
+/// constant offset.
+pub fn scatter_deg(diffs: &[f64]) -> f64 {
+    let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+    (diffs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / diffs.len() as f64)
+        .sqrt()
+        .to_degrees()
+}
+
 /// Every file under `dir`, relative path -> bytes.
 pub fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
     let mut out = std::collections::BTreeMap::new();

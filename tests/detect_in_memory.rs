@@ -232,11 +232,15 @@ fn a_faint_wire_is_followed_beside_its_darker_soft_shadow() {
         shadow: Some((-4f64.to_radians(), 2.5, 60.0)),
     };
     // Followed, not swapped for the shadow: every error well inside the 4 degrees. The
-    // shadow's flank near the fulcrum still pulls the angle by about 0.35 degrees and
-    // the pivot by about a pixel (a known bias, not yet removed).
+    // shadow's flank near the fulcrum still pulls the angle by about 0.27 degrees and
+    // the pivot by about 0.7 px (a known bias, not yet removed; a re-centred strip as
+    // wide as the first one left 0.55 degrees and 1.5 px).
     let (rms, max, piv) = measure("320x240 with a shadow", &scene);
-    assert!(max < 0.5, "largest angle error {max:.4} deg (RMS {rms:.4})");
-    assert!(piv < 2.0, "pivot off by {piv:.3} px");
+    assert!(
+        max < 0.35,
+        "largest angle error {max:.4} deg (RMS {rms:.4})"
+    );
+    assert!(piv < 1.0, "pivot off by {piv:.3} px");
 }
 
 #[test]

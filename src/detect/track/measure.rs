@@ -188,7 +188,10 @@ impl Tracker {
     /// the strip on the free line [`FREE_STRIP_PASSES`] times leaves that share of the
     /// pull to the power of the passes. A free line that leaves the pivot's line by
     /// more than [`FREE_STRIP_DRIFT`] px at either end of the band (a neighbouring
-    /// ridge) keeps the strip about the pivot's line. `b.sel` holds that strip on entry.
+    /// ridge) keeps the strip about the pivot's line. The re-centred strip is narrower
+    /// ([`FREE_STRIP_HALF`]) than the one the line is found in: it holds the wire's
+    /// ridge and less of its flanks' neighbours (a shadow's edge, the noise). `b.sel`
+    /// holds the first strip on entry.
     fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<[f64; 6]> {
         let fallback = moments(&b.sel);
         let ends = [self.r_lo, self.r_hi].map(|r| about.point + about.dir * r);
@@ -200,7 +203,7 @@ impl Tracker {
             if ends.iter().any(|e| free.distance(*e) > FREE_STRIP_DRIFT) {
                 return Ok(fallback);
             }
-            self.strip_pixels(&free, STRIP_HALF, &mut b.strip)?;
+            self.strip_pixels(&free, FREE_STRIP_HALF, &mut b.strip)?;
             if b.strip.len() < 5 {
                 return Ok(fallback);
             }
@@ -267,6 +270,14 @@ const STRIP_HALF: f64 = 2.5;
 /// ([`Tracker::free_strip_moments`]): a pivot 3 px off along or across the wire of a
 /// 960x540 twin is then refined to within 0.1 px.
 const FREE_STRIP_PASSES: usize = 3;
+/// Half the width of the re-centred strip, px of the working scale. Narrower than
+/// [`STRIP_HALF`]: at 2.5 px, a soft shadow diverging 4 deg from a faint wire pulled
+/// its free lines and the pivot 1.5 px off (angles 0.55 deg off), and on a 1280x720
+/// twin (thin dark wire, shrunk by two) rolled to 45 or 60 deg the swing came out
+/// 0.4 % small; at 1.75 px, 0.7 px and 0.27 deg, and 0.2 %. Narrower still (1.25 px)
+/// helps those two more but leaves a wider wire's pivot, given 4 px off along it,
+/// 0.3 px short of the wire (the aluminum twin, 960x540).
+const FREE_STRIP_HALF: f64 = 1.75;
 /// Farthest a free line may lie from the line through the pivot at the band's ends, px
 /// of the working scale, for its strip to be kept.
 const FREE_STRIP_DRIFT: f64 = 3.0;

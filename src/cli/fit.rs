@@ -234,6 +234,14 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
             r.held_s
         );
     }
+    if let Some(s) = &f.stop {
+        let _ = writeln!(
+            o,
+            "stop             t = {:.3} s, where the turning points' envelope reaches zero: \
+             the {} extreme(s) after it (the ball at rest) are not fitted",
+            s.t_s, s.dropped
+        );
+    }
     for x in &f.outliers {
         let _ = writeln!(
             o,

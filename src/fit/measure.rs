@@ -11,7 +11,7 @@ use crate::numerics::{linear_fit, upper_median, LineFit};
 use crate::physics::ode::{integrate, OdeOptions};
 use crate::physics::{FrictionLaw, Pendulum};
 use crate::series::AngleSeries;
-use crate::signal::{self, envelope_line, Equilibrium, Extreme, Release};
+use crate::signal::{self, envelope_line, Equilibrium, Extreme, Release, Stop};
 use anyhow::{bail, Result};
 use serde::Serialize;
 
@@ -31,6 +31,8 @@ pub struct Measurement {
     /// The held start, when the series begins with one: the samples before the release
     /// are not measured as motion.
     pub release: Option<Release>,
+    /// The motion's end, when extremes after it (the ball at rest) were dropped.
+    pub stop: Option<Stop>,
 }
 
 /// Minimum number of turning points for a fit with two parameters and a residual.
@@ -40,7 +42,11 @@ pub const MIN_EXTREMES: usize = 4;
 /// points come from local cusp fits, [`signal::find_extremes`]).
 pub fn measure(series: &AngleSeries) -> Result<Measurement> {
     let Some((release, start)) = signal::find_release(series) else {
-        return from_extremes(signal::find_extremes(series)?);
+        let mut extremes = signal::find_extremes(series)?;
+        let stop = signal::drop_after_stop(&mut extremes);
+        let mut m = from_extremes(extremes)?;
+        m.stop = stop;
+        return Ok(m);
     };
     // Turning points are sought in the motion only, from the release on: there the
     // release leaves its lobe on one side only and is not taken for one.
@@ -56,8 +62,10 @@ pub fn measure(series: &AngleSeries) -> Result<Measurement> {
         extremes.retain(|e| e.t - start.t > 0.5 * half);
     }
     extremes.insert(0, start);
+    let stop = signal::drop_after_stop(&mut extremes);
     let mut m = from_extremes(extremes)?;
     m.release = Some(release);
+    m.stop = stop;
     Ok(m)
 }
 
@@ -92,6 +100,7 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
         index,
         period_s,
         release: None,
+        stop: None,
     })
 }
 
@@ -126,6 +135,7 @@ impl Measurement {
             amplitudes,
             index,
             release: self.release,
+            stop: self.stop,
         })
     }
 }
@@ -246,6 +256,7 @@ pub fn refine(
     };
     let mut refined = from_extremes(out)?;
     refined.release = release;
+    refined.stop = m.stop;
     // The amplitudes about each turning point's own equilibrium.
     refined.envelope = linear_fit(
         &refined.extremes.iter().map(|e| e.t).collect::<Vec<_>>(),

@@ -24,7 +24,7 @@ use crate::numerics::{golden_section_min, linear_fit, median};
 use crate::physics::ode::{integrate, OdeOptions, Trajectory};
 pub use crate::physics::BetaChoice;
 use crate::physics::{FrictionLaw, Pendulum};
-pub use crate::signal::Release;
+pub use crate::signal::{Release, Stop};
 use crate::stats::student_t_quantile;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
@@ -125,6 +125,10 @@ pub struct FitResult {
     /// them) are not fitted.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub release: Option<Release>,
+    /// The motion's end, when the recording runs on after the ball has stopped and
+    /// extremes of the ball at rest were dropped ([`crate::signal::drop_after_stop`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<Stop>,
     /// Turning points found to be outliers ([`fit_robust`]), in time order: dropped from
     /// the fit, or kept in it when more than the cap were found.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -504,6 +508,7 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
         iterations: core.iterations,
         beta_comparison,
         release: m.release,
+        stop: m.stop,
         outliers: Vec::new(),
     })
 }

@@ -344,6 +344,14 @@ fn fit_notes(f: &crate::fit::FitResult) -> Vec<String> {
             r.held_s
         ));
     }
+    if let Some(s) = &f.stop {
+        out.push(format!(
+            "The ball stops at about t = {:.3} s (the turning points' envelope reaches zero): \
+             the {} extreme(s) the recording shows after it, the noise of the ball at rest, \
+             are not fitted.",
+            s.t_s, s.dropped
+        ));
+    }
     let list = |dropped: bool| {
         f.outliers
             .iter()

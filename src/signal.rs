@@ -124,27 +124,49 @@ pub struct Stop {
 }
 
 /// A gap between consecutive extremes longer than this many half swings (the median
-/// gap) is where the free motion may have ended: its turning points follow one another
-/// every half swing.
+/// gap before it) is where the free motion may have ended: its turning points follow
+/// one another every half swing. A ball stops within about this many half swings of
+/// its last turning point, too: the linear envelope's zero must lie there.
 pub const STOP_GAP: f64 = 1.5;
 
-/// Drop the extremes after the motion's end ([`Stop`]): after the first gap longer than
+/// The extremes after a stop are the ball at rest, at one angle: they lie within this
+/// share of the last turning point's amplitude of their median (and each nearer the
+/// equilibrium than that amplitude: the ball cannot swing wider after it). The turning
+/// points of a swing that goes on lie on both sides, nearly as far out as the last.
+pub const STOP_REST_BAND: f64 = 0.25;
+
+/// Drop the extremes after the motion's end ([`Stop`]): after a gap longer than
 /// [`STOP_GAP`] half swings, when the linear envelope of the (at least four) extremes
-/// before the gap reaches zero before the next one. A gap in a motion that goes on (a
-/// turning point lost to missing frames) has the envelope still above zero there, and
-/// an exponential decay (air, a string) has no gap: both are left whole.
+/// before it reaches zero within [`STOP_GAP`] half swings after the last of them (and
+/// no more than half a half swing before it), and every later extreme lies at the ball's
+/// rest ([`STOP_REST_BAND`]). A turning point lost mid-motion leaves the envelope above
+/// zero; a convex decay (air, a string) fitted with a line may reach zero there, but its
+/// later turning points swing on both sides: both are left whole.
 pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     let n = extremes.len();
     if n < 5 {
         return None;
     }
-    let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
+    let (i, t_zero) = (3..n - 1).find_map(|i| stop_after(extremes, i).map(|t| (i, t)))?;
+    extremes.truncate(i + 1);
+    Some(Stop {
+        t_s: t_zero,
+        dropped: n - i - 1,
+    })
+}
+
+/// The time the motion stopped, when it stopped after extreme `i` ([`drop_after_stop`]).
+fn stop_after(ex: &[Extreme], i: usize) -> Option<f64> {
+    let before = &ex[..=i];
+    let mut gaps: Vec<f64> = before.windows(2).map(|w| w[1].t - w[0].t).collect();
     let half = median(&mut gaps);
     if half.is_nan() || half <= 0.0 {
         return None;
     }
-    let i = (3..n - 1).find(|&i| extremes[i + 1].t - extremes[i].t > STOP_GAP * half)?;
-    let before = &extremes[..=i];
+    let last = ex[i].t;
+    if ex[i + 1].t - last <= STOP_GAP * half {
+        return None;
+    }
     let eq = equilibrium(before).ok()?.envelope;
     let t: Vec<f64> = before.iter().map(|e| e.t).collect();
     let amp: Vec<f64> = before.iter().map(|e| (e.angle - eq).abs()).collect();
@@ -153,14 +175,16 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
         return None;
     }
     let t_zero = -line.intercept / line.slope;
-    if t_zero.is_nan() || t_zero >= extremes[i + 1].t {
+    if t_zero.is_nan() || t_zero < last - 0.5 * half || t_zero > last + STOP_GAP * half {
         return None;
     }
-    extremes.truncate(i + 1);
-    Some(Stop {
-        t_s: t_zero,
-        dropped: n - i - 1,
-    })
+    let a_last = amp[i];
+    let after = &ex[i + 1..];
+    let rest = median(&mut after.iter().map(|e| e.angle).collect::<Vec<_>>());
+    after
+        .iter()
+        .all(|e| (e.angle - eq).abs() < a_last && (e.angle - rest).abs() < STOP_REST_BAND * a_last)
+        .then_some(t_zero)
 }
 
 /// A held start: the recording begins with the ball held at rest at its release angle
@@ -496,7 +520,8 @@ mod tests {
         // turning points every 1.5 s from t = 1 to 8.5 (six), then two wanderings of
         // the ball at rest, 0.001 rad tall, at 14.2 and 17.9 s.
         let mut e = decaying(6, 0.3, 0.2, 0.02, 1.5, 1.0);
-        let rest = e[5].angle;
+        // The ball rests 0.01 rad from the equilibrium (the last amplitude is 0.03).
+        let rest = 0.29;
         e.push(ex(14.2, rest + 0.001, 1.0));
         e.push(ex(17.9, rest - 0.001, -1.0));
         let stop = drop_after_stop(&mut e).expect("a stop");
@@ -512,6 +537,24 @@ mod tests {
         // points, whose envelope is still 0.1 rad above zero at the next one.
         let mut e = decaying(8, 0.3, 0.2, 0.02, 1.0, 1.0);
         e.remove(5);
+        let kept = e.clone();
+        assert_eq!(drop_after_stop(&mut e), None);
+        assert_eq!(e, kept);
+        // An exponential decay (time constant 20 half swings) with the turning point
+        // after the 42nd lost: a line through the 42 before the gap reaches zero 0.9
+        // half swings after the last of them, but the next turning point is 0.9 of the
+        // last's amplitude, not a ball at rest.
+        let mut e: Vec<Extreme> = (0..80)
+            .map(|k| {
+                let s = if k % 2 == 0 { 1.0 } else { -1.0 };
+                ex(
+                    1.0 + k as f64,
+                    0.3 + s * 0.2 * (-(k as f64) / 20.0).exp(),
+                    s,
+                )
+            })
+            .collect();
+        e.remove(42);
         let kept = e.clone();
         assert_eq!(drop_after_stop(&mut e), None);
         assert_eq!(e, kept);

@@ -253,20 +253,13 @@ fn a_pivot_given_a_few_pixels_off_is_refined_onto_the_wire() {
         );
         // The swing's scale: detected angles regressed on the true ones.
         let a = read(&d.join("angles.csv"), "status");
-        let pairs: Vec<(f64, f64)> = truth
+        let (x, y): (Vec<f64>, Vec<f64>) = truth
             .iter()
             .zip(&a)
             .filter(|(_, de)| de.tag == "ok")
             .map(|(tr, de)| (tr.angle.unwrap(), de.angle.unwrap()))
-            .collect();
-        let n = pairs.len() as f64;
-        let (mx, my) = pairs
-            .iter()
-            .fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
-        let (sxx, sxy) = pairs.iter().fold((0.0, 0.0), |s, p| {
-            (s.0 + (p.0 - mx).powi(2), s.1 + (p.0 - mx) * (p.1 - my))
-        });
-        let slope = sxy / sxx;
+            .unzip();
+        let slope = rollfric::numerics::linear_fit(&x, &y).slope;
         assert!(
             (slope - 1.0).abs() <= 1e-3,
             "{what}: the swing measured {:+.3} % of its size",

@@ -42,11 +42,7 @@ pub const MIN_EXTREMES: usize = 4;
 /// points come from local cusp fits, [`signal::find_extremes`]).
 pub fn measure(series: &AngleSeries) -> Result<Measurement> {
     let Some((release, start)) = signal::find_release(series) else {
-        let mut extremes = signal::find_extremes(series)?;
-        let stop = signal::drop_after_stop(&mut extremes);
-        let mut m = from_extremes(extremes)?;
-        m.stop = stop;
-        return Ok(m);
+        return from_motion(signal::find_extremes(series)?);
     };
     // Turning points are sought in the motion only, from the release on: there the
     // release leaves its lobe on one side only and is not taken for one.
@@ -62,9 +58,16 @@ pub fn measure(series: &AngleSeries) -> Result<Measurement> {
         extremes.retain(|e| e.t - start.t > 0.5 * half);
     }
     extremes.insert(0, start);
+    let mut m = from_motion(extremes)?;
+    m.release = Some(release);
+    Ok(m)
+}
+
+/// [`from_extremes`] of the motion's turning points, those after its stop dropped
+/// ([`signal::drop_after_stop`]).
+fn from_motion(mut extremes: Vec<Extreme>) -> Result<Measurement> {
     let stop = signal::drop_after_stop(&mut extremes);
     let mut m = from_extremes(extremes)?;
-    m.release = Some(release);
     m.stop = stop;
     Ok(m)
 }

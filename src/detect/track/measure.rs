@@ -222,7 +222,7 @@ impl Tracker {
         let piv = self.piv;
         // The direction away from the pivot (a line through the pivot has it already),
         // and the line's point nearest the pivot (the pivot itself on such a line).
-        let d = if line.point == piv || (line.point - piv).dot(&line.dir) >= 0.0 {
+        let d = if (line.point - piv).dot(&line.dir) >= 0.0 {
             line.dir
         } else {
             -line.dir

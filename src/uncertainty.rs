@@ -75,6 +75,10 @@ pub struct AngleUncertainty {
     pub block: usize,
     /// Drift between the earlier and later turning points, m.
     pub u_drift_m: f64,
+    /// The `s_r` of the earlier and of the later half of the turning points, each
+    /// fitted alone (on the fit's linearisation), m; `None` with fewer than six.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub halves_m: Option<[f64; 2]>,
     /// The detector's angle scale: relative standard uncertainty, and in m.
     pub scale_rel: f64,
     pub u_scale_m: f64,
@@ -170,20 +174,14 @@ pub fn angle_uncertainty(
     let dof_stat = (n as f64 - 2.0).max(1.0);
     // Drift: the earlier and the later half fitted alone, on the same linearisation.
     let half = n / 2;
-    let u_drift = if half >= 3 {
-        let early = solve(&j, r, 0..half)[0];
-        let late = solve(&j, r, half..n)[0];
-        // Half their difference, whole: subtracting what statistics alone would give
-        // covered fewer of the validation twins (see DETECTOR_SCALE_REL).
-        let half_diff = (early - late).abs() / 2.0;
-        if half_diff.is_finite() {
-            half_diff
-        } else {
-            0.0
-        }
-    } else {
-        0.0
-    };
+    // Their changes of s_r from the whole fit's.
+    let moves = (half >= 3)
+        .then(|| [solve(&j, r, 0..half)[0], solve(&j, r, half..n)[0]])
+        .filter(|h| (h[0] - h[1]).is_finite());
+    // Half their difference, whole: subtracting what statistics alone would give
+    // covered fewer of the validation twins (see DETECTOR_SCALE_REL).
+    let u_drift = moves.map_or(0.0, |[early, late]| (early - late).abs() / 2.0);
+    let halves = moves.map(|m| m.map(|d| f.s_r_m + d));
     let scale_rel = match swing_scale {
         Some(s) if s.is_finite() => (DETECTOR_SCALE_REL.powi(2) + (s - 1.0).powi(2) / 3.0).sqrt(),
         _ => DETECTOR_SCALE_REL,
@@ -200,6 +198,7 @@ pub fn angle_uncertainty(
         dof_stat,
         block,
         u_drift_m: u_drift,
+        halves_m: halves,
         scale_rel,
         u_scale_m: u_scale,
         u_m: u,

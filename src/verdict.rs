@@ -7,8 +7,9 @@
 //! A result is `ok` only when the data agree with the physics it was fitted with
 //! ([`assess`]): the period measured against the geometry's, the fit's residual against
 //! the angle series' own noise, the envelope's shape (linear for rolling friction,
-//! exponential for viscous damping), the width of the interval on `s_r`, the turning
-//! points the fit dropped as outliers, and, for angles measured in a video, the pivot
+//! exponential for viscous damping), the earlier and the later turning points' `s_r`
+//! against each other, the width of the interval on `s_r`, the turning points the fit
+//! dropped as outliers, and, for angles measured in a video, the pivot
 //! against the wire's own direction. Each disagreement is a named [`Warning`]; a result
 //! with any is `suspect`.
 
@@ -118,6 +119,9 @@ pub struct Limits {
     pub residual_factor: f64,
     /// Largest AICc advantage of an exponential envelope over a linear one.
     pub envelope_aicc: f64,
+    /// Largest relative difference between the `s_r` of the earlier and of the later
+    /// half of the turning points.
+    pub halves_rel: f64,
     /// Largest relative half-width of the 95 % interval on `s_r`.
     pub interval_rel: f64,
     /// Turning points the fit may drop as outliers without a warning.
@@ -132,7 +136,7 @@ pub use crate::config::CHECKS;
 /// One failed consistency check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
-    /// `period`, `residual`, `envelope`, `interval`, `outliers` or `pivot`.
+    /// `period`, `residual`, `envelope`, `halves`, `interval`, `outliers` or `pivot`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -251,6 +255,10 @@ pub struct Evidence<'a> {
     pub residual_rms_rad: f64,
     pub s_r: f64,
     pub s_r_ci95: [f64; 2],
+    /// The `s_r` of the earlier and of the later half of the turning points, each
+    /// fitted alone (`crate::uncertainty::AngleUncertainty::halves_m`); `None` with
+    /// fewer than six turning points.
+    pub s_r_halves: Option<[f64; 2]>,
     /// Times of the turning points dropped from the fit as outliers, s.
     pub outliers_dropped: &'a [f64],
     /// Times of the outliers found beyond the cap and kept in the fit, s.
@@ -402,6 +410,33 @@ pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
             });
         }
     }
+    // halves: rolling friction's s_r is one number for the whole recording (Eq. 33's
+    // linear envelope, or the beta law's); when the earlier and the later turning points,
+    // each fitted alone, disagree by more than the limit, the envelope bends in a way the
+    // model does not: a damping that weakens with the swing (air, viscous: the envelope
+    // check's exponential, caught here before it is clearly preferred), a friction that
+    // changes with the amplitude, an equilibrium off, or a detector scale that changes
+    // with the swing (a shadow or a second edge followed instead of the wire, a camera's
+    // perspective).
+    if let Some([early, late]) = e.s_r_halves {
+        let dev = (early - late) / e.s_r.abs();
+        if !within(dev.abs(), lim.halves_rel) {
+            w.push(Warning {
+                check: "halves".into(),
+                value: dev.abs(),
+                limit: lim.halves_rel,
+                reason: format!(
+                    "the earlier half of the turning points gives s_r = {early:.4e} m, the later \
+                     half {late:.4e} m ({:.1} % apart): one s_r does not describe the whole \
+                     recording (a damping that weakens with the swing, as air's does, a \
+                     friction that changes with the amplitude, an equilibrium off, or a \
+                     detector scale that changes with the swing)",
+                    100.0 * dev.abs()
+                ),
+                accepted: None,
+            });
+        }
+    }
     // interval: s_r resolved from zero, and not wider than the limit.
     let [lo, hi] = e.s_r_ci95;
     let half = 0.5 * (hi - lo) / e.s_r.abs();
@@ -547,6 +582,7 @@ mod tests {
         period_rel: 0.1,
         residual_factor: 5.0,
         envelope_aicc: 10.0,
+        halves_rel: 0.02,
         interval_rel: 0.25,
         outliers: 0,
         pivot_rel: 0.02,
@@ -563,6 +599,7 @@ mod tests {
             residual_rms_rad: 5e-5,
             s_r: 4e-6,
             s_r_ci95: [3.9e-6, 4.1e-6],
+            s_r_halves: Some([4.01e-6, 3.99e-6]),
             outliers_dropped: &[],
             outliers_kept: &[],
             outlier_cap: 4,
@@ -594,19 +631,24 @@ mod tests {
         e.residual_rms_rad = 1e-2;
         e.s_r_ci95 = [-1e-6, 9e-6];
         e.swing_scale = Some(1.05);
+        e.s_r_halves = Some([4.1e-6, 3.9e-6]);
         let mut v = assess(&e, &LIM);
         let names: Vec<&str> = v.warnings.iter().map(|w| w.check.as_str()).collect();
         assert_eq!(
             names,
-            ["period", "residual", "envelope", "interval", "pivot"]
+            ["period", "residual", "envelope", "halves", "interval", "pivot"]
         );
+        // 0.2e-6 apart on an s_r of 4e-6: 5 %.
+        let h = &v.warnings[3];
+        assert!((h.value - 0.05).abs() < 1e-12 && h.limit == 0.02, "{h:?}");
+        assert!(h.reason.contains("5.0 % apart"), "{}", h.reason);
         assert_eq!(v.verdict, Status::Suspect);
         assert!(v.blocks());
         v.accept([("period", "the length was not measured")]);
         assert!(v.blocks());
         assert!(v.label().contains("accepted: period"), "{}", v.label());
         e.s_r_ci95 = [1e-6, 7e-6];
-        let w = &assess(&e, &LIM).warnings[3];
+        let w = &assess(&e, &LIM).warnings[4];
         assert!((w.value - 0.75).abs() < 1e-12, "{w:?}");
     }
 

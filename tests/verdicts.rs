@@ -1,6 +1,6 @@
 //! The twin lies in known ways, and the verdict says so: a wrong pendulum length, viscous
-//! damping instead of rolling friction, a corrupted turning point (dropped, and said),
-//! angles in degrees and an absurd length. Each gives `suspect` with the named check (or
+//! damping instead of rolling friction, a corrupted turning point (dropped, and said), a
+//! detector whose scale grows with the swing, angles in degrees and an absurd length. Each gives `suspect` with the named check (or
 //! a clear refusal), and `rollfric check` exits 1 on an unaccepted `suspect`.
 
 mod common;
@@ -203,6 +203,37 @@ fn viscous_damping_is_suspect_by_its_envelope() {
     assert_eq!(j["verdict"], "suspect", "{j}");
     assert!(warned(&j).contains(&"envelope".to_string()), "{j}");
     assert!(!warned(&j).contains(&"period".to_string()), "{j}");
+}
+
+#[test]
+fn a_scale_that_grows_with_the_swing_is_suspect_by_its_halves() {
+    let d = tempfile::tempdir().unwrap();
+    let rows = simulated(d.path());
+    // What a detector following the wire's shadow in a tilted view does: every angle
+    // about the equilibrium scaled by 1 + 0.04 of its own size against the first swing's
+    // (4 % large at the release, 2 % at half that swing). No turning point is an outlier
+    // and the period is the pendulum's; only the envelope bends.
+    let mut centred: Vec<f64> = rows.iter().map(|r| r.1).collect();
+    centred.sort_by(f64::total_cmp);
+    let eq = centred[centred.len() / 2];
+    let a0 = rows.iter().map(|r| (r.1 - eq).abs()).fold(0.0, f64::max);
+    let bent: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|&(t, a)| (t, eq + (a - eq) * (1.0 + 0.04 * (a - eq).abs() / a0)))
+        .collect();
+    write_csv(&d.path().join("bent.csv"), &bent);
+    let j = fit_json(&yaml(d.path(), "bent", "0.1774", ""));
+    assert_eq!(j["verdict"], "suspect", "{j}");
+    assert_eq!(warned(&j), ["halves"], "{j}");
+    let w = &j["warnings"][0];
+    assert!(w["value"].as_f64().unwrap() > 0.02, "{w}");
+    assert!(w["reason"].as_str().unwrap().contains("later half"), "{w}");
+    // The twin as it is: its halves agree well within the limit.
+    write_csv(&d.path().join("good.csv"), &rows);
+    let good = fit_json(&yaml(d.path(), "good", "0.1774", ""));
+    let h = good["budget"]["angles"]["halves_m"].as_array().unwrap();
+    let (e, l) = (h[0].as_f64().unwrap(), h[1].as_f64().unwrap());
+    assert!((e / l - 1.0).abs() < 0.01, "{good}");
 }
 
 #[test]

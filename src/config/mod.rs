@@ -262,6 +262,7 @@ impl Experiment {
         positive("tolerances.period_rel", t.period_rel, "")?;
         positive("tolerances.residual_factor", t.residual_factor, "")?;
         positive("tolerances.envelope_aicc", t.envelope_aicc, "")?;
+        positive("tolerances.halves_rel", t.halves_rel, "")?;
         positive("tolerances.interval_rel", t.interval_rel, "")?;
         for (i, a) in file.accept.iter().enumerate() {
             if !CHECKS.contains(&a.check.as_str()) {

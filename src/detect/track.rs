@@ -385,12 +385,14 @@ impl Tracker {
                 }
                 self.since_good = 0;
             }
+            // A repeated frame says nothing new: it neither widens the search nor the
+            // gate (widened, a wire at rest beside its own shadow was lost to the shadow
+            // at the first repeat).
+            Some(Flag::Duplicate) => row.flag = Some(Flag::Duplicate),
             Some(fl) => {
                 row.flag = Some(fl);
                 self.since_good += 1;
-                if fl != Flag::Duplicate {
-                    self.save_diag(f.index, angle, pred)?;
-                }
+                self.save_diag(f.index, angle, pred)?;
             }
         }
         Ok(row)

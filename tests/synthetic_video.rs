@@ -313,6 +313,11 @@ synthetic:
     );
     rollfric_ok(&["detect", "pc.mp4", "-o", "angles.csv"], d);
     let truth = read(&d.join("truth.csv"), "spoiled");
+    // The repeat this is about: a frame the recorder repeated while the ball rests.
+    assert!(
+        truth[930..1000].iter().any(|r| r.tag == "duplicate"),
+        "the twin repeats a frame between frames 930 and 1000"
+    );
     let a = read(&d.join("angles.csv"), "status");
     let mut off: Vec<(usize, f64)> = truth
         .iter()

@@ -55,8 +55,8 @@ pub const CHECKS: [&str; 7] = [
 #[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Accept {
-    /// The check's name: `period`, `residual`, `envelope`, `interval`, `outliers` or
-    /// `pivot`.
+    /// The check's name: `period`, `residual`, `envelope`, `halves`, `interval`,
+    /// `outliers` or `pivot`.
     pub check: String,
     /// Why the warning does not invalidate the result.
     pub reason: String,
@@ -245,7 +245,8 @@ pub struct Tolerances {
     #[serde(default = "default_envelope_aicc")]
     pub envelope_aicc: f64,
     /// `halves` check: largest relative difference between the `s_r` of the earlier and
-    /// of the later half of the turning points, each fitted alone. Default 0.02 (the
+    /// of the later half of the turning points, each fitted alone (not judged with fewer
+    /// than six turning points). Default 0.02 (the
     /// randomised twins sit within 1.1 %; a twin whose detector followed the wire's
     /// shadow in a tilted view, s_r 7 % off, at 3.4 %).
     #[serde(default = "default_halves_rel")]

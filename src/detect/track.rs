@@ -60,6 +60,11 @@ pub(super) struct Tracker {
     /// Mean square innovation of accepted frames, and how many were seen.
     innov: Option<(f64, usize)>,
     since_good: usize,
+    /// Repeated frames since the last accepted one: they widen neither the search nor
+    /// the gate's base, but the prediction reaches that many frames further (the gate's
+    /// allowance for the motion grows with it) and, with the refused frames, gives up
+    /// after a long run.
+    repeats_since_good: usize,
     decay_every: u64,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
@@ -146,6 +151,7 @@ impl Tracker {
             mad_ref: None,
             innov: None,
             since_good: 0,
+            repeats_since_good: 0,
             decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
@@ -169,7 +175,7 @@ impl Tracker {
 
     fn predict_raw(&self, t: f64) -> Option<f64> {
         let n = self.hist.len();
-        if n == 0 || self.since_good > 4 {
+        if n == 0 || self.since_good + self.repeats_since_good > 4 {
             return None;
         }
         let recent = &self.hist[n.saturating_sub(3)..];
@@ -314,7 +320,8 @@ impl Tracker {
             Some((ms, n)) if n >= 30 => (4.0 * ms.sqrt()).clamp(0.05f64.to_radians(), self.gate),
             _ => self.gate,
         };
-        let gate = (base + 0.5 * step) * (1.0 + self.since_good as f64) * short;
+        let reach = 1.0 + self.repeats_since_good as f64;
+        let gate = (base + 0.5 * step * reach) * (1.0 + self.since_good as f64) * short;
         // A repeated frame that the codec did not keep identical is found after the
         // pass, from both sides (`flag_repeats`): the previous frames alone overshoot
         // at a turning point, where a wire that stops looks like a repeat.
@@ -384,11 +391,15 @@ impl Tracker {
                     self.hist.drain(..8);
                 }
                 self.since_good = 0;
+                self.repeats_since_good = 0;
             }
             // A repeated frame says nothing new: it neither widens the search nor the
             // gate (widened, a wire at rest beside its own shadow was lost to the shadow
             // at the first repeat).
-            Some(Flag::Duplicate) => row.flag = Some(Flag::Duplicate),
+            Some(Flag::Duplicate) => {
+                row.flag = Some(Flag::Duplicate);
+                self.repeats_since_good += 1;
+            }
             Some(fl) => {
                 row.flag = Some(fl);
                 self.since_good += 1;

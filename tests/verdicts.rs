@@ -332,6 +332,38 @@ video: {{ path: {} }}
 /// (each frame's free line fit) disagrees with the angles about that pivot, and the
 /// verdict is `suspect` (pivot); about the pivot the detector finds itself, it agrees.
 #[test]
+fn the_split_screen_clip_with_a_plausible_yaml_is_suspect() {
+    // The issue's case: the split-screen clip with a plausible YAML (incline 5 deg,
+    // d = 0.20 m, r = 12.7 mm, m = 67 g) once gave an s_r whose interval included zero,
+    // reported as a measurement. Its interval is flagged, and so is its period.
+    let Some(clip) = common::fixture("sborquez_video2_splitscreen.mp4") else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join("split.yaml");
+    std::fs::write(
+        &p,
+        format!(
+            "geometry:
+  incline: {{ angle_deg: 5 }}
+  pendulum: {{ d_m: 0.20 }}
+  ball: {{ radius_m: 0.0127, mass_kg: 0.067 }}
+video: {{ path: {} }}
+",
+            clip.display()
+        ),
+    )
+    .unwrap();
+    let j = fit_json(&p);
+    assert_eq!(j["verdict"], "suspect", "{j}");
+    let w = warned(&j);
+    assert!(
+        w.contains(&"interval".to_string()) && w.contains(&"period".to_string()),
+        "{j}"
+    );
+}
+
+#[test]
 fn a_pivot_off_along_the_wire_is_suspect() {
     if !common::need_ffmpeg() {
         return;

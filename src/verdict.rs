@@ -418,8 +418,9 @@ pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
     // changes with the amplitude, an equilibrium off, or a detector scale that changes
     // with the swing (a shadow or a second edge followed instead of the wire, a camera's
     // perspective).
-    // (An s_r of zero has no relative difference: the interval check speaks for it.)
-    if let Some([early, late]) = e.s_r_halves.filter(|_| e.s_r != 0.0) {
+    // (An s_r of zero has no finite relative difference: the interval check speaks for
+    // it.)
+    if let Some([early, late]) = e.s_r_halves {
         let dev = (early - late) / e.s_r.abs();
         if dev.is_finite() && !within(dev.abs(), lim.halves_rel) {
             w.push(Warning {

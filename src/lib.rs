@@ -6,6 +6,7 @@
 //! [`signal`] (turning points, equilibrium) and [`fit`] (over [`numerics`]) (`s_r` and its uncertainty),
 //! with [`verdict`] for the checks; [`simulate`] and [`synth`] for the digital twin;
 //! [`pipeline`] takes one experiment through them; [`report`] renders pages as bytes;
+//! [`picture`] encodes PNGs;
 //! [`build`] runs the pipeline for a manifest with a content-hash cache ([`hash`],
 //! [`sources`]) and writes the reports; [`cli`] is the command line.
 
@@ -18,6 +19,7 @@ pub mod fsutil;
 pub mod hash;
 pub mod numerics;
 pub mod physics;
+pub mod picture;
 pub mod pipeline;
 pub mod plane;
 pub mod report;

@@ -5,13 +5,11 @@
 //! region of interest and hand over only the luma plane (`extractplanes=y`): no colour
 //! conversion at all, and only the pixels the detector looks at cross the pipe. Frame
 //! times come from each decoded frame's own timestamp (`showinfo`), not from the
-//! container's nominal rate. [`OpenCvSource`] (OpenCV's `VideoCapture`, BGR then grey)
-//! is the fallback when `ffmpeg` is not installed, and the benchmark's reference.
+//! container's nominal rate. The `ffmpeg` program (and its `ffprobe`) is required:
+//! OpenCV's `videoio` is not linked (see [`crate::picture`] for why), and a video is
+//! refused, with the package to install, when the program is missing.
 
 use anyhow::{bail, Context, Result};
-use opencv::core::{Mat, Rect};
-use opencv::prelude::*;
-use opencv::{imgproc, videoio};
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -56,20 +54,28 @@ pub trait FrameSource {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool>;
 }
 
-/// Whether the `ffmpeg` program can be run (asked once per process).
+/// Whether the `ffmpeg` and `ffprobe` programs are installed: executable files of those
+/// names in a folder of `PATH` (looked up once per process). Not by running them: the
+/// programs load about 200 shared libraries, 50 ms a start, which a workflow running
+/// one process per stage would pay on every job; a program that is found but cannot
+/// run fails where it is used, with its own message.
 pub fn have_ffmpeg() -> bool {
     static HAVE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *HAVE.get_or_init(|| {
-        Command::new("ffmpeg")
-            .arg("-version")
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success())
+    *HAVE.get_or_init(|| on_path("ffmpeg") && on_path("ffprobe"))
+}
+
+/// Whether an executable file `name` is in a folder of `PATH`.
+fn on_path(name: &str) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    std::env::var_os("PATH").is_some_and(|path| {
+        std::env::split_paths(&path).any(|dir| {
+            std::fs::metadata(dir.join(name))
+                .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+        })
     })
 }
 
-/// Probe a video's size and header facts (OpenCV; no decoding).
+/// Probe a video's size and header facts (`ffprobe`; no decoding).
 pub fn probe(path: &Path) -> Result<VideoInfo> {
     let meta =
         std::fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
@@ -79,38 +85,13 @@ pub fn probe(path: &Path) -> Result<VideoInfo> {
             path.display()
         );
     }
-    if have_ffmpeg() {
-        return probe_ffprobe(path);
-    }
-    let cap =
-        videoio::VideoCapture::from_file(path.to_string_lossy().into_owned(), videoio::CAP_ANY)
-            .with_context(|| format!("{}: cannot open as a video", path.display()))?;
-    if !cap.is_opened()? {
+    if !have_ffmpeg() {
         bail!(
-            "{}: cannot open as a video (not a video file, or damaged)",
+            "{}: decoding needs the ffmpeg program (with ffprobe), which is not on PATH (Debian: apt-get install ffmpeg)",
             path.display()
         );
     }
-    let width = cap.get(videoio::CAP_PROP_FRAME_WIDTH)? as u32;
-    let height = cap.get(videoio::CAP_PROP_FRAME_HEIGHT)? as u32;
-    if width == 0 || height == 0 {
-        bail!("{}: the video reports no frame size", path.display());
-    }
-    let n = cap.get(videoio::CAP_PROP_FRAME_COUNT)?;
-    let fps = cap.get(videoio::CAP_PROP_FPS)?;
-    let fourcc = cap.get(videoio::CAP_PROP_FOURCC)? as u32;
-    let codec: String = fourcc
-        .to_le_bytes()
-        .iter()
-        .map(|&b| if b.is_ascii_graphic() { b as char } else { '?' })
-        .collect();
-    Ok(VideoInfo {
-        width,
-        height,
-        frames_header: (n > 0.0).then_some(n as u64),
-        duration_s: (n > 0.0 && fps > 0.0).then_some(n / fps),
-        codec,
-    })
+    probe_ffprobe(path)
 }
 
 fn probe_ffprobe(path: &Path) -> Result<VideoInfo> {
@@ -424,84 +405,28 @@ impl Drop for FfmpegSource {
     }
 }
 
-/// Decoding by OpenCV's `VideoCapture` (BGR frames converted to grey, then cropped).
-pub struct OpenCvSource {
-    path: PathBuf,
-    cap: videoio::VideoCapture,
-    roi: Option<Roi>,
-    bgr: Mat,
-    gray: Mat,
-    next_index: u64,
-}
-
-impl OpenCvSource {
-    pub fn open(path: &Path, roi: Option<Roi>) -> Result<Self> {
-        let cap =
-            videoio::VideoCapture::from_file(path.to_string_lossy().into_owned(), videoio::CAP_ANY)
-                .with_context(|| format!("{}: cannot open as a video", path.display()))?;
-        if !cap.is_opened()? {
-            bail!("{}: cannot open as a video", path.display());
-        }
-        Ok(Self {
-            path: path.to_path_buf(),
-            cap,
-            roi,
-            bgr: Mat::default(),
-            gray: Mat::default(),
-            next_index: 0,
-        })
-    }
-
-    /// Decode one frame without converting it (the benchmark's "read only").
-    pub fn read_only(&mut self) -> Result<bool> {
-        Ok(self.cap.read(&mut self.bgr)?)
-    }
-}
-
-impl FrameSource for OpenCvSource {
-    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
-        if !self.cap.read(&mut self.bgr)? {
-            return Ok(false);
-        }
-        let t_ms = self.cap.get(videoio::CAP_PROP_POS_MSEC)?;
-        imgproc::cvt_color_def(&self.bgr, &mut self.gray, imgproc::COLOR_BGR2GRAY)
-            .with_context(|| format!("{}: frame {}", self.path.display(), self.next_index))?;
-        let g = match self.roi {
-            Some(r) => Mat::roi(
-                &self.gray,
-                Rect::new(r.x as i32, r.y as i32, r.w as i32, r.h as i32),
-            )?
-            .try_clone()?,
-            None => self.gray.try_clone()?,
-        };
-        frame.width = g.cols() as usize;
-        frame.height = g.rows() as usize;
-        frame.data.clear();
-        frame.data.extend_from_slice(g.data_bytes()?);
-        frame.index = self.next_index;
-        frame.t_s = t_ms / 1000.0;
-        self.next_index += 1;
-        Ok(true)
-    }
-}
-
-/// Tool version, OpenCV version and the video back-ends this OpenCV build offers.
+/// Tool version, OpenCV version and the `ffmpeg` program's version (or its absence).
 pub fn info() -> Result<String> {
-    let backends = videoio::get_backends()?
-        .iter()
-        .map(|b| videoio::get_backend_name(b).unwrap_or_else(|_| format!("{b:?}")))
-        .collect::<Vec<_>>()
-        .join(", ");
-    let writers = videoio::get_writer_backends()?
-        .iter()
-        .map(|b| videoio::get_backend_name(b).unwrap_or_else(|_| format!("{b:?}")))
-        .collect::<Vec<_>>()
-        .join(", ");
+    let ffmpeg = Command::new("ffmpeg")
+        .args(["-hide_banner", "-version"])
+        .stdin(Stdio::null())
+        .stderr(Stdio::null())
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .next()
+                .map(|l| l.split(" Copyright").next().unwrap_or(l).trim().to_string())
+        });
     Ok(format!(
-        "rollfric {}\nOpenCV {}\nvideo readers: {backends}\nvideo writers: {writers}\nffmpeg program: {}\n",
+        "rollfric {}\nOpenCV {} (core, imgproc)\nffmpeg program: {}\n",
         env!("CARGO_PKG_VERSION"),
         opencv::core::CV_VERSION,
-        if have_ffmpeg() { "found (fast decoding)" } else { "not found (OpenCV decoding)" }
+        ffmpeg.as_deref().unwrap_or(
+            "not found: videos cannot be decoded or rendered (Debian: apt-get install ffmpeg)"
+        )
     ))
 }
 

@@ -126,6 +126,64 @@ fn fails_when_no_wire_can_be_found() {
     assert_fails(&detect(&busy, &csv), &csv, "busy.mp4", &["no wire found"]);
 }
 
+/// Decoding and rendering go through the `ffmpeg` program (OpenCV's video modules are not
+/// linked): without it on `PATH`, `detect` and `synth` stop in one line naming the file
+/// and the package to install, and write nothing.
+#[test]
+fn without_ffmpeg_videos_are_refused_naming_the_package() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let clip = make_clip(
+        dir.path(),
+        "clip.mp4",
+        "color=c=gray:size=320x240:rate=30:duration=1",
+    );
+    let csv = dir.path().join("angles.csv");
+    let empty = dir.path().join("no-tools");
+    std::fs::create_dir(&empty).unwrap();
+    let run = |args: &[&OsStr]| {
+        common::command(&root())
+            .env("PATH", &empty)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[
+        OsStr::new("detect"),
+        clip.as_os_str(),
+        OsStr::new("-o"),
+        csv.as_os_str(),
+    ]);
+    assert_fails(
+        &out,
+        &csv,
+        "clip.mp4",
+        &["needs the ffmpeg program", "apt-get install ffmpeg"],
+    );
+    let twin = dir.path().join("twin.avi");
+    let out = run(&[
+        OsStr::new("synth"),
+        OsStr::new("glass"),
+        OsStr::new("-o"),
+        twin.as_os_str(),
+        OsStr::new("--duration"),
+        OsStr::new("1"),
+    ]);
+    assert_fails(
+        &out,
+        &twin,
+        "twin.avi",
+        &["needs the ffmpeg program", "apt-get install ffmpeg"],
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        2,
+        "clip and the empty folder only"
+    );
+}
+
 /// A phone's variable frame rate is not damage: frames 6.7 and 26.7 ms apart in turn (in
 /// whole milliseconds, at a nominal 60 frames/s) share ticks of a 1/60 s time base, which
 /// ffmpeg's raw output refused as out of order ("non monotonically increasing dts"); the

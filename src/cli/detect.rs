@@ -22,9 +22,6 @@ pub struct DetectArgs {
     /// Write an image of each flagged frame (detected line red, predicted green).
     #[arg(long)]
     diagnostics: bool,
-    /// Decode with OpenCV even when the ffmpeg program is installed.
-    #[arg(long)]
-    opencv: bool,
     /// Region of interest `x,y,width,height` (px).
     #[arg(long, value_delimiter = ',')]
     roi: Option<Vec<u32>>,
@@ -57,7 +54,6 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
         Some(e) => pipeline::detect_options(&Experiment::load(&locate(e))?),
         None => DetectOptions::default(),
     };
-    opts.force_opencv = a.opencv;
     if let Some([x, y, w, h]) = roi {
         if w == 0 || h == 0 {
             bail!("--roi {x},{y},{w},{h}: the width and height must be at least 1 px");

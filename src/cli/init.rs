@@ -87,7 +87,7 @@ pub fn init(a: InitArgs) -> Result<String> {
 
 /// Measure the video as `build` would, with no options, and the series as `fit` would.
 fn measure(video: &Path) -> Result<Found> {
-    let file = detect::VideoFile::open(video, false)?;
+    let file = detect::VideoFile::open(video)?;
     let d = detect::detect_from(&file, &DetectOptions::default())?;
     let rows: Vec<_> = d
         .rows

@@ -1,10 +1,9 @@
 //! Where the detector's frames come from: a [`VideoInput`] tells the video's size and
 //! opens streams of grey frames cropped to a region (and shrunk by an integer factor,
-//! where it can). [`VideoFile`] decodes a file (the `ffmpeg` program, or OpenCV's
-//! `VideoCapture` without it); [`MemoryVideo`] holds frames made in memory, so that the
+//! where it can). [`VideoFile`] decodes a file (the `ffmpeg` program); [`MemoryVideo`] holds frames made in memory, so that the
 //! whole detector can be tested without a decoder or a file.
 
-use crate::video::{self, FfmpegSource, Frame, FrameSource, OpenCvSource, Roi, VideoInfo};
+use crate::video::{self, FfmpegSource, Frame, FrameSource, Roi, VideoInfo};
 use anyhow::{bail, Result};
 use std::path::{Path, PathBuf};
 
@@ -29,17 +28,16 @@ pub trait VideoInput {
 pub const MAX_FRAME_PIXELS: u64 = 8192 * 8192;
 
 /// A video file, decoded by the `ffmpeg` program (luma plane, cropped and shrunk by
-/// ffmpeg) or, without it or when asked, by OpenCV (no shrinking).
+/// ffmpeg).
 #[derive(Clone, Debug)]
 pub struct VideoFile {
     path: PathBuf,
     info: VideoInfo,
-    ffmpeg: bool,
 }
 
 impl VideoFile {
-    /// Probe `path`; decode with OpenCV if `force_opencv` or `ffmpeg` is not installed.
-    pub fn open(path: &Path, force_opencv: bool) -> Result<Self> {
+    /// Probe `path` (refused when the `ffmpeg` program is not installed).
+    pub fn open(path: &Path) -> Result<Self> {
         let info = video::probe(path)?;
         let pixels = u64::from(info.width) * u64::from(info.height);
         if pixels > MAX_FRAME_PIXELS {
@@ -53,7 +51,6 @@ impl VideoFile {
         Ok(Self {
             path: path.to_path_buf(),
             info,
-            ffmpeg: !force_opencv && video::have_ffmpeg(),
         })
     }
 }
@@ -68,32 +65,20 @@ impl VideoInput for VideoFile {
     }
 
     fn decoder(&self) -> String {
-        if self.ffmpeg {
-            "ffmpeg (luma plane, cropped)"
-        } else {
-            "OpenCV VideoCapture"
-        }
-        .to_string()
+        "ffmpeg (luma plane, cropped)".to_string()
     }
 
     fn can_shrink(&self) -> bool {
-        self.ffmpeg
+        true
     }
 
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>> {
-        if self.ffmpeg {
-            Ok(Box::new(FfmpegSource::open(
-                &self.path,
-                &self.info,
-                Some(roi),
-                shrink,
-            )?))
-        } else {
-            if shrink > 1 {
-                bail!("shrunk decoding needs the ffmpeg program");
-            }
-            Ok(Box::new(OpenCvSource::open(&self.path, Some(roi))?))
-        }
+        Ok(Box::new(FfmpegSource::open(
+            &self.path,
+            &self.info,
+            Some(roi),
+            shrink,
+        )?))
     }
 }
 

@@ -94,14 +94,13 @@ const STILL_KEEP: usize = 8;
 /// not wait for ever on a wire it cannot see move.
 const STILL_MAX_SECONDS: f64 = 10.0;
 
-/// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`, or by
-/// OpenCV without it or with `opts.force_opencv`).
+/// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`).
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
-    detect_from(&VideoFile::open(path, opts.force_opencv)?, opts)
+    detect_from(&VideoFile::open(path)?, opts)
 }
 
-/// Detect the wire angle in every frame of `input` (`opts.force_opencv` aside: the
-/// input decides how it decodes).
+/// Detect the wire angle in every frame of `input` (the input decides how it
+/// decodes).
 pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detection> {
     let started = std::time::Instant::now();
     let info = input.info();

@@ -20,9 +20,6 @@ pub struct DetectOptions {
     pub calibration: Option<crate::plane::Calibration>,
     /// Folder for the diagnostic images of flagged frames (none if `None`).
     pub diag_dir: Option<PathBuf>,
-    /// Use OpenCV's decoder even when `ffmpeg` is available ([`super::detect`]; a
-    /// [`super::VideoInput`] decodes as it does).
-    pub force_opencv: bool,
     /// Told the frames done (and the header's frame count) every 100 frames; when set,
     /// the detector prints no progress of its own.
     pub progress: Option<FrameProgress>,
@@ -50,7 +47,6 @@ impl Default for DetectOptions {
             marks: BTreeMap::new(),
             calibration: None,
             diag_dir: None,
-            force_opencv: false,
             progress: None,
         }
     }

@@ -20,9 +20,9 @@
 use super::{AngleRow, Flag};
 use crate::video::Frame;
 use anyhow::{Context, Result};
-use opencv::core::{self, Mat, Vector};
+use opencv::core::{self, Mat};
+use opencv::imgproc;
 use opencv::prelude::*;
-use opencv::{imgcodecs, imgproc};
 use std::collections::VecDeque;
 
 /// Flagged frames kept at most.
@@ -93,12 +93,13 @@ impl ReviewFrame {
 
     /// The picture as a grey PNG.
     pub fn png(&self) -> Result<Vec<u8>> {
-        let what = || format!("review picture of frame {}", self.frame);
-        let m = Mat::new_rows_cols_with_data(self.height as i32, self.width as i32, &self.grey)
-            .with_context(what)?;
-        let mut buf = Vector::<u8>::new();
-        imgcodecs::imencode(".png", &m, &mut buf, &Vector::new()).with_context(what)?;
-        Ok(buf.to_vec())
+        crate::picture::encode(
+            self.width,
+            self.height,
+            crate::picture::Layout::Grey,
+            &self.grey,
+        )
+        .with_context(|| format!("review picture of frame {}", self.frame))
     }
 }
 
@@ -303,9 +304,9 @@ mod tests {
         );
         assert_eq!(f.detected_rad, Some(1.0));
         let png = f.png().unwrap();
-        let m =
-            imgcodecs::imdecode(&Vector::from_slice(&png), imgcodecs::IMREAD_GRAYSCALE).unwrap();
-        assert_eq!((m.cols(), m.rows()), (MAX_SIDE as i32, 128));
+        let m = crate::picture::decode(&png).unwrap();
+        assert_eq!((m.width, m.height), (MAX_SIDE, 128));
+        assert_eq!(m.layout, crate::picture::Layout::Grey);
     }
 
     #[test]

@@ -1,11 +1,10 @@
-//! Writing: the `ffmpeg` program fed through a pipe, or OpenCV's `VideoWriter`, into a
-//! temporary file renamed when complete.
+//! Writing: the `ffmpeg` program fed through a pipe, into a temporary file renamed when
+//! complete.
 
 use super::yuv::{bgr_to_yuv420, YuvRange};
 use anyhow::{bail, ensure, Context, Result};
-use opencv::core::{Mat, Size};
+use opencv::core::Mat;
 use opencv::prelude::*;
-use opencv::videoio;
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -64,20 +63,51 @@ enum FfmpegCodec {
     /// time for files a sixth smaller), on one thread (frame threads cost it a third
     /// more time, and the renderer keeps the other core busy), in `.avi`.
     Mjpeg,
+    /// MJPEG as [`FfmpegCodec::Mjpeg`] but 4:4:4 (`yuvj444p`), from BGR frames converted
+    /// by ffmpeg: for an odd width or height, which 4:2:0 cannot hold whole.
+    Mjpeg444,
     /// H.264 by x264 (`veryfast`, CRF 18) in the container of the file's extension.
     H264,
 }
 
 impl FfmpegCodec {
-    fn range(self) -> YuvRange {
+    fn raw(self) -> RawFrames {
         match self {
-            FfmpegCodec::Mjpeg => YuvRange::Full,
-            FfmpegCodec::H264 => YuvRange::Limited,
+            FfmpegCodec::Mjpeg => RawFrames::Yuv420(YuvRange::Full),
+            FfmpegCodec::Mjpeg444 => RawFrames::Bgr,
+            FfmpegCodec::H264 => RawFrames::Yuv420(YuvRange::Limited),
         }
     }
 }
 
-/// Frames piped to the `ffmpeg` program as raw planar Y'CbCr 4:2:0, one after another at
+/// What the pipe carries: frames converted here to planar Y'CbCr 4:2:0 (even sizes), or
+/// the rendered BGR frames as they are (odd sizes, converted by ffmpeg).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum RawFrames {
+    Yuv420(YuvRange),
+    Bgr,
+}
+
+impl RawFrames {
+    /// The bytes of a rendered `w` x `h` BGR frame as the pipe takes them (`buf` holds
+    /// a conversion).
+    pub(super) fn bytes<'a>(
+        self,
+        bgr: &'a [u8],
+        (w, h): (usize, usize),
+        buf: &'a mut Vec<u8>,
+    ) -> &'a [u8] {
+        match self {
+            RawFrames::Yuv420(range) => {
+                bgr_to_yuv420(bgr, w, h, range, buf);
+                buf
+            }
+            RawFrames::Bgr => bgr,
+        }
+    }
+}
+
+/// Frames piped to the `ffmpeg` program as raw planar Y'CbCr 4:2:0 (or BGR), one after another at
 /// a constant rate (every frame kept: `-fps_mode passthrough`), or at the times the
 /// `setpts` filters of a variable rate give them (then counted in milliseconds by the
 /// encoder and the container). The output carries no
@@ -88,13 +118,12 @@ pub(super) struct FfmpegPipe {
     pub(super) stdin: Option<ChildStdin>,
     /// The last lines ffmpeg wrote to stderr, gathered by a thread.
     stderr: Option<std::thread::JoinHandle<Vec<String>>>,
-    pub(super) range: YuvRange,
+    pub(super) raw: RawFrames,
 }
 
 impl FfmpegPipe {
-    /// Start ffmpeg writing `path` and hand it the first frame. `Ok(None)` when ffmpeg
-    /// cannot be started or exits before taking that frame (said on stderr): the caller
-    /// writes with OpenCV instead.
+    /// Start ffmpeg writing `path` and hand it the first frame; an error names what
+    /// ffmpeg said when it cannot be started or exits before taking that frame.
     fn start(
         path: &Path,
         codec: FfmpegCodec,
@@ -102,14 +131,15 @@ impl FfmpegPipe {
         fps: f64,
         times: Option<&str>,
         first: &Mat,
-    ) -> Result<Option<Self>> {
-        let range = codec.range();
+    ) -> Result<Self> {
+        let raw = codec.raw();
         let mut cmd = Command::new("ffmpeg");
         cmd.args(["-nostdin", "-hide_banner", "-loglevel", "error"])
             .args(["-f", "rawvideo", "-pix_fmt"])
-            .arg(match range {
-                YuvRange::Full => "yuvj420p",
-                YuvRange::Limited => "yuv420p",
+            .arg(match raw {
+                RawFrames::Yuv420(YuvRange::Full) => "yuvj420p",
+                RawFrames::Yuv420(YuvRange::Limited) => "yuv420p",
+                RawFrames::Bgr => "bgr24",
             })
             .args(["-s", &format!("{w}x{h}"), "-r", &rate_arg(fps), "-i", "-"])
             .args(["-map", "0:v", "-an", "-fps_mode", "passthrough"]);
@@ -120,6 +150,9 @@ impl FfmpegPipe {
             FfmpegCodec::Mjpeg => cmd
                 .args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"])
                 .args(["-threads", "1", "-f", "avi"]),
+            FfmpegCodec::Mjpeg444 => cmd
+                .args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"])
+                .args(["-pix_fmt", "yuvj444p", "-threads", "1", "-f", "avi"]),
             FfmpegCodec::H264 => cmd
                 .args(["-c:v", "libx264", "-preset", "veryfast", "-crf", "18"])
                 .args(["-pix_fmt", "yuv420p", "-threads", "4"])
@@ -131,16 +164,9 @@ impl FfmpegPipe {
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
             .stderr(Stdio::piped());
-        let mut child = match cmd.spawn() {
-            Ok(c) => c,
-            Err(e) => {
-                eprintln!(
-                    "{}: cannot start ffmpeg ({e}); writing with OpenCV instead",
-                    path.display()
-                );
-                return Ok(None);
-            }
-        };
+        let mut child = cmd
+            .spawn()
+            .with_context(|| format!("{}: cannot start ffmpeg", path.display()))?;
         let stdin = child.stdin.take();
         let err = child.stderr.take().expect("piped");
         let stderr = std::thread::spawn(move || {
@@ -158,20 +184,19 @@ impl FfmpegPipe {
             child,
             stdin,
             stderr: Some(stderr),
-            range,
+            raw,
         };
-        let mut yuv = Vec::new();
-        bgr_to_yuv420(first.data_bytes()?, w, h, range, &mut yuv);
-        if let Err(e) = pipe.write(&yuv) {
+        let mut buf = Vec::new();
+        let bytes = raw.bytes(first.data_bytes()?, (w, h), &mut buf);
+        if let Err(e) = pipe.write(bytes) {
             let why = pipe.abort();
-            eprintln!(
-                "{}: ffmpeg did not take the first frame ({}); writing with OpenCV instead",
+            bail!(
+                "{}: ffmpeg did not take the first frame: {}",
                 path.display(),
                 if why.is_empty() { e.to_string() } else { why }
             );
-            return Ok(None);
         }
-        Ok(Some(pipe))
+        Ok(pipe)
     }
 
     fn write(&mut self, yuv: &[u8]) -> std::io::Result<()> {
@@ -224,127 +249,59 @@ impl Drop for FfmpegPipe {
     }
 }
 
-/// Where the frames go.
-pub(super) enum Sink {
-    /// The `ffmpeg` program, which already has frame 0.
-    Ffmpeg(FfmpegPipe),
-    OpenCv(videoio::VideoWriter),
-}
-
-/// Try to open a writer with one back-end and codec.
-fn try_writer(
-    path: &Path,
-    api: i32,
-    cc: [char; 4],
-    fps: f64,
-    size: Size,
-) -> Result<Option<videoio::VideoWriter>> {
-    let fourcc = videoio::VideoWriter::fourcc(cc[0], cc[1], cc[2], cc[3])?;
-    match videoio::VideoWriter::new_with_backend(path, api, fourcc, fps, size, true) {
-        Ok(wr) if wr.is_opened()? => Ok(Some(wr)),
-        _ => {
-            let _ = std::fs::remove_file(path);
-            Ok(None)
-        }
-    }
-}
-
-/// Start the `ffmpeg` program writing `codec` into a temporary name for `fin`, if it is
-/// installed (with x264 for H.264; its MJPEG encoder is always built in) and the size is
-/// even (4:2:0).
-fn try_ffmpeg(
+/// Start the `ffmpeg` program writing `codec` into a temporary name for `fin`.
+fn start_ffmpeg(
     fin: &Path,
     codec: FfmpegCodec,
     (w, h): (usize, usize),
     fps: f64,
     times: Option<&str>,
     first: &Mat,
-) -> Result<Option<(Sink, TempFile)>> {
-    let usable = crate::video::have_ffmpeg()
-        && (codec == FfmpegCodec::Mjpeg || ffmpeg_has_encoder("libx264"));
-    if w % 2 == 1 || h % 2 == 1 || !usable {
-        return Ok(None);
-    }
+) -> Result<(FfmpegPipe, TempFile)> {
     let tmp = TempFile(Some(temp_name(fin)));
-    Ok(
-        FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, times, first)?
-            .map(|p| (Sink::Ffmpeg(p), tmp)),
-    )
+    let pipe = FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, times, first)?;
+    Ok((pipe, tmp))
 }
 
-/// Open a writer and give it the rendered frame 0 when it is the `ffmpeg` program.
-/// Unless `out` ends in `.avi`: H.264 into `out`, by ffmpeg's x264, else by OpenCV's
-/// FFmpeg back-end (fourcc `avc1`, else `H264`). Otherwise, or failing that: MJPG into
-/// `out` with `.avi`, by ffmpeg, else by OpenCV (FFmpeg's encoder, else OpenCV's own at
-/// quality 75; for odd sizes OpenCV's own first). ffmpeg is not used for odd sizes
-/// (4:2:0). Returns the writer, the temporary and final paths and the codec's name
-/// with the container and who wrote it.
+/// Open the `ffmpeg` program's encoder and give it the rendered frame 0. Unless `out`
+/// ends in `.avi`: H.264 by x264 into `out`. Otherwise, or when the size is odd (4:2:0
+/// H.264 needs it even) or this ffmpeg has no x264: MJPG into `out` with `.avi` (4:4:4
+/// for an odd size). Returns the writer, the temporary and final paths and the codec's
+/// name with the container and who wrote it.
 ///
-/// OpenCV 4.6 leaves x264 at its default preset (`medium`, the slowest part of a
-/// render: its `OPENCV_FFMPEG_WRITER_OPTIONS` do not reach the encoder in this
-/// version), and converts BGR to Y'CbCr without a fast path: hence ffmpeg first, fed
-/// frames converted here. OpenCV's MJPG is preferred from FFmpeg because OpenCV 4.6's
-/// own MJPEG encoder writes an invalid DC coefficient in bright frames at some sizes (a
-/// uniform frame brighter than 200 at 640x360: FFmpeg then reports `error dc` when
-/// reading it).
-///
-/// `times`, the `setpts` filters of a variable frame rate, need ffmpeg (OpenCV's writer
-/// has a constant rate): without it, or at an odd size, the render is refused.
+/// The `ffmpeg` program is required: OpenCV's `videoio` is not linked (see
+/// [`crate::picture`]).
 pub(super) fn open_writer(
     out: &Path,
     (w, h): (usize, usize),
     fps: f64,
     times: Option<&str>,
     first: &Mat,
-) -> Result<(Sink, TempFile, PathBuf, String)> {
+) -> Result<(FfmpegPipe, TempFile, PathBuf, String)> {
+    ensure!(
+        crate::video::have_ffmpeg(),
+        "{}: rendering needs the ffmpeg program, which is not on PATH (Debian: apt-get install ffmpeg)",
+        out.display()
+    );
     let vfr = if times.is_some() {
         ", variable frame rate"
     } else {
         ""
     };
-    if times.is_some() {
-        ensure!(
-            w % 2 == 0 && h % 2 == 0,
-            "a variable frame rate (`synthetic.vfr_jitter`) needs an even width and height, not {w}x{h}"
-        );
-        ensure!(
-            crate::video::have_ffmpeg(),
-            "a variable frame rate (`synthetic.vfr_jitter`) needs the ffmpeg program"
-        );
-    }
-    let size = Size::new(w as i32, h as i32);
+    let odd = w % 2 == 1 || h % 2 == 1;
     let ext = out
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     if ext != "avi" {
-        let why = if w % 2 == 1 || h % 2 == 1 {
+        let why = if odd {
             "H.264 needs an even width and height"
+        } else if !ffmpeg_has_encoder("libx264") {
+            "this ffmpeg has no H.264 encoder (libx264)"
         } else {
-            if let Some((sink, tmp)) =
-                try_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, times, first)?
-            {
-                return Ok((
-                    sink,
-                    tmp,
-                    out.to_path_buf(),
-                    format!("H.264 ({ext}, ffmpeg{vfr})"),
-                ));
-            }
-            ensure!(
-                times.is_none(),
-                "{}: ffmpeg cannot write H.264 (no libx264?), and OpenCV's writer has no variable frame rate (`synthetic.vfr_jitter`)",
-                out.display()
-            );
-            for cc in [['a', 'v', 'c', '1'], ['H', '2', '6', '4']] {
-                let tmp = TempFile(Some(temp_name(out)));
-                let path = tmp.path();
-                if let Some(wr) = try_writer(&path, videoio::CAP_FFMPEG, cc, fps, size)? {
-                    let codec = format!("H.264 ({ext}, OpenCV)");
-                    return Ok((Sink::OpenCv(wr), tmp, out.to_path_buf(), codec));
-                }
-            }
-            "neither ffmpeg nor this OpenCV can write H.264"
+            let (pipe, tmp) = start_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, times, first)?;
+            let codec = format!("H.264 ({ext}, ffmpeg{vfr})");
+            return Ok((pipe, tmp, out.to_path_buf(), codec));
         };
         eprintln!(
             "{}: {why}; writing MJPG to {} instead",
@@ -353,28 +310,11 @@ pub(super) fn open_writer(
         );
     }
     let fin = out.with_extension("avi");
-    if let Some((sink, tmp)) = try_ffmpeg(&fin, FfmpegCodec::Mjpeg, (w, h), fps, times, first)? {
-        return Ok((sink, tmp, fin, format!("MJPG (avi, ffmpeg{vfr})")));
-    }
-    ensure!(
-        times.is_none(),
-        "{}: ffmpeg did not start, and OpenCV's writer has no variable frame rate (`synthetic.vfr_jitter`)",
-        fin.display()
-    );
-    // FFmpeg's MJPG (4:2:0) drops the last row or column of an odd size.
-    let apis = if w % 2 == 1 || h % 2 == 1 {
-        [videoio::CAP_OPENCV_MJPEG, videoio::CAP_FFMPEG]
+    let (codec, name) = if odd {
+        (FfmpegCodec::Mjpeg444, "MJPG 4:4:4")
     } else {
-        [videoio::CAP_FFMPEG, videoio::CAP_OPENCV_MJPEG]
+        (FfmpegCodec::Mjpeg, "MJPG")
     };
-    for api in apis {
-        let tmp = TempFile(Some(temp_name(&fin)));
-        let path = tmp.path();
-        if let Some(mut wr) = try_writer(&path, api, ['M', 'J', 'P', 'G'], fps, size)? {
-            // Honoured by OpenCV's own encoder only (FFmpeg's keeps its default).
-            let _ = wr.set(videoio::VIDEOWRITER_PROP_QUALITY, 75.0);
-            return Ok((Sink::OpenCv(wr), tmp, fin, "MJPG (avi, OpenCV)".into()));
-        }
-    }
-    bail!("neither ffmpeg nor OpenCV can write H.264 or MJPG")
+    let (pipe, tmp) = start_ffmpeg(&fin, codec, (w, h), fps, times, first)?;
+    Ok((pipe, tmp, fin, format!("{name} (avi, ffmpeg{vfr})")))
 }

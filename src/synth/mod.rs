@@ -29,8 +29,9 @@
 //! * Writing: MJPG in `.avi`, or H.264 (x264, `veryfast`) for other extensions, by the
 //!   `ffmpeg` program: each frame is converted here to planar Y'CbCr 4:2:0 (BT.601, full
 //!   range for JPEG, limited for H.264) on a second thread while the next frame
-//!   renders, and piped to ffmpeg, which encodes in its own process. OpenCV's
-//!   `VideoWriter` is the fallback (no ffmpeg, or an odd width or height).
+//!   renders, and piped to ffmpeg, which encodes in its own process; an odd width or
+//!   height is written as 4:4:4 MJPG, from BGR frames ffmpeg converts. The `ffmpeg`
+//!   program is required (OpenCV's `videoio` is not linked).
 //!
 //! Every random choice comes from [`Rng`](crate::rng::Rng) streams derived from
 //! `synthetic.seed`, and each frame's own randomness is seeded from its index, so a
@@ -51,14 +52,13 @@ mod tests;
 
 use crate::config::{Experiment, Style};
 use anyhow::{bail, ensure, Context, Result};
-use encode::{open_writer, Sink};
+use encode::open_writer;
 use opencv::core::Mat;
 use opencv::prelude::*;
 use plan::{Plan, Spoil};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use twin::Twin;
-use yuv::bgr_to_yuv420;
 
 /// One frame's truth.
 #[derive(Clone, Debug, PartialEq)]
@@ -243,34 +243,25 @@ fn render_inner(
     let (w, h) = (twin.plan.geo.w, twin.plan.geo.h);
     twin.render_frame(0)?;
     let times = twin.plan.vfr.as_ref().map(|v| v.filters());
-    let (sink, mut tmp, path, codec) =
+    let (mut pipe, mut tmp, path, codec) =
         open_writer(out, (w, h), twin.plan.fps, times.as_deref(), &twin.frame)?;
     let tmp_path = tmp.path();
-    match sink {
-        Sink::Ffmpeg(mut pipe) => {
-            let range = pipe.range;
-            let pumped = {
-                let stdin = pipe.stdin.as_mut().expect("open until finished");
-                let mut yuv = Vec::new();
-                pump(&mut twin, 1, progress, |m: &Mat| {
-                    bgr_to_yuv420(m.data_bytes()?, w, h, range, &mut yuv);
-                    Ok(stdin.write_all(&yuv)?)
-                })
-            };
-            if let Err(e) = pumped {
-                let tail = pipe.abort();
-                if tail.is_empty() {
-                    return Err(e);
-                }
-                return Err(e.context(format!("{}: ffmpeg stopped: {tail}", tmp_path.display())));
-            }
-            pipe.finish(&tmp_path)?;
+    let raw = pipe.raw;
+    let pumped = {
+        let stdin = pipe.stdin.as_mut().expect("open until finished");
+        let mut buf = Vec::new();
+        pump(&mut twin, 1, progress, |m: &Mat| {
+            Ok(stdin.write_all(raw.bytes(m.data_bytes()?, (w, h), &mut buf))?)
+        })
+    };
+    if let Err(e) = pumped {
+        let tail = pipe.abort();
+        if tail.is_empty() {
+            return Err(e);
         }
-        Sink::OpenCv(mut writer) => {
-            pump(&mut twin, 0, progress, |m: &Mat| Ok(writer.write(m)?))?;
-            writer.release()?;
-        }
+        return Err(e.context(format!("{}: ffmpeg stopped: {tail}", tmp_path.display())));
     }
+    pipe.finish(&tmp_path)?;
     let len = std::fs::metadata(&tmp_path).map(|m| m.len()).unwrap_or(0);
     ensure!(
         len > 0,

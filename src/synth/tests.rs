@@ -5,7 +5,6 @@ use super::*;
 use crate::rng::Rng;
 use crate::simulate;
 use opencv::core;
-use opencv::videoio;
 use std::f64::consts::PI;
 use std::process::Command;
 
@@ -33,17 +32,40 @@ synthetic: {{ s_r_m: 4.445e-6, {fps}seed: 3{size}{extra} }}
     Experiment::parse(Path::new("t/twin.yaml"), &text).unwrap()
 }
 
-/// Every frame of a video, checking its size.
+/// Every frame of a video as BGR (decoded by the `ffmpeg` program, every frame kept),
+/// checking its size.
 fn read_back(path: &Path, w: i32, h: i32) -> Vec<Mat> {
-    let mut cap = videoio::VideoCapture::from_file(path, videoio::CAP_ANY).unwrap();
-    assert!(cap.is_opened().unwrap(), "{}", path.display());
-    let mut frames = Vec::new();
-    let mut m = Mat::default();
-    while cap.read(&mut m).unwrap() && !m.empty() {
-        assert_eq!((m.cols(), m.rows()), (w, h));
-        frames.push(m.clone());
-    }
-    frames
+    let out = Command::new("ffmpeg")
+        .args(["-nostdin", "-v", "error", "-i"])
+        .arg(path)
+        .args(["-map", "0:v", "-fps_mode", "passthrough"])
+        .args(["-f", "rawvideo", "-pix_fmt", "bgr24", "-"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let size = (w * h * 3) as usize;
+    assert_eq!(
+        out.stdout.len() % size,
+        0,
+        "{}: not {w}x{h}",
+        path.display()
+    );
+    out.stdout
+        .chunks_exact(size)
+        .map(|f| {
+            Mat::new_rows_cols_with_data(h, w * 3, f)
+                .unwrap()
+                .reshape(3, h)
+                .unwrap()
+                .try_clone()
+                .unwrap()
+        })
+        .collect()
 }
 
 fn count_frames(path: &Path) -> usize {
@@ -69,7 +91,7 @@ fn odd_sizes_fall_back_to_mjpg_and_spoiled_frames_look_spoiled() {
     let e = exp(", width: 322, height: 241");
     let rep = render(&e, &dir.path().join("odd.mp4"), Some(1.0), &mut |_, _| {}).unwrap();
     assert_eq!(rep.path, dir.path().join("odd.avi"));
-    assert_eq!(rep.codec, "MJPG (avi, OpenCV)");
+    assert_eq!(rep.codec, "MJPG 4:4:4 (avi, ffmpeg)");
     let frames = read_back(&rep.path, 322, 241);
     assert_eq!(frames.len(), rep.truth.len());
     for (i, row) in rep.truth.iter().enumerate().skip(1) {
@@ -809,14 +831,15 @@ fn variable_frame_rate_videos_carry_each_frames_own_time() {
         let d = diff(f, &twin.frame);
         assert!(d < 2.5, "frame {i}: {d}");
     }
-    // Without ffmpeg's writer (an odd size), a variable rate is refused.
-    let odd = exp(", vfr_jitter: 0.3, width: 322, height: 241");
-    let err = render(&odd, &dir.path().join("odd.avi"), Some(1.0), &mut |_, _| {});
-    let err = format!("{:#}", err.err().unwrap());
-    assert!(
-        err.contains("`synthetic.vfr_jitter`) needs an even width"),
-        "{err}"
-    );
+    // An odd size (4:4:4 MJPG, converted by ffmpeg) keeps the variable rate too.
+    let odd = exp(", vfr_jitter: 0.3, width: 322, height: 241, spoiled_frames: 0");
+    let rep = render(&odd, &dir.path().join("odd.avi"), Some(1.0), &mut |_, _| {}).unwrap();
+    assert_eq!(rep.codec, "MJPG 4:4:4 (avi, ffmpeg, variable frame rate)");
+    let probed = ffprobe_times(&rep.path);
+    assert_eq!(probed.len(), rep.truth.len());
+    for (t, r) in probed.iter().zip(&rep.truth) {
+        assert!((t - r.t_s).abs() < 1e-6, "odd: {t} vs {}", r.t_s);
+    }
 }
 
 #[test]

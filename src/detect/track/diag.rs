@@ -4,7 +4,8 @@ use super::Tracker;
 use crate::detect::Pt;
 use anyhow::{Context, Result};
 use opencv::core::{Mat, Point, Scalar};
-use opencv::{imgcodecs, imgproc};
+use opencv::imgproc;
+use opencv::prelude::*;
 
 impl Tracker {
     /// The paper's Figure 11 for a flagged frame: detected line red, predicted green.
@@ -39,8 +40,9 @@ impl Tracker {
             draw(angle, Scalar::new(0.0, 0.0, 255.0, 0.0))?;
         }
         let path = dir.join(format!("frame-{index:06}.png"));
-        imgcodecs::imwrite_def(path.to_string_lossy().into_owned(), &bgr)
-            .with_context(|| format!("{}: cannot write", path.display()))?;
+        let (w, h) = (bgr.cols() as usize, bgr.rows() as usize);
+        let png = crate::picture::encode(w, h, crate::picture::Layout::Bgr, bgr.data_bytes()?)?;
+        std::fs::write(&path, png).with_context(|| format!("{}: cannot write", path.display()))?;
         self.diagnostics.push(path);
         Ok(())
     }

@@ -9,7 +9,8 @@
 SHELL := /bin/bash
 CARGO ?= cargo
 # Debian packages the build needs: the system OpenCV and libclang for its bindings;
-# ffmpeg decodes video for the detector (and is the benchmark's decode-only reference).
+# ffmpeg (required) decodes video for the detector and encodes the twins (and is the
+# benchmark's decode-only reference).
 APT_PACKAGES := libopencv-dev clang libclang-dev pkg-config ca-certificates ffmpeg chromium chromium-driver python3-venv
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/rollfric
 # Snakemake and its executor plugins, pinned, in a virtual environment under target/

@@ -120,6 +120,15 @@ mod tests {
         let d = decode(&png).unwrap();
         assert_eq!((d.width, d.height, d.layout), (3, 2, Layout::Bgr));
         assert_eq!(d.pixels, bgr);
+        // Stored as RGB, read by the png crate alone: pure blue in BGR is [0, 0, 255].
+        let blue = encode(1, 1, Layout::Bgr, &[255, 0, 0]).unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(&blue[..]))
+            .read_info()
+            .unwrap();
+        let mut raw = vec![0; reader.output_buffer_size().unwrap()];
+        reader.next_frame(&mut raw).unwrap();
+        assert_eq!(reader.info().color_type, png::ColorType::Rgb);
+        assert_eq!(raw[..3], [0, 0, 255]);
         assert!(encode(3, 2, Layout::Bgr, &bgr[1..]).is_err());
         assert!(decode(&png[..20]).is_err());
     }

@@ -54,24 +54,25 @@ pub trait FrameSource {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool>;
 }
 
-/// Whether the `ffmpeg` and `ffprobe` programs are installed: executable files of those
-/// names in a folder of `PATH` (looked up once per process). Not by running them: the
-/// programs load about 200 shared libraries, 50 ms a start, which a workflow running
-/// one process per stage would pay on every job; a program that is found but cannot
-/// run fails where it is used, with its own message.
+/// Whether the `ffmpeg` program is installed: an executable file of that name in a
+/// folder of `PATH` (looked up once per process). Not by running it: ffmpeg loads about
+/// 200 shared libraries, 50 ms a start, which a workflow running one process per stage
+/// would pay on every job; a program that is found but cannot run fails where it is
+/// used, with its own message.
 pub fn have_ffmpeg() -> bool {
     static HAVE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *HAVE.get_or_init(|| on_path("ffmpeg") && on_path("ffprobe"))
+    *HAVE.get_or_init(|| on_path("ffmpeg"))
 }
 
-/// Whether an executable file `name` is in a folder of `PATH`.
-fn on_path(name: &str) -> bool {
+/// Whether an executable file `name` is in a folder of `PATH` as the program would be
+/// found when started (an empty entry is the working folder; without `PATH`, the
+/// system's default `/bin:/usr/bin`).
+pub fn on_path(name: &str) -> bool {
     use std::os::unix::fs::PermissionsExt;
-    std::env::var_os("PATH").is_some_and(|path| {
-        std::env::split_paths(&path).any(|dir| {
-            std::fs::metadata(dir.join(name))
-                .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
-        })
+    let path = std::env::var_os("PATH").unwrap_or_else(|| "/bin:/usr/bin".into());
+    std::env::split_paths(&path).any(|dir| {
+        std::fs::metadata(dir.join(name))
+            .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
     })
 }
 
@@ -85,11 +86,13 @@ pub fn probe(path: &Path) -> Result<VideoInfo> {
             path.display()
         );
     }
-    if !have_ffmpeg() {
-        bail!(
-            "{}: decoding needs the ffmpeg program (with ffprobe), which is not on PATH (Debian: apt-get install ffmpeg)",
-            path.display()
-        );
+    for program in ["ffmpeg", "ffprobe"] {
+        if !on_path(program) {
+            bail!(
+                "{}: decoding needs the {program} program, which is not on PATH (Debian: apt-get install ffmpeg)",
+                path.display()
+            );
+        }
     }
     probe_ffprobe(path)
 }

@@ -78,7 +78,7 @@ fn every_style_is_measured_within_a_twentieth_of_a_degree() {
             &["synth", &s(&exp), "-o", &s(&video), "--truth", &s(&truth)],
             d,
         );
-        // H.264 when this OpenCV writes it, MJPG otherwise.
+        // H.264 when ffmpeg has x264, MJPG otherwise.
         let video = if video.exists() {
             video
         } else {

@@ -177,10 +177,26 @@ fn without_ffmpeg_videos_are_refused_naming_the_package() {
         "twin.avi",
         &["needs the ffmpeg program", "apt-get install ffmpeg"],
     );
+    // Nothing written, not even the twin's folder.
+    let nested = dir.path().join("new").join("twin.avi");
+    let out = run(&[
+        OsStr::new("synth"),
+        OsStr::new("glass"),
+        OsStr::new("-o"),
+        nested.as_os_str(),
+    ]);
+    assert_fails(&out, &nested, "twin.avi", &["needs the ffmpeg program"]);
     assert_eq!(
         std::fs::read_dir(dir.path()).unwrap().count(),
         2,
-        "clip and the empty folder only"
+        "the clip and the empty folder only"
+    );
+    // `info` says what is missing.
+    let out = run(&[OsStr::new("info")]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("ffmpeg program: not found") && said.contains("apt-get install ffmpeg"),
+        "{said}"
     );
 }
 

@@ -57,7 +57,7 @@ enum Cmd {
     /// Write a commented experiment file for a video (what the detector finds in it, and
     /// every geometry key to fill in), optionally listed in a manifest.
     Init(init::InitArgs),
-    /// Versions and the video back-ends of the system OpenCV.
+    /// Versions: rollfric, the system OpenCV, the ffmpeg program (or its absence).
     Info,
     /// Every key of an experiment file and of the manifest, with its type, default and
     /// meaning (Markdown, as docs/experiment.md).

@@ -1,7 +1,8 @@
 //! Where the detector's frames come from: a [`VideoInput`] tells the video's size and
-//! opens streams of grey frames cropped to a region (and shrunk by an integer factor,
-//! where it can). [`VideoFile`] decodes a file (the `ffmpeg` program); [`MemoryVideo`] holds frames made in memory, so that the
-//! whole detector can be tested without a decoder or a file.
+//! opens streams of grey frames cropped to a region (and shrunk by an integer factor).
+//! [`VideoFile`] decodes a file (the `ffmpeg` program); [`MemoryVideo`] holds frames
+//! made in memory, so that the whole detector can be tested without a decoder or a
+//! file.
 
 use crate::video::{self, FfmpegSource, Frame, FrameSource, Roi, VideoInfo};
 use anyhow::{bail, Result};
@@ -15,8 +16,6 @@ pub trait VideoInput {
     fn name(&self) -> String;
     /// What decodes the frames, as the detection reports it.
     fn decoder(&self) -> String;
-    /// Whether [`VideoInput::open`] takes a `shrink` above 1.
-    fn can_shrink(&self) -> bool;
     /// The frames from the first, cropped to `roi` and, when `shrink > 1`, shrunk by
     /// that factor (each pixel the mean of a `shrink` x `shrink` block of the crop;
     /// `roi.w / shrink` x `roi.h / shrink` pixels).
@@ -66,10 +65,6 @@ impl VideoInput for VideoFile {
 
     fn decoder(&self) -> String {
         "ffmpeg (luma plane, cropped)".to_string()
-    }
-
-    fn can_shrink(&self) -> bool {
-        true
     }
 
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>> {
@@ -134,10 +129,6 @@ impl VideoInput for MemoryVideo {
 
     fn decoder(&self) -> String {
         "in memory (cropped)".to_string()
-    }
-
-    fn can_shrink(&self) -> bool {
-        true
     }
 
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>> {

@@ -317,9 +317,6 @@ impl FirstLook<'_> {
         let side = self.bound.w.max(self.bound.h) as f64;
         let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
         let fine = (side / WORK_SIDE_PX).floor().max(1.0) as u32;
-        if !self.input.can_shrink() {
-            return self.at(1);
-        }
         if fine == coarse {
             return self.at(coarse);
         }

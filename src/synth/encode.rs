@@ -58,7 +58,7 @@ fn rate_arg(fps: f64) -> String {
 /// The codecs the `ffmpeg` program writes here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum FfmpegCodec {
-    /// MJPEG at `-q:v 3` (about the quality of OpenCV's MJPG; lossy like a camera's),
+    /// MJPEG at `-q:v 3` (lossy like a camera's),
     /// with the standard Huffman tables (optimal ones cost the encoder a quarter more
     /// time for files a sixth smaller), on one thread (frame threads cost it a third
     /// more time, and the renderer keeps the other core busy), in `.avi`.
@@ -97,6 +97,7 @@ impl RawFrames {
         (w, h): (usize, usize),
         buf: &'a mut Vec<u8>,
     ) -> &'a [u8] {
+        debug_assert_eq!(bgr.len(), 3 * w * h);
         match self {
             RawFrames::Yuv420(range) => {
                 bgr_to_yuv420(bgr, w, h, range, buf);
@@ -269,8 +270,8 @@ fn start_ffmpeg(
 /// for an odd size). Returns the writer, the temporary and final paths and the codec's
 /// name with the container and who wrote it.
 ///
-/// The `ffmpeg` program is required: OpenCV's `videoio` is not linked (see
-/// [`crate::picture`]).
+/// The `ffmpeg` program is required (OpenCV's `videoio` is not linked, see
+/// [`crate::picture`]): [`super::render`] says so before anything is written.
 pub(super) fn open_writer(
     out: &Path,
     (w, h): (usize, usize),
@@ -278,11 +279,6 @@ pub(super) fn open_writer(
     times: Option<&str>,
     first: &Mat,
 ) -> Result<(FfmpegPipe, TempFile, PathBuf, String)> {
-    ensure!(
-        crate::video::have_ffmpeg(),
-        "{}: rendering needs the ffmpeg program, which is not on PATH (Debian: apt-get install ffmpeg)",
-        out.display()
-    );
     let vfr = if times.is_some() {
         ", variable frame rate"
     } else {

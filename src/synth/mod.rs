@@ -80,7 +80,8 @@ pub struct SynthReport {
     /// The file actually written (`.avi` if H.264 was not available).
     pub path: PathBuf,
     /// The codec, the container (the file's extension) and the writer, as in
-    /// `MJPG (avi, ffmpeg)` or `H.264 (mp4, OpenCV)`.
+    /// `MJPG (avi, ffmpeg)`, `MJPG 4:4:4 (avi, ffmpeg)` (an odd size) or
+    /// `H.264 (mp4, ffmpeg, variable frame rate)`.
     pub codec: String,
     pub frames: usize,
     pub width: u32,
@@ -110,8 +111,8 @@ pub struct SynthReport {
 /// Render the experiment's `synthetic:` twin to `out`.
 ///
 /// The extension decides the container: `.avi` is MJPG; anything else (`.mp4`) is
-/// H.264, and if neither ffmpeg (with x264) nor this OpenCV can write H.264 the video
-/// goes to the same name with `.avi` in MJPG instead (said on stderr; the returned path
+/// H.264, and if ffmpeg has no x264 or the size is odd the video goes to the same name
+/// with `.avi` in MJPG instead (said on stderr; the returned path
 /// is the file written). The same frames give the same bytes (for a given FFmpeg).
 /// The file is written under a temporary name in the same folder and renamed when
 /// complete. `duration_s` overrides the block's duration; `progress` is called with
@@ -129,6 +130,11 @@ pub fn render(
             out.display()
         );
     }
+    ensure!(
+        crate::video::have_ffmpeg(),
+        "{}: rendering needs the ffmpeg program, which is not on PATH (Debian: apt-get install ffmpeg)",
+        out.display()
+    );
     render_inner(exp, out, duration_s, progress)
         .with_context(|| format!("{}: cannot render the synthetic video", out.display()))
 }

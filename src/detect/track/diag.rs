@@ -41,7 +41,8 @@ impl Tracker {
         }
         let path = dir.join(format!("frame-{index:06}.png"));
         let (w, h) = (bgr.cols() as usize, bgr.rows() as usize);
-        let png = crate::picture::encode(w, h, crate::picture::Layout::Bgr, bgr.data_bytes()?)?;
+        let png = crate::picture::encode(w, h, crate::picture::Layout::Bgr, bgr.data_bytes()?)
+            .with_context(|| format!("{}: cannot encode", path.display()))?;
         std::fs::write(&path, png).with_context(|| format!("{}: cannot write", path.display()))?;
         self.diagnostics.push(path);
         Ok(())

@@ -40,16 +40,11 @@ pub fn encode(width: usize, height: usize, layout: Layout, pixels: &[u8]) -> Res
         let mut enc = png::Encoder::new(&mut out, w, h);
         enc.set_depth(png::BitDepth::Eight);
         enc.set_compression(png::Compression::Fast);
-        let mut writer = match layout {
-            Layout::Grey => {
-                enc.set_color(png::ColorType::Grayscale);
-                enc.write_header()?
-            }
-            Layout::Bgr => {
-                enc.set_color(png::ColorType::Rgb);
-                enc.write_header()?
-            }
-        };
+        enc.set_color(match layout {
+            Layout::Grey => png::ColorType::Grayscale,
+            Layout::Bgr => png::ColorType::Rgb,
+        });
+        let mut writer = enc.write_header()?;
         match layout {
             Layout::Grey => writer.write_image_data(pixels)?,
             Layout::Bgr => {
@@ -63,6 +58,23 @@ pub fn encode(width: usize, height: usize, layout: Layout, pixels: &[u8]) -> Res
         writer.finish()?;
     }
     Ok(out)
+}
+
+/// Encode an OpenCV picture of 8-bit BGR pixels (as drawn for Figure 11 and the
+/// diagnostics) as a PNG.
+pub fn encode_bgr_mat(m: &opencv::core::Mat) -> Result<Vec<u8>> {
+    use opencv::prelude::*;
+    ensure!(
+        m.typ() == opencv::core::CV_8UC3,
+        "a picture of OpenCV type {}, not 8-bit BGR",
+        m.typ()
+    );
+    encode(
+        m.cols() as usize,
+        m.rows() as usize,
+        Layout::Bgr,
+        m.data_bytes()?,
+    )
 }
 
 /// A decoded picture: its size, layout and pixels (BGR for colour pictures).

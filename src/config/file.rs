@@ -425,8 +425,8 @@ pub struct Synthetic {
     /// this value (0 to 0.9 of a frame interval) and `u_k` in [0, 1) from the seed
     /// (`u_0 = 0`), rounded to the millisecond; each frame is rendered at its own time,
     /// the truth gives it, and the video carries it (a decoder that keeps timestamps,
-    /// such as ffmpeg with `-fps_mode passthrough`, returns it). In `.avi` the stream counts milliseconds,
-    /// with empty chunks between frames, as FFmpeg writes a variable rate there (so its
+    /// such as ffmpeg with `-fps_mode passthrough`, returns it). In `.avi` the stream
+    /// counts milliseconds, with empty chunks between frames, as FFmpeg writes a variable rate there (so its
     /// header's frame count is the milliseconds'); `.mkv` and `.mp4` carry the times as
     /// such. At least 2 ms between frames: `(1 - j) / fps` >= 0.002 s. Default 0 (a
     /// constant rate, `k / fps`).

@@ -13,7 +13,6 @@ use crate::video::Frame;
 use anyhow::{bail, Context, Result};
 use opencv::core::{self, Mat, Point, Rect, Scalar};
 use opencv::imgproc;
-use opencv::prelude::*;
 
 /// Seconds after the first `ok` frame in which Figure 11's frame is chosen.
 const EARLY_S: f64 = 4.0;
@@ -238,8 +237,7 @@ pub fn figure11_png(d: &Detection) -> Result<Vec<u8>> {
         imgproc::LINE_AA,
         0,
     )?;
-    let (w, h) = (img.cols() as usize, img.rows() as usize);
-    crate::picture::encode(w, h, crate::picture::Layout::Bgr, img.data_bytes()?).with_context(what)
+    crate::picture::encode_bgr_mat(&img).with_context(what)
 }
 
 #[cfg(test)]

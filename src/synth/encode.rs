@@ -108,8 +108,8 @@ impl RawFrames {
     }
 }
 
-/// Frames piped to the `ffmpeg` program as raw planar Y'CbCr 4:2:0 (or BGR), one after another at
-/// a constant rate (every frame kept: `-fps_mode passthrough`), or at the times the
+/// Frames piped to the `ffmpeg` program as raw planar Y'CbCr 4:2:0 (or BGR), one after
+/// another at a constant rate (every frame kept: `-fps_mode passthrough`), or at the times the
 /// `setpts` filters of a variable rate give them (then counted in milliseconds by the
 /// encoder and the container). The output carries no
 /// version strings or metadata (`bitexact`), and x264 runs a fixed number of threads,
@@ -148,12 +148,13 @@ impl FfmpegPipe {
             cmd.args(["-vf", filters, "-enc_time_base", "1/1000"]);
         }
         match codec {
-            FfmpegCodec::Mjpeg => cmd
-                .args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"])
-                .args(["-threads", "1", "-f", "avi"]),
-            FfmpegCodec::Mjpeg444 => cmd
-                .args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"])
-                .args(["-pix_fmt", "yuvj444p", "-threads", "1", "-f", "avi"]),
+            FfmpegCodec::Mjpeg | FfmpegCodec::Mjpeg444 => {
+                cmd.args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"]);
+                if codec == FfmpegCodec::Mjpeg444 {
+                    cmd.args(["-pix_fmt", "yuvj444p"]);
+                }
+                cmd.args(["-threads", "1", "-f", "avi"])
+            }
             FfmpegCodec::H264 => cmd
                 .args(["-c:v", "libx264", "-preset", "veryfast", "-crf", "18"])
                 .args(["-pix_fmt", "yuv420p", "-threads", "4"])

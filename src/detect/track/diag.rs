@@ -5,7 +5,6 @@ use crate::detect::Pt;
 use anyhow::{Context, Result};
 use opencv::core::{Mat, Point, Scalar};
 use opencv::imgproc;
-use opencv::prelude::*;
 
 impl Tracker {
     /// The paper's Figure 11 for a flagged frame: detected line red, predicted green.
@@ -40,8 +39,7 @@ impl Tracker {
             draw(angle, Scalar::new(0.0, 0.0, 255.0, 0.0))?;
         }
         let path = dir.join(format!("frame-{index:06}.png"));
-        let (w, h) = (bgr.cols() as usize, bgr.rows() as usize);
-        let png = crate::picture::encode(w, h, crate::picture::Layout::Bgr, bgr.data_bytes()?)
+        let png = crate::picture::encode_bgr_mat(&bgr)
             .with_context(|| format!("{}: cannot encode", path.display()))?;
         std::fs::write(&path, png).with_context(|| format!("{}: cannot write", path.display()))?;
         self.diagnostics.push(path);

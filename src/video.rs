@@ -5,14 +5,21 @@
 //! region of interest and hand over only the luma plane (`extractplanes=y`): no colour
 //! conversion at all, and only the pixels the detector looks at cross the pipe. Frame
 //! times come from each decoded frame's own timestamp (`showinfo`), not from the
-//! container's nominal rate. The `ffmpeg` program (and its `ffprobe`) is required:
-//! OpenCV's `videoio` is not linked (see [`crate::picture`] for why), and a video is
-//! refused, with the package to install, when the program is missing.
+//! container's nominal rate. The `ffmpeg` program is required: OpenCV's `videoio` is
+//! not linked (see [`crate::picture`] for why), and a video is refused, with the package
+//! to install, when the program is missing.
+//!
+//! A [`Decoder`] is an `ffmpeg` process started before its filters are known: it loads
+//! its libraries, opens the video and describes it (its size, for the filters to be
+//! chosen), then waits for the filter graph on its standard input. So a video costs no
+//! separate `ffprobe` run, and a decoder started early (the detector's streaming pass,
+//! while the first look's geometry is worked out) has its start-up behind it when its
+//! filters arrive.
 
 use anyhow::{bail, Context, Result};
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, ChildStderr, ChildStdin, Command, Stdio};
 use std::sync::mpsc;
 
 /// A rectangle of the frame, px.
@@ -29,7 +36,9 @@ pub struct Roi {
 pub struct VideoInfo {
     pub width: u32,
     pub height: u32,
-    /// Frame count from the header (may be wrong; frames are counted as decoded).
+    /// Frame count expected from the header (the duration at the nominal frame rate;
+    /// it may be wrong: it only sizes progress reports, and frames are counted as
+    /// decoded).
     pub frames_header: Option<u64>,
     pub duration_s: Option<f64>,
     pub codec: String,
@@ -76,88 +85,123 @@ pub fn on_path(name: &str) -> bool {
     })
 }
 
-/// Probe a video's size and header facts (`ffprobe`; no decoding).
-pub fn probe(path: &Path) -> Result<VideoInfo> {
-    let meta =
-        std::fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
-    if meta.len() == 0 {
-        bail!(
-            "{}: the file is empty (0 bytes); no frame to read",
-            path.display()
-        );
-    }
-    for program in ["ffmpeg", "ffprobe"] {
-        if !on_path(program) {
+/// An `ffmpeg` process that has opened a video and described it, waiting for its
+/// filters (see the module's documentation). Dropped unused, the process is stopped.
+pub struct Decoder {
+    path: PathBuf,
+    /// The process, until [`Decoder::run`] hands it to its [`FfmpegSource`].
+    child: Option<Child>,
+    stdin: Option<ChildStdin>,
+    /// The process's log, read up to the video stream's description.
+    log: Option<BufReader<ChildStderr>>,
+    info: VideoInfo,
+}
+
+impl Decoder {
+    /// Start `ffmpeg` on `path` and read what it says of the video (refused when the
+    /// file is empty or unreadable, when `ffmpeg` is not installed, or when the file
+    /// holds no video stream).
+    pub fn start(path: &Path) -> Result<Self> {
+        let meta =
+            std::fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        if meta.len() == 0 {
             bail!(
-                "{}: decoding needs the {program} program, which is not on PATH (Debian: apt-get install ffmpeg)",
+                "{}: the file is empty (0 bytes); no frame to read",
                 path.display()
             );
         }
+        if !on_path("ffmpeg") {
+            bail!(
+                "{}: decoding needs the ffmpeg program, which is not on PATH (Debian: apt-get install ffmpeg)",
+                path.display()
+            );
+        }
+        let mut child = Command::new("ffmpeg")
+            // `-nostdin`: standard input carries the filter script, not key presses.
+            // `level+`: every line carries its severity as `[error]`, `[info]`, ...,
+            // so complaints are told by the decoder's own level, not by their words.
+            .args([
+                "-nostdin",
+                "-hide_banner",
+                "-nostats",
+                "-v",
+                "level+info",
+                "-i",
+            ])
+            .arg(path)
+            .args([
+                "-map",
+                "0:v:0",
+                "-an",
+                "-sn",
+                "-fps_mode",
+                "passthrough",
+                "-filter_script:v",
+                "/dev/stdin",
+                "-f",
+                "rawvideo",
+                "-",
+            ])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .with_context(|| format!("{}: cannot start ffmpeg", path.display()))?;
+        let stdin = child.stdin.take();
+        let mut log = BufReader::new(child.stderr.take().expect("piped"));
+        // The input's description comes first; then ffmpeg waits for its filters, so
+        // reading stops at the first video stream's line (or at the end of a refusal).
+        let mut duration_s = None;
+        let mut complaints = Vec::new();
+        let mut line = String::new();
+        let described = loop {
+            line.clear();
+            match log.read_line(&mut line) {
+                Ok(0) | Err(_) => break None,
+                Ok(_) => {}
+            }
+            let l = line.trim_end();
+            if let Some(rest) = l.split("Duration: ").nth(1) {
+                duration_s = parse_clock(rest.split(',').next().unwrap_or(""));
+            } else if l.contains("Stream #0:") && l.contains(": Video: ") {
+                break Some(l.to_string());
+            } else if decoder_complaint(l) {
+                complaints.push(l.to_string());
+            }
+        };
+        let info = described
+            .as_deref()
+            .and_then(|l| parse_video_stream(l, duration_s));
+        let Some(info) = info else {
+            let _ = child.kill();
+            let _ = child.wait();
+            let why = complaints
+                .first()
+                .map(|l| l.rsplit("] ").next().unwrap_or(l).trim().to_string())
+                .unwrap_or_else(|| "no video stream".to_string());
+            bail!(
+                "{}: cannot open as a video ({why}); no frame decoded",
+                path.display()
+            );
+        };
+        Ok(Self {
+            path: path.to_path_buf(),
+            child: Some(child),
+            stdin,
+            log: Some(log),
+            info,
+        })
     }
-    probe_ffprobe(path)
-}
 
-fn probe_ffprobe(path: &Path) -> Result<VideoInfo> {
-    let out = Command::new("ffprobe")
-        .args(["-v", "error", "-select_streams", "v:0", "-show_entries"])
-        .arg("stream=width,height,nb_frames,codec_name,duration")
-        .args(["-of", "default=noprint_wrappers=1"])
-        .arg(path)
-        .stdin(Stdio::null())
-        .output()
-        .with_context(|| format!("{}: cannot run ffprobe", path.display()))?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    let field = |k: &str| {
-        text.lines()
-            .find_map(|l| l.strip_prefix(&format!("{k}=")))
-            .map(str::trim)
-            .filter(|v| !v.is_empty() && *v != "N/A")
-    };
-    let (Some(w), Some(h)) = (
-        field("width").and_then(|v| v.parse::<u32>().ok()),
-        field("height").and_then(|v| v.parse::<u32>().ok()),
-    ) else {
-        let err = String::from_utf8_lossy(&out.stderr);
-        let why = err
-            .lines()
-            .map(|l| l.rsplit("] ").next().unwrap_or(l).trim())
-            .find(|l| !l.is_empty())
-            .unwrap_or("no video stream");
-        bail!(
-            "{}: cannot open as a video ({why}); no frame decoded",
-            path.display()
-        );
-    };
-    Ok(VideoInfo {
-        width: w,
-        height: h,
-        frames_header: field("nb_frames").and_then(|v| v.parse().ok()),
-        duration_s: field("duration").and_then(|v| v.parse().ok()),
-        codec: field("codec_name").unwrap_or("?").to_string(),
-    })
-}
+    /// The video as the decoder found it.
+    pub fn info(&self) -> &VideoInfo {
+        &self.info
+    }
 
-/// Decoding by the `ffmpeg` program: luma only, cropped, with per-frame timestamps.
-pub struct FfmpegSource {
-    path: PathBuf,
-    child: Child,
-    /// Frames read ahead by a reader thread, so that decoding goes on while a frame is
-    /// processed (a pipe buffer holds less than one frame).
-    frames: mpsc::Receiver<Chunk>,
-    /// Spent buffers going back to the reader (no allocation per frame).
-    spent: mpsc::Sender<Vec<u8>>,
-    times: mpsc::Receiver<f64>,
-    errors: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
-    width: usize,
-    height: usize,
-    next_index: u64,
-    finished: bool,
-}
-
-impl FfmpegSource {
-    /// Start decoding `path`, cropped to `roi` (whole frame if `None`) and optionally
-    /// scaled down by an integer `shrink` (for quick looks at large frames).
-    pub fn open(path: &Path, info: &VideoInfo, roi: Option<Roi>, shrink: u32) -> Result<Self> {
+    /// Decode, cropped to `roi` (whole frame if `None`) and optionally scaled down by
+    /// an integer `shrink` (for quick looks at large frames).
+    pub fn run(mut self, roi: Option<Roi>, shrink: u32) -> Result<FfmpegSource> {
+        let info = &self.info;
         let roi = roi.unwrap_or(Roi {
             x: 0,
             y: 0,
@@ -181,36 +225,16 @@ impl FfmpegSource {
         // one tick of the output's coarser time base, which the muxer refuses as out of
         // order (and that refusal would read as a damaged video).
         filters.push_str(",settb=1/1000000,setpts=N");
-        let mut child = Command::new("ffmpeg")
-            // `level+`: every line carries its severity as `[error]`, `[info]`, ...,
-            // so complaints are told by the decoder's own level, not by their words.
-            .args([
-                "-nostdin",
-                "-hide_banner",
-                "-nostats",
-                "-v",
-                "level+info",
-                "-i",
-            ])
-            .arg(path)
-            .args([
-                "-map",
-                "0:v:0",
-                "-an",
-                "-sn",
-                "-fps_mode",
-                "passthrough",
-                "-vf",
-            ])
-            .arg(&filters)
-            .args(["-f", "rawvideo", "-"])
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .with_context(|| format!("{}: cannot start ffmpeg", path.display()))?;
+        // The script, then the end of the input: ffmpeg reads it to its end.
+        if let Some(mut stdin) = self.stdin.take() {
+            use std::io::Write;
+            // A decoder that has stopped meanwhile says why on its log (read below).
+            let _ = stdin.write_all(filters.as_bytes());
+        }
+        let mut child = self.child.take().expect("a decoder runs once");
         let mut stdout = child.stdout.take().expect("piped");
-        let stderr = child.stderr.take().expect("piped");
+        let log = self.log.take().expect("a decoder runs once");
+        let path = self.path.clone();
         let frame_len = width * height;
         // A pipe holds 64 KiB by default: a frame of the region crossed it in several
         // writes, each waking the reader and the decoder in turn. Room for a frame or
@@ -250,7 +274,7 @@ impl FfmpegSource {
         std::thread::spawn(move || {
             let mut tb = 0.0f64;
             // One line per frame: read into one buffer.
-            let mut reader = BufReader::new(stderr);
+            let mut reader = log;
             let mut line = String::new();
             loop {
                 line.clear();
@@ -296,8 +320,8 @@ impl FfmpegSource {
                 }
             }
         });
-        Ok(Self {
-            path: path.to_path_buf(),
+        Ok(FfmpegSource {
+            path,
             child,
             frames,
             spent,
@@ -308,6 +332,99 @@ impl FfmpegSource {
             next_index: 0,
             finished: false,
         })
+    }
+}
+
+impl Drop for Decoder {
+    fn drop(&mut self) {
+        // Not run: stop the process waiting for its filters.
+        if let Some(mut child) = self.child.take() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+/// Decoding by the `ffmpeg` program: luma only, cropped, with per-frame timestamps.
+pub struct FfmpegSource {
+    path: PathBuf,
+    child: Child,
+    /// Frames read ahead by a reader thread, so that decoding goes on while a frame is
+    /// processed (a pipe buffer holds less than one frame).
+    frames: mpsc::Receiver<Chunk>,
+    /// Spent buffers going back to the reader (no allocation per frame).
+    spent: mpsc::Sender<Vec<u8>>,
+    times: mpsc::Receiver<f64>,
+    errors: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    width: usize,
+    height: usize,
+    next_index: u64,
+    finished: bool,
+}
+
+/// A clock time `HH:MM:SS.ss` (ffmpeg's duration), s.
+fn parse_clock(text: &str) -> Option<f64> {
+    let mut parts = text.trim().split(':');
+    let (h, m, sec) = (parts.next()?, parts.next()?, parts.next()?);
+    let t = h.parse::<f64>().ok()? * 3600.0
+        + m.parse::<f64>().ok()? * 60.0
+        + sec.parse::<f64>().ok()?;
+    (t.is_finite() && t >= 0.0 && parts.next().is_none()).then_some(t)
+}
+
+/// The facts of ffmpeg's description of a video stream, as in
+/// `Stream #0:0[0x1](und): Video: h264 (High) (avc1 / 0x31637661), yuv420p(tv,
+/// progressive), 640x480 [SAR 1:1 DAR 4:3], 1010 kb/s, 30 fps, 30 tbr, 15360 tbn`: the
+/// codec (the first word), the size and the nominal rate (items of the comma-separated
+/// list outside parentheses). The expected frame count is the duration at that rate.
+fn parse_video_stream(line: &str, duration_s: Option<f64>) -> Option<VideoInfo> {
+    let desc = line.split(": Video: ").nth(1)?;
+    let mut items = Vec::new();
+    let (mut depth, mut from) = (0i32, 0usize);
+    for (i, c) in desc.char_indices() {
+        match c {
+            '(' | '[' => depth += 1,
+            ')' | ']' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(desc[from..i].trim());
+                from = i + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(desc[from..].trim());
+    let codec = items.first()?.split_whitespace().next()?.to_string();
+    let (width, height) = items.iter().skip(1).find_map(|item| {
+        let (w, h) = item.split_whitespace().next()?.split_once('x')?;
+        let (w, h) = (w.parse::<u32>().ok()?, h.parse::<u32>().ok()?);
+        (w > 0 && h > 0).then_some((w, h))
+    })?;
+    let fps = items.iter().find_map(|item| {
+        let v = item.strip_suffix(" fps")?.trim();
+        let f = match v.strip_suffix('k') {
+            Some(k) => k.parse::<f64>().ok()? * 1000.0,
+            None => v.parse::<f64>().ok()?,
+        };
+        (f.is_finite() && f > 0.0).then_some(f)
+    });
+    let frames_header = match (duration_s, fps) {
+        (Some(d), Some(f)) => Some((d * f).round() as u64),
+        _ => None,
+    };
+    Some(VideoInfo {
+        width,
+        height,
+        frames_header,
+        duration_s,
+        codec,
+    })
+}
+
+impl FfmpegSource {
+    /// Start decoding `path`, cropped to `roi` (whole frame if `None`) and optionally
+    /// scaled down by an integer `shrink` (for quick looks at large frames).
+    pub fn open(path: &Path, roi: Option<Roi>, shrink: u32) -> Result<Self> {
+        Decoder::start(path)?.run(roi, shrink)
     }
 
     fn fail_message(&self) -> String {
@@ -436,6 +553,31 @@ pub fn info() -> Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_video_stream_is_known_by_its_description() {
+        let h264 = "[info]   Stream #0:0[0x1](und): Video: h264 (High) (avc1 / 0x31637661), \
+                    yuv420p(tv, bt709, progressive), 640x480 [SAR 1:1 DAR 4:3], 1010 kb/s, \
+                    30 fps, 30 tbr, 15360 tbn (default)";
+        let v = parse_video_stream(h264, Some(80.0)).unwrap();
+        assert_eq!((v.width, v.height, v.codec.as_str()), (640, 480, "h264"));
+        assert_eq!((v.frames_header, v.duration_s), (Some(2400), Some(80.0)));
+        let mjpeg = "[info]   Stream #0:1: Video: mjpeg (Baseline) (MJPG / 0x47504A4D), \
+                     yuvj420p(pc, bt470bg/unknown/unknown), 960x540, 5432 kb/s, 29.97 fps, \
+                     29.97 tbr, 29.97 tbn";
+        let v = parse_video_stream(mjpeg, Some(12.04)).unwrap();
+        assert_eq!((v.width, v.height, v.codec.as_str()), (960, 540, "mjpeg"));
+        assert_eq!(v.frames_header, Some(361));
+        // No size, or no duration: nothing to go on, or no count.
+        assert!(parse_video_stream("[info] Stream #0:0: Video: h264, yuv420p", None).is_none());
+        let v = parse_video_stream("Stream #0:0: Video: rawvideo, gray, 2x3, 1k fps", None);
+        assert_eq!(
+            v.map(|v| (v.width, v.height, v.frames_header)),
+            Some((2, 3, None))
+        );
+        assert_eq!(parse_clock("01:02:03.50"), Some(3723.5));
+        assert_eq!(parse_clock("N/A"), None);
+    }
 
     #[test]
     fn complaints_are_told_by_their_level_not_their_words() {

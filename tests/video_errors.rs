@@ -206,7 +206,7 @@ fn without_ffmpeg_videos_are_refused_naming_the_package() {
 /// reader read that as a damaged video. Every frame is read, at its own time.
 #[test]
 fn a_variable_frame_rate_is_read_frame_by_frame() {
-    use rollfric::video::{probe, FfmpegSource, Frame, FrameSource};
+    use rollfric::video::{Decoder, Frame, FrameSource};
     if !need_ffmpeg() {
         return;
     }
@@ -223,8 +223,14 @@ fn a_variable_frame_rate_is_read_frame_by_frame() {
         .status()
         .unwrap();
     assert!(st.success());
-    let info = probe(&clip).unwrap();
-    let mut src = FfmpegSource::open(&clip, &info, None, 1).unwrap();
+    // The decoder describes the video before it is given its filters.
+    let decoder = Decoder::start(&clip).unwrap();
+    let info = decoder.info().clone();
+    assert_eq!(
+        (info.width, info.height, info.codec.as_str()),
+        (160, 120, "h264")
+    );
+    let mut src = decoder.run(None, 1).unwrap();
     let mut f = Frame {
         index: 0,
         t_s: 0.0,

@@ -1,10 +1,11 @@
 //! Where the detector's frames come from: a [`VideoInput`] tells the video's size and
 //! opens streams of grey frames cropped to a region (and shrunk by an integer factor).
-//! [`VideoFile`] decodes a file (the `ffmpeg` program); [`MemoryVideo`] holds frames
+//! [`VideoFile`] decodes a file (the `ffmpeg` program, a decoder started ahead of each
+//! stream: see [`VideoInput::prepare`]); [`MemoryVideo`] holds frames
 //! made in memory, so that the whole detector can be tested without a decoder or a
 //! file.
 
-use crate::video::{self, FfmpegSource, Frame, FrameSource, Roi, VideoInfo};
+use crate::video::{Decoder, Frame, FrameSource, Roi, VideoInfo};
 use anyhow::{bail, Result};
 use std::path::{Path, PathBuf};
 
@@ -20,6 +21,9 @@ pub trait VideoInput {
     /// that factor (each pixel the mean of a `shrink` x `shrink` block of the crop;
     /// `roi.w / shrink` x `roi.h / shrink` pixels).
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>>;
+    /// Another [`VideoInput::open`] will follow: its decoder may start now, so that its
+    /// start-up overlaps the work in between (by default, nothing to do).
+    fn prepare(&self) {}
 }
 
 /// The largest frame a video may have, px: the detector's buffers (a region of a frame,
@@ -27,17 +31,30 @@ pub trait VideoInput {
 pub const MAX_FRAME_PIXELS: u64 = 8192 * 8192;
 
 /// A video file, decoded by the `ffmpeg` program (luma plane, cropped and shrunk by
-/// ffmpeg).
-#[derive(Clone, Debug)]
+/// ffmpeg). The decoder that described the video at [`VideoFile::open`] serves the first
+/// stream; [`VideoInput::prepare`] starts the next one's ahead of it.
 pub struct VideoFile {
     path: PathBuf,
     info: VideoInfo,
+    /// A decoder started and waiting for its filters, for the next stream.
+    ready: std::sync::Mutex<Option<Decoder>>,
+}
+
+impl std::fmt::Debug for VideoFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("VideoFile")
+            .field("path", &self.path)
+            .field("info", &self.info)
+            .finish_non_exhaustive()
+    }
 }
 
 impl VideoFile {
-    /// Probe `path` (refused when the `ffmpeg` program is not installed).
+    /// Start decoding `path` far enough to know the video (refused when the `ffmpeg`
+    /// program is not installed).
     pub fn open(path: &Path) -> Result<Self> {
-        let info = video::probe(path)?;
+        let decoder = Decoder::start(path)?;
+        let info = decoder.info().clone();
         let pixels = u64::from(info.width) * u64::from(info.height);
         if pixels > MAX_FRAME_PIXELS {
             anyhow::bail!(
@@ -50,7 +67,17 @@ impl VideoFile {
         Ok(Self {
             path: path.to_path_buf(),
             info,
+            ready: std::sync::Mutex::new(Some(decoder)),
         })
+    }
+
+    /// The waiting decoder, or a new one.
+    fn take_decoder(&self) -> Result<Decoder> {
+        let ready = self.ready.lock().ok().and_then(|mut r| r.take());
+        match ready {
+            Some(d) => Ok(d),
+            None => Decoder::start(&self.path),
+        }
     }
 }
 
@@ -68,12 +95,17 @@ impl VideoInput for VideoFile {
     }
 
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>> {
-        Ok(Box::new(FfmpegSource::open(
-            &self.path,
-            &self.info,
-            Some(roi),
-            shrink,
-        )?))
+        Ok(Box::new(self.take_decoder()?.run(Some(roi), shrink)?))
+    }
+
+    fn prepare(&self) {
+        if let Ok(mut ready) = self.ready.lock() {
+            if ready.is_none() {
+                // Best effort: a decoder that cannot start now is started (and its
+                // refusal reported) by the `open` that needs it.
+                *ready = Decoder::start(&self.path).ok();
+            }
+        }
     }
 }
 

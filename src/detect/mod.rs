@@ -32,7 +32,8 @@
 //! again.
 //!
 //! The frames come from a [`VideoInput`], opened twice (the first look, shrunk for a
-//! large frame, then the streaming pass): a [`VideoFile`] for [`detect`], or frames
+//! large frame, then the streaming pass, whose decoder starts while the geometry is
+//! worked out): a [`VideoFile`] for [`detect`], or frames
 //! made in memory ([`MemoryVideo`]) for tests that need no decoder.
 
 mod figure11;
@@ -424,6 +425,9 @@ impl FirstLook<'_> {
             }
         }
         drop(src);
+        // The streaming pass (or a look at another scale) follows: its decoder starts
+        // while the geometry is worked out.
+        input.prepare();
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
                 "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",

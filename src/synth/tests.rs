@@ -835,8 +835,7 @@ fn variable_frame_rate_videos_carry_each_frames_own_time() {
         assert_eq!(rep.truth, truth);
         // ffprobe's times, and the detector's reader's (`-fps_mode passthrough`).
         let probed = ffprobe_times(&rep.path);
-        let info = crate::video::probe(&rep.path).unwrap();
-        let mut src = crate::video::FfmpegSource::open(&rep.path, &info, None, 1).unwrap();
+        let mut src = crate::video::FfmpegSource::open(&rep.path, None, 1).unwrap();
         let mut frame = crate::video::Frame::default();
         let mut decoded = Vec::new();
         while crate::video::FrameSource::next_frame(&mut src, &mut frame).unwrap() {

@@ -30,6 +30,9 @@ use opencv::core::{self, Mat, Point, Size, Vector};
 use opencv::imgproc;
 use opencv::prelude::*;
 
+/// At most this many threads look for the first look's lines (one per processor).
+const GEOMETRY_THREADS: usize = 4;
+
 /// The geometry found (or given), in full-frame pixel coordinates.
 #[derive(Clone, Debug)]
 pub struct WireGeometry {
@@ -449,28 +452,55 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     // Per frame (every `stride`-th, at most about 60 looked at closely), the longest
     // straight thin structures darker (`dark`) or brighter than `bg`.
     let stride = init.data.len().div_ceil(60).max(1);
+    let frame_lines_against = |bg: &Mat, dark: bool, k: usize| -> Result<Vec<FrameLine>> {
+        if !k.is_multiple_of(stride) {
+            return Ok(Vec::new());
+        }
+        let f = mat_of(w, h, &init.data[k])?;
+        let mut ev = Mat::default();
+        if dark {
+            core::subtract_def(bg, &f, &mut ev)?;
+        } else {
+            core::subtract_def(&f, bg, &mut ev)?;
+        }
+        let mut th = Mat::default();
+        imgproc::morphology_ex_def(&ev, &mut th, imgproc::MORPH_TOPHAT, &kernel)?;
+        // Keep what exceeds each pixel's own noise threshold.
+        let mut keep = Mat::default();
+        core::compare(&th, tmap, &mut keep, core::CMP_GT)?;
+        let mut masked = Mat::default();
+        th.copy_to_masked(&mut masked, &keep)?;
+        frame_lines(&masked, 0.5, min_len)
+    };
+    // The frames' lines, each frame alone: shared among the processors (the look's
+    // geometry is most of the detector's fixed cost on a short video, and the
+    // streaming pass's decoder is only waiting meanwhile), in the frames' order.
     let lines_against = |bg: &Mat, dark: bool| -> Result<Vec<Vec<FrameLine>>> {
-        let mut lines = Vec::with_capacity(init.data.len());
-        for (k, d) in init.data.iter().enumerate() {
-            if k % stride != 0 {
-                lines.push(Vec::new());
-                continue;
-            }
-            let f = mat_of(w, h, d)?;
-            let mut ev = Mat::default();
-            if dark {
-                core::subtract_def(bg, &f, &mut ev)?;
-            } else {
-                core::subtract_def(&f, bg, &mut ev)?;
-            }
-            let mut th = Mat::default();
-            imgproc::morphology_ex_def(&ev, &mut th, imgproc::MORPH_TOPHAT, &kernel)?;
-            // Keep what exceeds each pixel's own noise threshold.
-            let mut keep = Mat::default();
-            core::compare(&th, tmap, &mut keep, core::CMP_GT)?;
-            let mut masked = Mat::default();
-            th.copy_to_masked(&mut masked, &keep)?;
-            lines.push(frame_lines(&masked, 0.5, min_len)?);
+        let n = init.data.len();
+        let workers = std::thread::available_parallelism()
+            .map_or(1, |p| p.get())
+            .clamp(1, GEOMETRY_THREADS);
+        let per = n.div_ceil(workers).max(1);
+        let parts: Vec<Result<Vec<Vec<FrameLine>>>> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..n)
+                .step_by(per)
+                .map(|from| {
+                    let work = &frame_lines_against;
+                    s.spawn(move || {
+                        (from..(from + per).min(n))
+                            .map(|k| work(bg, dark, k))
+                            .collect::<Result<Vec<_>>>()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("a geometry thread panicked"))
+                .collect()
+        });
+        let mut lines = Vec::with_capacity(n);
+        for part in parts {
+            lines.extend(part?);
         }
         Ok(lines)
     };

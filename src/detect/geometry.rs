@@ -56,7 +56,8 @@ pub struct WireGeometry {
     pub roughness: f64,
     /// Which of the first look's tries found it ([`find`]): 0 at the first threshold
     /// against the running extreme, 1 against the median, 2 and 3 the same at the
-    /// lower threshold. An earlier try needed less leniency to see a wire.
+    /// lower threshold, [`FAINT_STAGE`] the faint look. An earlier try needed less
+    /// leniency to see a wire.
     pub stage: usize,
 }
 
@@ -268,11 +269,14 @@ pub fn find(
     // frames only is outvoted by stray edges: when neither background finds a wire a
     // pendulum could be, the look is repeated with a lower threshold.
     let mut first_reason = None;
+    // Whether every look saw too little to make a wire (not lines that fail to make one).
+    let mut saw_little = true;
     for (t, (sigmas, floor, min_directions)) in LOOK_THRESHOLDS.into_iter().enumerate() {
         let look = Look {
             init,
             tmap: threshold_map(init, noise, sigmas, floor)?,
             min_directions,
+            faint: false,
             full_w,
             full_h,
             polarity,
@@ -290,11 +294,160 @@ pub fn find(
                 if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
                     eprintln!("geometry: {e:#}; now with a lower threshold");
                 }
+                saw_little &= format!("{e:#}").starts_with(NO_WIRE);
                 first_reason.get_or_insert(e);
             }
         }
     }
-    Err(first_reason.expect("one threshold tried"))
+    // A wire so faint that no threshold keeps enough of it to make a segment (a pixel
+    // wide, a few grey levels, under flicker) still darkens a whole line of pixels a
+    // little: the last look finds each frame's lines along whole lines of the image,
+    // against the median (which holds no trails at so low a threshold). Only when the
+    // looks saw too little: lines that do not make a wire (no common pivot, a sweep no
+    // pendulum makes) are a scene the faint look would not read better.
+    if !saw_little {
+        return Err(first_reason.expect("one threshold tried"));
+    }
+    let look = Look {
+        init,
+        tmap: faint_threshold_map(init, noise)?,
+        min_directions: FAINT_MIN_DIRECTIONS,
+        faint: true,
+        full_w,
+        full_h,
+        polarity,
+        pivot_given,
+        roi_given,
+    };
+    match find_against(&look, Background::Median) {
+        Ok(g) if plausible(&g) => Ok(WireGeometry {
+            stage: FAINT_STAGE,
+            ..g
+        }),
+        other => {
+            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                match other {
+                    Ok(g) => eprintln!(
+                        "geometry: the faint look's lines sweep {:.0} deg, {} jumps",
+                        sweep_deg(&g),
+                        g.jumps
+                    ),
+                    Err(e) => eprintln!("geometry: the faint look: {e:#}"),
+                }
+            }
+            Err(first_reason.expect("one threshold tried"))
+        }
+    }
+}
+
+/// [`WireGeometry::stage`] of a wire found by the faint look.
+pub const FAINT_STAGE: usize = 4;
+
+/// The faint look's threshold: this many noise sigmas above the median (no allowance
+/// for the running extreme's own offset), at least one grey level.
+const FAINT_SIGMAS: f64 = 1.5;
+
+/// Directions the faint look's lines must take (its threshold lets the noise through).
+const FAINT_MIN_DIRECTIONS: usize = 8;
+
+/// A faint line's votes, as a share of the shortest wire: its pixels over the faint
+/// threshold along it.
+const FAINT_VOTES: f64 = 0.5;
+
+/// The strongest lines of a frame the faint look weighs, and the widest gap (px) along
+/// one between pixels over its threshold that still joins them into one wire: the
+/// noise that passes the faint threshold (a few pixels in a hundred) leaves wider gaps.
+const FAINT_CANDIDATES: usize = 12;
+const FAINT_GAP: f64 = 3.0;
+
+/// The faint look's per-pixel threshold ([`FAINT_SIGMAS`]).
+fn faint_threshold_map(init: &InitFrames, noise: &[u8]) -> Result<Mat> {
+    let t: Vec<u8> = noise
+        .iter()
+        .map(|&m| (FAINT_SIGMAS * (m as f64 / 0.95).max(1.0)).clamp(1.0, 250.0) as u8)
+        .collect();
+    Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
+}
+
+/// A faint wire's lines in one frame: the strongest lines of `bin` (its pixels over
+/// the faint threshold) by the standard Hough transform, which counts every pixel along
+/// a whole line of the image however broken; on each (up to three, in distinct
+/// directions), the longest run of those pixels within 1.5 px of it with no gap over
+/// [`FAINT_GAP`], kept when at least `min_len` long and fitted (orthogonal least
+/// squares, weighted by the evidence `ev`) as [`frame_lines`] fits a segment.
+fn faint_frame_lines(ev: &Mat, bin: &Mat, min_len: f64) -> Result<Vec<FrameLine>> {
+    let mut found = Vector::<core::Vec2f>::new();
+    imgproc::hough_lines_def(
+        bin,
+        &mut found,
+        1.0,
+        std::f64::consts::PI / 360.0,
+        (FAINT_VOTES * min_len).max(10.0) as i32,
+    )?;
+    if found.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut nz = Vector::<Point>::new();
+    core::find_non_zero(bin, &mut nz)?;
+    let mut dirs: Vec<Pt> = Vec::new();
+    let mut out = Vec::new();
+    // Strongest first (the transform sorts its lines by their votes).
+    for v in found.iter().take(FAINT_CANDIDATES) {
+        let (rho, th) = (v[0] as f64, v[1] as f64);
+        let normal = Pt::new(th.cos(), th.sin());
+        let dir = Pt::new(-th.sin(), th.cos());
+        if dirs
+            .iter()
+            .any(|d| d.dot(&dir).abs() >= 8f64.to_radians().cos())
+        {
+            continue;
+        }
+        let line = Line {
+            point: normal * rho,
+            dir,
+        };
+        let mut along: Vec<(f64, Pt)> = nz
+            .iter()
+            .map(|p| Pt::new(p.x as f64, p.y as f64))
+            .filter(|q| line.distance(*q) <= 1.5)
+            .map(|q| ((q - line.point).dot(&dir), q))
+            .collect();
+        along.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // The longest run with no gap over FAINT_GAP: [from, to).
+        let (mut best, mut from) = ((0usize, 0usize), 0usize);
+        for to in 1..=along.len() {
+            if to == along.len() || along[to].0 - along[to - 1].0 > FAINT_GAP {
+                let len = |(a, b): (usize, usize)| {
+                    if b > a {
+                        along[b - 1].0 - along[a].0
+                    } else {
+                        -1.0
+                    }
+                };
+                if len((from, to)) > len(best) {
+                    best = (from, to);
+                }
+                from = to;
+            }
+        }
+        let (a, b) = best;
+        if b <= a || along[b - 1].0 - along[a].0 < min_len {
+            continue;
+        }
+        dirs.push(dir);
+        let mut pts = Vec::with_capacity(b - a);
+        for (_, q) in &along[a..b] {
+            let w = *ev.at_2d::<u8>(q.y as i32, q.x as i32)? as f64;
+            pts.push((*q, w));
+        }
+        if let Some(fit) = fit_line_weighted(&pts) {
+            out.push(FrameLine { line: fit, pts });
+        }
+        if out.len() == 3 {
+            break;
+        }
+    }
+    Ok(out)
 }
 
 /// The first look's thresholds, in turn: noise sigmas above each pixel's noise, a
@@ -417,6 +570,9 @@ struct Look<'a> {
     tmap: Mat,
     /// Directions (half-degree bins) the lines must take to be a moving wire.
     min_directions: usize,
+    /// Each frame's lines found along whole lines of the image ([`faint_frame_lines`]),
+    /// not as segments of pixels over the threshold ([`frame_lines`]).
+    faint: bool,
     full_w: u32,
     full_h: u32,
     polarity: Polarity,
@@ -430,6 +586,7 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         init,
         ref tmap,
         min_directions,
+        faint,
         full_w,
         full_h,
         polarity,
@@ -468,6 +625,9 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         // Keep what exceeds each pixel's own noise threshold.
         let mut keep = Mat::default();
         core::compare(&th, tmap, &mut keep, core::CMP_GT)?;
+        if faint {
+            return faint_frame_lines(&th, &keep, min_len);
+        }
         let mut masked = Mat::default();
         th.copy_to_masked(&mut masked, &keep)?;
         frame_lines(&masked, 0.5, min_len)

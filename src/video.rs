@@ -85,8 +85,9 @@ pub fn on_path(name: &str) -> bool {
     })
 }
 
-/// An `ffmpeg` process that has opened a video and described it, waiting for its
-/// filters (see the module's documentation). Dropped unused, the process is stopped.
+/// An `ffmpeg` process started on a video, which describes the video and then waits
+/// for its filters (see the module's documentation). Dropped unused, the process is
+/// stopped.
 pub struct Decoder {
     path: PathBuf,
     /// The process, until [`Decoder::run`] hands it to its [`FfmpegSource`].
@@ -94,7 +95,10 @@ pub struct Decoder {
     stdin: Option<ChildStdin>,
     /// The process's log, read up to the video stream's description.
     log: Option<BufReader<ChildStderr>>,
-    info: VideoInfo,
+    /// The video, once the description is read ([`Decoder::describe`]).
+    info: Option<VideoInfo>,
+    /// Complaints logged before the description (kept for the decoding's verdict).
+    early: Vec<String>,
 }
 
 impl Decoder {
@@ -102,6 +106,14 @@ impl Decoder {
     /// file is empty or unreadable, when `ffmpeg` is not installed, or when the file
     /// holds no video stream).
     pub fn start(path: &Path) -> Result<Self> {
+        let mut d = Self::spawn(path)?;
+        d.describe()?;
+        Ok(d)
+    }
+
+    /// Start `ffmpeg` on `path` without waiting for it: it loads, opens the video and
+    /// describes it while the caller goes on ([`Decoder::describe`] reads that).
+    pub fn spawn(path: &Path) -> Result<Self> {
         let meta =
             std::fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
         if meta.len() == 0 {
@@ -137,7 +149,7 @@ impl Decoder {
                 "-fps_mode",
                 "passthrough",
                 "-filter_script:v",
-                "/dev/stdin",
+                "pipe:0",
                 "-f",
                 "rawvideo",
                 "-",
@@ -148,60 +160,76 @@ impl Decoder {
             .spawn()
             .with_context(|| format!("{}: cannot start ffmpeg", path.display()))?;
         let stdin = child.stdin.take();
-        let mut log = BufReader::new(child.stderr.take().expect("piped"));
-        // The input's description comes first; then ffmpeg waits for its filters, so
-        // reading stops at the first video stream's line (or at the end of a refusal).
-        let mut duration_s = None;
-        let mut complaints = Vec::new();
-        let mut line = String::new();
-        let described = loop {
-            line.clear();
-            match log.read_line(&mut line) {
-                Ok(0) | Err(_) => break None,
-                Ok(_) => {}
-            }
-            let l = line.trim_end();
-            if let Some(rest) = l.split("Duration: ").nth(1) {
-                duration_s = parse_clock(rest.split(',').next().unwrap_or(""));
-            } else if l.contains("Stream #0:") && l.contains(": Video: ") {
-                break Some(l.to_string());
-            } else if decoder_complaint(l) {
-                complaints.push(l.to_string());
-            }
-        };
-        let info = described
-            .as_deref()
-            .and_then(|l| parse_video_stream(l, duration_s));
-        let Some(info) = info else {
-            let _ = child.kill();
-            let _ = child.wait();
-            let why = complaints
-                .first()
-                .map(|l| l.rsplit("] ").next().unwrap_or(l).trim().to_string())
-                .unwrap_or_else(|| "no video stream".to_string());
-            bail!(
-                "{}: cannot open as a video ({why}); no frame decoded",
-                path.display()
-            );
-        };
+        let log = BufReader::new(child.stderr.take().expect("piped"));
         Ok(Self {
             path: path.to_path_buf(),
             child: Some(child),
             stdin,
             log: Some(log),
-            info,
+            info: None,
+            early: Vec::new(),
         })
     }
 
-    /// The video as the decoder found it.
+    /// The video as the decoder describes it: read from its log the first time (the
+    /// input's description comes first; then ffmpeg waits for its filters, so reading
+    /// stops at the first video stream's line, or at the end of a refusal).
+    pub fn describe(&mut self) -> Result<&VideoInfo> {
+        if self.info.is_none() {
+            let log = self.log.as_mut().expect("a decoder runs once");
+            let mut duration_s = None;
+            let mut line = Vec::new();
+            let described = loop {
+                line.clear();
+                match log.read_until(b'\n', &mut line) {
+                    Ok(0) | Err(_) => break None,
+                    Ok(_) => {}
+                }
+                // A path or a tag in another encoding is no reason to stop reading.
+                let text = String::from_utf8_lossy(&line);
+                let l = text.trim_end();
+                if let Some(rest) = l.split("Duration: ").nth(1) {
+                    duration_s = parse_clock(rest.split(',').next().unwrap_or(""));
+                } else if l.contains("Stream #0:") && l.contains(": Video: ") {
+                    break Some(l.to_string());
+                } else if decoder_complaint(l) {
+                    self.early.push(l.trim().to_string());
+                }
+            };
+            let info = described
+                .as_deref()
+                .and_then(|l| parse_video_stream(l, duration_s));
+            let Some(info) = info else {
+                if let Some(mut child) = self.child.take() {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                }
+                let why = self
+                    .early
+                    .first()
+                    .map(|l| l.rsplit("] ").next().unwrap_or(l).trim().to_string())
+                    .unwrap_or_else(|| "no video stream".to_string());
+                bail!(
+                    "{}: cannot open as a video ({why}); no frame decoded",
+                    self.path.display()
+                );
+            };
+            self.info = Some(info);
+        }
+        Ok(self.info.as_ref().expect("described"))
+    }
+
+    /// The video as the decoder described it ([`Decoder::start`] reads that first).
     pub fn info(&self) -> &VideoInfo {
-        &self.info
+        self.info
+            .as_ref()
+            .expect("Decoder::info after Decoder::start or Decoder::describe")
     }
 
     /// Decode, cropped to `roi` (whole frame if `None`) and optionally scaled down by
     /// an integer `shrink` (for quick looks at large frames).
     pub fn run(mut self, roi: Option<Roi>, shrink: u32) -> Result<FfmpegSource> {
-        let info = &self.info;
+        let info = self.describe()?.clone();
         let roi = roi.unwrap_or(Roi {
             x: 0,
             y: 0,
@@ -269,20 +297,25 @@ impl Decoder {
             }
         });
         let (tx, times) = mpsc::channel();
-        let errors = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        // Complaints logged while the video was opened count as the decoding's own.
+        let mut early = std::mem::take(&mut self.early);
+        early.truncate(8);
+        let errors = std::sync::Arc::new(std::sync::Mutex::new(early));
         let errs = errors.clone();
         std::thread::spawn(move || {
             let mut tb = 0.0f64;
-            // One line per frame: read into one buffer.
+            // One line per frame: read into one buffer (bytes: a line in another
+            // encoding must not end the reading, and with it every later frame's time).
             let mut reader = log;
-            let mut line = String::new();
+            let mut bytes = Vec::new();
             loop {
-                line.clear();
-                match reader.read_line(&mut line) {
+                bytes.clear();
+                match reader.read_until(b'\n', &mut bytes) {
                     Ok(0) | Err(_) => break,
                     Ok(_) => {}
                 }
-                let line = line.trim_end_matches(['\n', '\r']);
+                let text = String::from_utf8_lossy(&bytes);
+                let line = text.trim_end_matches(['\n', '\r']);
                 if let Some(rest) = line.split("config in time_base: ").nth(1) {
                     let frac = rest.split(',').next().unwrap_or("");
                     if let Some((a, b)) = frac.split_once('/') {

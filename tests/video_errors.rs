@@ -260,3 +260,44 @@ fn a_variable_frame_rate_is_read_frame_by_frame() {
         );
     }
 }
+
+/// ffmpeg's log is read as bytes: a tag in another encoding (a Latin-1 title, in the
+/// file's header and on its video stream) neither stops the video being opened ("cannot
+/// open as a video (no video stream)", when the description's reading stopped at the
+/// header's title) nor the frames' times being read (the stream's title comes after its
+/// description, where the times are read).
+#[test]
+fn tags_in_another_encoding_do_not_stop_the_reading() {
+    use rollfric::video::{Decoder, Frame, FrameSource};
+    use std::os::unix::ffi::OsStrExt;
+    if !need_ffmpeg() {
+        return;
+    }
+    let d = tempfile::tempdir().unwrap();
+    let clip = d.path().join("latin1.avi");
+    let title = [b"title=caf".as_slice(), &[0xe9]].concat();
+    let st = Command::new("ffmpeg")
+        .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
+        .arg("testsrc2=size=160x120:rate=25:duration=1")
+        .arg("-metadata")
+        .arg(OsStr::from_bytes(&title))
+        .arg("-metadata:s:v:0")
+        .arg(OsStr::from_bytes(&title))
+        .args(["-c:v", "mjpeg"])
+        .arg(&clip)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let decoder = Decoder::start(&clip).unwrap();
+    assert_eq!((decoder.info().width, decoder.info().height), (160, 120));
+    let mut src = decoder.run(None, 1).unwrap();
+    let mut f = Frame::default();
+    let mut times = Vec::new();
+    while src.next_frame(&mut f).unwrap() {
+        times.push(f.t_s);
+    }
+    assert_eq!(times.len(), 25, "every frame read");
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - k as f64 / 25.0).abs() < 1e-6, "frame {k} at {t} s");
+    }
+}

@@ -269,7 +269,10 @@ pub fn find(
     // frames only is outvoted by stray edges: when neither background finds a wire a
     // pendulum could be, the look is repeated with a lower threshold.
     let mut first_reason = None;
-    // Whether every look saw too little to make a wire (not lines that fail to make one).
+    // Whether every look's reason was "no moving wire found": lines in too few frames,
+    // too few directions or too few meeting in one point (not lines that make something
+    // else: no common pivot, a sweep, jumps or turns no pendulum makes). Of a look
+    // against both backgrounds, the reason against the extreme is the one judged.
     let mut saw_little = true;
     for (t, (sigmas, floor, min_directions)) in LOOK_THRESHOLDS.into_iter().enumerate() {
         let look = Look {
@@ -303,8 +306,8 @@ pub fn find(
     // wide, a few grey levels, under flicker) still darkens a whole line of pixels a
     // little: the last look finds each frame's lines along whole lines of the image,
     // against the median (which holds no trails at so low a threshold). Only when the
-    // looks saw too little: lines that do not make a wire (no common pivot, a sweep no
-    // pendulum makes) are a scene the faint look would not read better.
+    // looks saw too little (`saw_little`): lines that make something other than a wire
+    // are a scene the faint look would not read better.
     if !saw_little {
         return Err(first_reason.expect("one threshold tried"));
     }
@@ -632,7 +635,8 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         th.copy_to_masked(&mut masked, &keep)?;
         frame_lines(&masked, 0.5, min_len)
     };
-    // The frames' lines, each frame alone: shared among the processors (the look's
+    // The frames' lines, each frame alone: shared among up to [`GEOMETRY_THREADS`]
+    // processors (the look's
     // geometry is most of the detector's fixed cost on a short video, and the
     // streaming pass's decoder is only waiting meanwhile), in the frames' order.
     let lines_against = |bg: &Mat, dark: bool| -> Result<Vec<Vec<FrameLine>>> {

@@ -76,7 +76,7 @@ impl VideoFile {
         let ready = self.ready.lock().ok().and_then(|mut r| r.take());
         match ready {
             Some(d) => Ok(d),
-            None => Decoder::start(&self.path),
+            None => Decoder::spawn(&self.path),
         }
     }
 }
@@ -101,9 +101,10 @@ impl VideoInput for VideoFile {
     fn prepare(&self) {
         if let Ok(mut ready) = self.ready.lock() {
             if ready.is_none() {
-                // Best effort: a decoder that cannot start now is started (and its
-                // refusal reported) by the `open` that needs it.
-                *ready = Decoder::start(&self.path).ok();
+                // Started, not waited for: it loads and opens the video meanwhile. Best
+                // effort: one that cannot start now is started (and its refusal
+                // reported) by the `open` that needs it.
+                *ready = Decoder::spawn(&self.path).ok();
             }
         }
     }

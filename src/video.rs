@@ -132,12 +132,17 @@ impl Decoder {
             // `-nostdin`: standard input carries the filter script, not key presses.
             // `level+`: every line carries its severity as `[error]`, `[info]`, ...,
             // so complaints are told by the decoder's own level, not by their words.
+            // `-noautorotate`: the frames as stored, of the size the description gives.
+            // A phone's rotation tag would have ffmpeg turn them, and the region cut
+            // from the stored size not fit ("Invalid too big ... size", read as a
+            // damaged video); the wire's angle is measured at any roll anyway.
             .args([
                 "-nostdin",
                 "-hide_banner",
                 "-nostats",
                 "-v",
                 "level+info",
+                "-noautorotate",
                 "-i",
             ])
             .arg(path)

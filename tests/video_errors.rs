@@ -301,3 +301,47 @@ fn tags_in_another_encoding_do_not_stop_the_reading() {
         assert!((t - k as f64 / 25.0).abs() < 1e-6, "frame {k} at {t} s");
     }
 }
+
+/// A phone stores its frames as the sensor saw them and tags the video with the turn a
+/// player applies. The frames are measured as stored: a real clip tagged as turned by
+/// 90 degrees (the same frames, `-c copy`) gives the same angles, byte for byte, as the
+/// clip untagged. Before, ffmpeg turned the frames while the region was cut from the
+/// stored size, and the video was refused as "truncated or damaged".
+#[test]
+fn a_phone_rotation_tag_leaves_the_frames_as_stored() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let Some(src) = common::fixture("bartekpacia_film1_fhd.mp4") else {
+        return;
+    };
+    let d = tempfile::tempdir().unwrap();
+    let cut = |name: &str, tag: &[&str]| {
+        let out = d.path().join(name);
+        let st = Command::new("ffmpeg")
+            .args(["-nostdin", "-v", "error", "-y", "-i"])
+            .arg(&src)
+            .args(["-t", "8", "-an", "-c:v", "copy"])
+            .args(tag)
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(st.success(), "ffmpeg made {name}");
+        out
+    };
+    let plain = cut("plain.mp4", &[]);
+    let tagged = cut("tagged.mp4", &["-metadata:s:v:0", "rotate=90"]);
+    let mut csvs = Vec::new();
+    for video in [&plain, &tagged] {
+        let csv = video.with_extension("csv");
+        let out = detect(video, &csv);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            video.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        csvs.push(std::fs::read(&csv).unwrap());
+    }
+    assert!(csvs[0] == csvs[1], "the tagged clip's angles differ");
+}

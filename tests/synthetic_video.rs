@@ -166,14 +166,11 @@ fn a_ball_held_for_two_seconds_is_measured_in_every_frame() {
     }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let glass = std::fs::read_to_string(root().join("experiments/glass.yaml")).unwrap();
-    let head = &glass[..glass
-        .find("\nsynthetic:")
-        .expect("glass.yaml has `synthetic:`")];
-    let text = format!(
-        "{head}\nsynthetic:\n  s_r_m: 3.714e-6\n  psi0_deg: 10\n  width: 640\n  height: 480\n  \
+    let text = with_synthetic(
+        "glass",
+        "  s_r_m: 3.714e-6\n  psi0_deg: 10\n  width: 640\n  height: 480\n  \
          fps: 30\n  style: light-wire\n  seed: 1042\n  rest_angle_deg: -95.6\n  \
-         wire_width_px: 1\n  wire_contrast: 0.45\n  hold_s: 2\n  duration_s: 10\n"
+         wire_width_px: 1\n  wire_contrast: 0.45\n  hold_s: 2\n  duration_s: 10\n",
     );
     std::fs::write(d.join("held.yaml"), text).unwrap();
     rollfric_ok(
@@ -193,22 +190,8 @@ fn a_ball_held_for_two_seconds_is_measured_in_every_frame() {
         "held.avi"
     };
     rollfric_ok(&["detect", video, "-o", "angles.csv"], d);
-    let t = read(&d.join("truth.csv"), "spoiled");
-    let a = read(&d.join("angles.csv"), "status");
-    assert_eq!(t.len(), a.len(), "one row per frame");
-    let diffs: Vec<f64> = t
-        .iter()
-        .zip(&a)
-        .filter(|(_, de)| de.tag == "ok")
-        .map(|(tr, de)| de.angle.unwrap() - tr.angle.unwrap())
-        .collect();
     // Four of the frames are spoiled on purpose (a hand, a flash): filled, not lost.
-    assert!(
-        a.iter().all(|r| r.tag != "missing") && diffs.len() * 100 >= a.len() * 95,
-        "{} of {} frames ok",
-        diffs.len(),
-        a.len()
-    );
+    let diffs = ok_errors_against_truth(d);
     let rms = scatter_deg(&diffs);
     // As every style's bar: 10 s leave the pivot a few hundredths of a degree of
     // amplitude scale (40 s of the same scene: 0.010 deg).
@@ -228,15 +211,12 @@ fn a_faint_one_pixel_wire_under_flicker_is_found_and_followed() {
     }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let steel = std::fs::read_to_string(root().join("experiments/steel.yaml")).unwrap();
-    let head = &steel[..steel
-        .find("\nsynthetic:")
-        .expect("steel.yaml has `synthetic:`")];
-    let text = format!(
-        "{head}\nsynthetic:\n  s_r_m: 4.508e-6\n  psi0_deg: 10\n  width: 640\n  height: 480\n  \
+    let text = with_synthetic(
+        "steel",
+        "  s_r_m: 4.508e-6\n  psi0_deg: 10\n  width: 640\n  height: 480\n  \
          fps: 25\n  style: oblique\n  seed: 1049\n  rest_angle_deg: -155.3\n  \
          wire_width_px: 1\n  wire_contrast: 0.40\n  flicker_hz: 100\n  flicker_depth: 0.103\n  \
-         duration_s: 12\n"
+         duration_s: 12\n",
     );
     std::fs::write(d.join("faint.yaml"), text).unwrap();
     let (_, rendered) = rollfric_ok(
@@ -256,6 +236,24 @@ fn a_faint_one_pixel_wire_under_flicker_is_found_and_followed() {
         (got.0 - want.0).abs() <= 0.5 && (got.1 - want.1).abs() <= 0.5,
         "pivot detected at {got:?} px, rendered at {want:?}"
     );
+    let rms = scatter_deg(&ok_errors_against_truth(d));
+    assert!(rms <= 0.05, "angle RMS {rms:.4} deg");
+}
+
+/// The experiment `experiments/NAME.yaml` with its `synthetic:` block replaced by
+/// `block` (the block's lines, indented).
+fn with_synthetic(name: &str, block: &str) -> String {
+    let text = std::fs::read_to_string(root().join(format!("experiments/{name}.yaml"))).unwrap();
+    let head = &text[..text
+        .find("\nsynthetic:")
+        .unwrap_or_else(|| panic!("{name}.yaml has `synthetic:`"))];
+    format!("{head}\nsynthetic:\n{block}")
+}
+
+/// The detected angle minus the true one of every `ok` frame of `d/angles.csv`
+/// against `d/truth.csv` (rad), after checking one row per frame, no frame missing
+/// and at least 95 % of them `ok`.
+fn ok_errors_against_truth(d: &Path) -> Vec<f64> {
     let t = read(&d.join("truth.csv"), "spoiled");
     let a = read(&d.join("angles.csv"), "status");
     assert_eq!(t.len(), a.len(), "one row per frame");
@@ -271,8 +269,7 @@ fn a_faint_one_pixel_wire_under_flicker_is_found_and_followed() {
         diffs.len(),
         a.len()
     );
-    let rms = scatter_deg(&diffs);
-    assert!(rms <= 0.05, "angle RMS {rms:.4} deg");
+    diffs
 }
 
 /// A pivot off by a few pixels is refined onto the wire, not part of the way. Each

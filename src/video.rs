@@ -233,7 +233,20 @@ impl Decoder {
 
     /// Decode, cropped to `roi` (whole frame if `None`) and optionally scaled down by
     /// an integer `shrink` (for quick looks at large frames).
-    pub fn run(mut self, roi: Option<Roi>, shrink: u32) -> Result<FfmpegSource> {
+    pub fn run(self, roi: Option<Roi>, shrink: u32) -> Result<FfmpegSource> {
+        self.run_ahead(roi, shrink, 0)
+    }
+
+    /// [`Decoder::run`], reading up to `ahead_bytes` of frames ahead of the caller (at
+    /// least [`READ_AHEAD`] frames): a caller that stops to think between frames (the
+    /// detector's geometry between its first look and the streaming pass) finds them
+    /// decoded.
+    pub fn run_ahead(
+        mut self,
+        roi: Option<Roi>,
+        shrink: u32,
+        ahead_bytes: usize,
+    ) -> Result<FfmpegSource> {
         let info = self.describe()?.clone();
         let roi = roi.unwrap_or(Roi {
             x: 0,
@@ -274,7 +287,8 @@ impl Decoder {
         // two (up to the system's limit for an unprivileged pipe) halves the handovers.
         // Best effort: a kernel that refuses keeps the default, and the data is the same.
         let _ = rustix::pipe::fcntl_setpipe_size(&stdout, (2 * frame_len).clamp(1 << 16, PIPE_MAX));
-        let (frames_tx, frames) = mpsc::sync_channel::<Chunk>(READ_AHEAD);
+        let ahead = (ahead_bytes / frame_len.max(1)).max(READ_AHEAD);
+        let (frames_tx, frames) = mpsc::sync_channel::<Chunk>(ahead);
         let (spent, spent_rx) = mpsc::channel::<Vec<u8>>();
         std::thread::spawn(move || loop {
             let mut buf = spent_rx.try_recv().unwrap_or_default();
@@ -507,8 +521,9 @@ enum Chunk {
     Failed(String),
 }
 
-/// Frames read ahead of the detector (flat memory: a few frames of the cropped region).
-const READ_AHEAD: usize = 6;
+/// Frames read ahead of the detector (flat memory: a few frames of the cropped region),
+/// unless [`Decoder::run_ahead`] asks for more.
+pub const READ_AHEAD: usize = 6;
 
 /// The largest pipe buffer asked of the kernel for the decoder's output, bytes: Linux's
 /// default `/proc/sys/fs/pipe-max-size` (what an unprivileged process may ask).

@@ -271,3 +271,79 @@ fn progress_ends_at_the_frames_measured() {
     let n = d.rows.len() as u64;
     assert_eq!(calls.last(), Some(&(n, Some(n))), "{calls:?}");
 }
+
+/// Everything a detection measured, in a form two detections can be compared by: each
+/// row (its angle's bits, status, quality, flag and moments), the pivot, the region and
+/// the band.
+fn fingerprint(d: &Detection) -> String {
+    let rows: Vec<String> = d
+        .rows
+        .iter()
+        .map(|r| {
+            format!(
+                "{} {} {:?} {:?} {} {:?} {:?}",
+                r.frame,
+                r.t_s,
+                r.angle_rad.map(f64::to_bits),
+                r.status,
+                r.quality,
+                r.flag,
+                r.moments
+            )
+        })
+        .collect();
+    format!(
+        "{}\npivot {:?} roi {:?} band {:?} swing {:?}",
+        rows.join("\n"),
+        d.pivot_px,
+        d.roi,
+        d.band_px,
+        d.swing_scale
+    )
+}
+
+/// A short video is decoded once: the first look's decoder goes on into the streaming
+/// pass, its frames cut to the region of interest by the detector. The angles are
+/// those of a second decoding cropped to the region, bit for bit, over the whole video
+/// and over frames asked for; a wire beside its shadow (rival peaks) included.
+#[test]
+fn one_decoding_measures_what_two_do() {
+    let scene = Scene {
+        width: 320,
+        height: 240,
+        fps: 25.0,
+        seconds: 8.0,
+        pivot: (150.2, 22.4),
+        length: 190.0,
+        rest: PI / 2.0 - 4f64.to_radians(),
+        amp: 18f64.to_radians(),
+        period: 2.1,
+        contrast: 40.0,
+        shadow: Some((5f64.to_radians(), 2.0, 50.0)),
+    };
+    let video = scene.video();
+    for frames in [None, Some([30, 170])] {
+        let once = DetectOptions {
+            frames,
+            ..DetectOptions::default()
+        };
+        let twice = DetectOptions {
+            decode_once: false,
+            ..once.clone()
+        };
+        let (a, b) = (
+            detect_from(&video, &once).unwrap(),
+            detect_from(&video, &twice).unwrap(),
+        );
+        assert_eq!((a.decodings, b.decodings), (1, 2), "frames {frames:?}");
+        assert_eq!(
+            a.rows.len(),
+            frames.map_or(scene.frames(), |[f, l]| (l - f + 1) as usize),
+            "frames {frames:?}: a row per frame asked for"
+        );
+        assert!(
+            fingerprint(&a) == fingerprint(&b),
+            "frames {frames:?}: one decoding and two differ"
+        );
+    }
+}

@@ -395,3 +395,48 @@ synthetic:
         worst - median
     );
 }
+
+/// A short video is decoded once: the first look's decoder goes on into the streaming
+/// pass (the look's frames held as decoded, the rest read ahead during the geometry,
+/// each cut to the region of interest by the detector). On a 960x540 twin held at its
+/// release for 1.5 s under flicker (the look drops the still frames but the pass
+/// measures them), the CSV is the one a second decoder cropped by ffmpeg gives, byte
+/// for byte.
+#[test]
+fn a_short_video_decoded_once_gives_the_angles_of_two_decodings() {
+    if !need_ffmpeg() {
+        return;
+    }
+    use rollfric::detect::{detect, DetectOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = with_synthetic(
+        "glass",
+        "  s_r_m: 4.0e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  fps: 25\n  \
+         style: dark-wire\n  seed: 7\n  hold_s: 1.5\n  flicker_hz: 100\n  \
+         flicker_depth: 0.08\n  duration_s: 8\n",
+    );
+    std::fs::write(d.join("held.yaml"), text).unwrap();
+    rollfric_ok(&["synth", "held.yaml", "-o", "held.avi"], d);
+    let video = d.join("held.avi");
+    let once = detect(&video, &DetectOptions::default()).unwrap();
+    let twice = detect(
+        &video,
+        &DetectOptions {
+            decode_once: false,
+            ..DetectOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!((once.decodings, twice.decodings), (1, 2));
+    assert_eq!(once.rows.len(), 201, "a row per frame (0 to 8 s)");
+    assert!(once.to_csv() == twice.to_csv(), "the CSVs differ");
+    assert_eq!(
+        (once.pivot_px, once.roi),
+        (twice.pivot_px, twice.roi),
+        "pivot and region"
+    );
+    // And the command line says how often it decoded.
+    let (_, said) = rollfric_ok(&["detect", "held.avi", "-o", "angles.csv"], d);
+    assert!(said.contains("decoded once"), "{said}");
+}

@@ -97,12 +97,16 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     fsutil::write_atomic(&a.output, d.to_csv().as_bytes())?;
     let n = d.rows.len();
     eprintln!(
-        "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, peak memory {}, CPU besides the \
-         decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, {:.1}) px \
-         (swing scale {}), {} wire, ROI {:?} -> {}",
+        "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, decoded {}, peak memory {}, CPU \
+         besides the decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, \
+         {:.1}) px (swing scale {}), {} wire, ROI {:?} -> {}",
         a.video.display(),
         n as f64 / secs,
         d.decoder,
+        match d.decodings {
+            1 => "once".to_string(),
+            k => format!("{k} times"),
+        },
         peak_memory().map_or("?".to_string(), |m| format!("{m:.0} MiB")),
         own_cpu_seconds().map_or("?".to_string(), |c| format!("{c:.2} s")),
         d.count(Status::Ok),

@@ -282,6 +282,7 @@ mod tests {
             dark_wire: true,
             band_px: [10.0, 80.0],
             decoder: "test".into(),
+            decodings: 1,
             diagnostics: Vec::new(),
             figure11,
             review: Default::default(),

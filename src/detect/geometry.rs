@@ -566,6 +566,18 @@ fn sweep_deg(g: &WireGeometry) -> f64 {
     (g.theta_max - g.theta_min).to_degrees()
 }
 
+/// The half-degree bin of a line's direction (modulo half a turn), as the first look
+/// counts the directions its lines take.
+fn direction_bin(l: &FrameLine) -> i64 {
+    (l.line
+        .dir
+        .y
+        .atan2(l.line.dir.x)
+        .rem_euclid(std::f64::consts::PI)
+        .to_degrees()
+        * 2.0) as i64
+}
+
 /// One first look's inputs, tried against either background.
 struct Look<'a> {
     init: &'a InitFrames,
@@ -636,59 +648,93 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         frame_lines(&masked, 0.5, min_len)
     };
     // The frames' lines, each frame alone: shared among up to [`GEOMETRY_THREADS`]
-    // processors (the look's
-    // geometry is most of the detector's fixed cost on a short video, and the
-    // streaming pass's decoder is only waiting meanwhile), in the frames' order.
-    let lines_against = |bg: &Mat, dark: bool| -> Result<Vec<Vec<FrameLine>>> {
-        let n = init.data.len();
-        let workers = std::thread::available_parallelism()
-            .map_or(1, |p| p.get())
-            .clamp(1, GEOMETRY_THREADS);
-        let per = n.div_ceil(workers).max(1);
-        let parts: Vec<Result<Vec<Vec<FrameLine>>>> = std::thread::scope(|s| {
-            let handles: Vec<_> = (0..n)
-                .step_by(per)
-                .map(|from| {
-                    let work = &frame_lines_against;
-                    s.spawn(move || {
-                        (from..(from + per).min(n))
-                            .map(|k| work(bg, dark, k))
-                            .collect::<Result<Vec<_>>>()
+    // processors (the look's geometry is most of the detector's fixed cost on a short
+    // video), in the frames' order. With `beat`, the directions of a polarity already
+    // looked at: the look stops (`None`) as soon as the directions seen so far, one more
+    // for each frame still to look at, cannot reach it (a frame adds at most one
+    // direction, its longest line's), since it could then not win (see the score below).
+    let looked_at = (0..init.data.len())
+        .filter(|k| k.is_multiple_of(stride))
+        .count();
+    let lines_against =
+        |bg: &Mat, dark: bool, beat: Option<usize>| -> Result<Option<Vec<Vec<FrameLine>>>> {
+            let n = init.data.len();
+            let workers = std::thread::available_parallelism()
+                .map_or(1, |p| p.get())
+                .clamp(1, GEOMETRY_THREADS);
+            let per = n.div_ceil(workers).max(1);
+            // The directions seen so far and the frames looked at, across the workers.
+            let seen = std::sync::Mutex::new((std::collections::BTreeSet::new(), 0usize));
+            let hopeless = std::sync::atomic::AtomicBool::new(false);
+            let parts: Vec<Result<Vec<Vec<FrameLine>>>> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..n)
+                    .step_by(per)
+                    .map(|from| {
+                        let work = &frame_lines_against;
+                        let (seen, hopeless) = (&seen, &hopeless);
+                        s.spawn(move || {
+                            let mut out = Vec::with_capacity(per);
+                            for k in from..(from + per).min(n) {
+                                if hopeless.load(std::sync::atomic::Ordering::Relaxed) {
+                                    break;
+                                }
+                                let lines = work(bg, dark, k)?;
+                                if let (Some(beat), true) = (beat, k.is_multiple_of(stride)) {
+                                    let mut seen =
+                                        seen.lock().expect("no worker panics holding it");
+                                    if let Some(l) = lines.first() {
+                                        seen.0.insert(direction_bin(l));
+                                    }
+                                    seen.1 += 1;
+                                    if seen.0.len() + (looked_at - seen.1) < beat {
+                                        hopeless.store(true, std::sync::atomic::Ordering::Relaxed);
+                                    }
+                                }
+                                out.push(lines);
+                            }
+                            Ok(out)
+                        })
                     })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().expect("a geometry thread panicked"))
-                .collect()
-        });
-        let mut lines = Vec::with_capacity(n);
-        for part in parts {
-            lines.extend(part?);
-        }
-        Ok(lines)
-    };
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|h| h.join().expect("a geometry thread panicked"))
+                    .collect()
+            });
+            let mut lines = Vec::with_capacity(n);
+            for part in parts {
+                lines.extend(part?);
+            }
+            if hopeless.load(std::sync::atomic::Ordering::Relaxed) {
+                return Ok(None);
+            }
+            Ok(Some(lines))
+        };
     let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
     for &dark in &candidates {
+        let beat = best.as_ref().map(|b| (b.1 / 1e9) as usize);
         let lines = match &median {
-            Some(m) => lines_against(m, dark)?,
-            None => lines_against(&extreme_frame(init, dark)?, dark)?,
+            Some(m) => lines_against(m, dark, beat)?,
+            None => lines_against(&extreme_frame(init, dark)?, dark, beat)?,
+        };
+        let Some(lines) = lines else {
+            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                eprintln!(
+                    "geometry: dark={dark} cannot take {} directions; not looked at further",
+                    beat.unwrap_or(0)
+                );
+            }
+            continue;
         };
         // The wire moves: its lines take many directions. A ghost (the background's
         // memory of something of the other polarity lingering at a turning point) keeps
-        // one. Score = directions seen (half-degree bins), then the evidence's weight.
+        // one. Score = directions seen (half-degree bins), then the evidence's weight
+        // (far under 1e9: a frame's longest line holds a few thousand pixels of at most
+        // 255, and a look has at most about 60 frames).
         let mut bins = std::collections::BTreeSet::new();
         let mut weight = 0.0;
         for l in lines.iter().filter_map(|v| v.first()) {
-            bins.insert(
-                (l.line
-                    .dir
-                    .y
-                    .atan2(l.line.dir.x)
-                    .rem_euclid(std::f64::consts::PI)
-                    .to_degrees()
-                    * 2.0) as i64,
-            );
+            bins.insert(direction_bin(l));
             weight += l.pts.iter().map(|p| p.1).sum::<f64>();
         }
         let total = bins.len() as f64 * 1e9 + weight;

@@ -21,6 +21,13 @@ pub trait VideoInput {
     /// that factor (each pixel the mean of a `shrink` x `shrink` block of the crop;
     /// `roi.w / shrink` x `roi.h / shrink` pixels).
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>>;
+    /// The frames from the first, cropped to `roi` at full size, with up to
+    /// `ahead_bytes` of them decoded ahead of the reader (by default, [`VideoInput::open`]
+    /// unshrunk: frames in memory are there already).
+    fn open_ahead(&self, roi: Roi, ahead_bytes: usize) -> Result<Box<dyn FrameSource + '_>> {
+        let _ = ahead_bytes;
+        self.open(roi, 1)
+    }
     /// Another [`VideoInput::open`] will follow: its decoder may start now, so that its
     /// start-up overlaps the work in between (by default, nothing to do).
     fn prepare(&self) {}
@@ -96,6 +103,14 @@ impl VideoInput for VideoFile {
 
     fn open(&self, roi: Roi, shrink: u32) -> Result<Box<dyn FrameSource + '_>> {
         Ok(Box::new(self.take_decoder()?.run(Some(roi), shrink)?))
+    }
+
+    fn open_ahead(&self, roi: Roi, ahead_bytes: usize) -> Result<Box<dyn FrameSource + '_>> {
+        Ok(Box::new(self.take_decoder()?.run_ahead(
+            Some(roi),
+            1,
+            ahead_bytes,
+        )?))
     }
 
     fn prepare(&self) {

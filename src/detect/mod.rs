@@ -57,7 +57,7 @@ pub use options::{DetectOptions, FrameProgress};
 pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 
-use crate::video::{Frame, Roi};
+use crate::video::{Frame, FrameSource, Roi};
 use anyhow::{bail, ensure, Context, Result};
 use fill::{apply_marks, fill_flagged};
 use geometry::InitFrames;
@@ -129,7 +129,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         None => (0, u64::MAX),
     };
     // 1. Geometry from the first seconds, at the working scale that sees the wire best.
-    let look = FirstLook {
+    let mut look = FirstLook {
         input,
         opts,
         bound,
@@ -138,11 +138,22 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         started,
     }
     .at_best_scale()?;
+    let stream = look.stream.take();
+    let continued = stream.is_some();
     let geo = &look.geo;
     let mut frame = Frame::default();
 
-    // 2. The streaming pass over the region of interest.
-    let mut src = input.open(geo.roi, 1)?;
+    // 2. The streaming pass over the region of interest: the first look's decoder
+    // going on (its frames cut to the region here), or a decoder cropping to it.
+    let mut src: Box<dyn FrameSource + '_> = match stream {
+        Some(from) => Box::new(CropSource {
+            from,
+            roi: geo.roi,
+            full: Frame::default(),
+        }),
+        None => input.open(geo.roi, 1)?,
+    };
+    let decodings = look.looks + usize::from(!continued);
     let mut tracker = Tracker::new(
         geo,
         opts,
@@ -259,6 +270,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         dark_wire: geo.dark,
         band_px: [geo.r_lo, geo.r_hi],
         decoder: input.decoder(),
+        decodings,
         diagnostics: tracker.diagnostics,
         figure11,
         review: review.take(),
@@ -267,10 +279,105 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     })
 }
 
+/// The first look's frames as decoded and its decoder, going on into the streaming
+/// pass (see [`decode_once`]).
+struct Continued<'a> {
+    /// The look's frames, as decoded (no brightness correction), from the first asked for.
+    held: std::collections::VecDeque<Frame>,
+    /// The rest of the stream.
+    rest: Box<dyn FrameSource + 'a>,
+    /// The region the decoder crops (the look's), in which the streaming pass's lies.
+    bound: Roi,
+}
+
+/// The frames of a [`Continued`] look, each cut to `roi` (which lies within the look's
+/// region): the bytes a decoder cropping to `roi` gives.
+struct CropSource<'a> {
+    from: Continued<'a>,
+    roi: Roi,
+    /// The frame as decoded, at the look's region.
+    full: Frame,
+}
+
+impl FrameSource for CropSource<'_> {
+    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
+        match self.from.held.pop_front() {
+            Some(f) => self.full = f,
+            None => {
+                if !self.from.rest.next_frame(&mut self.full)? {
+                    return Ok(false);
+                }
+            }
+        }
+        let (bound, roi, full) = (self.from.bound, self.roi, &self.full);
+        ensure!(
+            full.width == bound.w as usize
+                && full.height == bound.h as usize
+                && roi.x >= bound.x
+                && roi.y >= bound.y
+                && roi.x + roi.w <= bound.x + bound.w
+                && roi.y + roi.h <= bound.y + bound.h,
+            "frame {}: the decoded {}x{} px do not hold the region {roi:?} of {bound:?}",
+            full.index,
+            full.width,
+            full.height
+        );
+        let (dx, dy) = ((roi.x - bound.x) as usize, (roi.y - bound.y) as usize);
+        let (w, h) = (roi.w as usize, roi.h as usize);
+        frame.data.clear();
+        frame.data.reserve(w * h);
+        for row in full.data.chunks_exact(full.width).skip(dy).take(h) {
+            frame.data.extend_from_slice(&row[dx..dx + w]);
+        }
+        frame.width = w;
+        frame.height = h;
+        frame.index = full.index;
+        frame.t_s = full.t_s;
+        Ok(true)
+    }
+}
+
+/// The first look's decoder goes on into the streaming pass when the look is at full
+/// size and the frames asked for, at the look's region, amount to at most this many
+/// bytes (so that no decoder starts again, and the look's frames are not decoded
+/// twice); a longer video starts a decoder that crops to the region of interest, whose
+/// fewer bytes through the pipe then outweigh a second decoder's start. Measured with
+/// `make bench`: see the README's detector paragraph.
+const DECODE_ONCE_MAX_BYTES: u64 = 256 << 20;
+
+/// The first look's frames, as decoded, held for the streaming pass at most to this
+/// many bytes (a still start longer than that starts a decoder again).
+const HELD_MAX_BYTES: usize = 48 << 20;
+
+/// What the first look's decoder may decode ahead of the look, bytes: the frames after
+/// the look come while its geometry is worked out.
+const READ_AHEAD_BYTES: usize = 24 << 20;
+
+/// Whether the first look at `shrink` over `bound` decodes once for the whole detection
+/// ([`DECODE_ONCE_MAX_BYTES`]).
+fn decode_once(
+    info: &crate::video::VideoInfo,
+    bound: Roi,
+    shrink: u32,
+    first: u64,
+    last: u64,
+) -> bool {
+    let Some(n) = info.frames_header else {
+        return false;
+    };
+    let frames = n.min(last.saturating_add(1)).saturating_sub(first);
+    shrink == 1
+        && frames.saturating_mul(u64::from(bound.w) * u64::from(bound.h)) <= DECODE_ONCE_MAX_BYTES
+}
+
 /// The first look's findings at one working scale: the geometry, and what the
 /// streaming pass starts from (the background, the threshold map, the reference frame,
 /// all at that scale).
-struct Located {
+struct Located<'a> {
+    /// The look's decoder, when it goes on into the streaming pass.
+    stream: Option<Continued<'a>>,
+    /// The first looks decoded (one per working scale looked at).
+    looks: usize,
     geo: geometry::WireGeometry,
     init_bg: opencv::core::Mat,
     init_tmap: opencv::core::Mat,
@@ -299,7 +406,7 @@ struct FirstLook<'a> {
     started: std::time::Instant,
 }
 
-impl FirstLook<'_> {
+impl<'a> FirstLook<'a> {
     /// The first look at the working scale that sees the wire best. A frame is shrunk by
     /// whole factors only, so two scales bracket [`WORK_SIDE_PX`]: the coarser (larger side
     /// at most 640 px) and the finer (at least 640 px). They coincide for 640, 1280 and
@@ -314,19 +421,22 @@ impl FirstLook<'_> {
     /// there: a 2 px wire under a blurred shadow); on a real 1920x1080 clip scaled to
     /// 960x540 and turned by 180 or 270 degrees it needs the lower threshold or refuses,
     /// and the coarser scale (which measures the clip as filmed) is kept.
-    fn at_best_scale(&self) -> Result<Located> {
+    fn at_best_scale(&self) -> Result<Located<'a>> {
         let side = self.bound.w.max(self.bound.h) as f64;
         let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
         let fine = (side / WORK_SIDE_PX).floor().max(1.0) as u32;
         if fine == coarse {
             return self.at(coarse);
         }
-        let at_fine = self.at(fine);
+        let mut at_fine = self.at(fine);
         let rank = |l: &Located| (l.geo.stage, l.geo.jumps);
-        if let Ok(l) = &at_fine {
+        if let Ok(l) = &mut at_fine {
             if l.geo.stage <= 1 && l.geo.jumps == 0 {
                 return at_fine;
             }
+            // The other scale is looked at: this look's decoder stops (and its frames
+            // go), and the streaming pass decodes anew whichever scale wins.
+            l.stream = None;
         }
         let at_coarse = self.at(coarse);
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -340,16 +450,17 @@ impl FirstLook<'_> {
                 say(&at_coarse)
             );
         }
-        match (at_fine, at_coarse) {
+        let best = match (at_fine, at_coarse) {
             (Ok(f), Ok(c)) => Ok(if rank(&c) < rank(&f) { c } else { f }),
             (Ok(f), Err(_)) => Ok(f),
             (Err(_), c) => c,
-        }
+        };
+        best.map(|l| Located { looks: 2, ..l })
     }
 
     /// The first look (about [`INIT_SECONDS`] of motion) shrunk `use_shrink` times, and the
     /// geometry found in it.
-    fn at(&self, use_shrink: u32) -> Result<Located> {
+    fn at(&self, use_shrink: u32) -> Result<Located<'a>> {
         let FirstLook {
             input,
             opts,
@@ -367,7 +478,16 @@ impl FirstLook<'_> {
             h: bound.h - bound.h % use_shrink,
             ..bound
         };
-        let mut src = input.open(bound, use_shrink)?;
+        // Decoded once (see `decode_once`): the look's frames are held as decoded for the
+        // streaming pass, and the decoder reads ahead while the geometry is worked out.
+        let once = opts.decode_once && decode_once(info, bound, use_shrink, first, last);
+        let mut src = if once {
+            input.open_ahead(bound, READ_AHEAD_BYTES)?
+        } else {
+            input.open(bound, use_shrink)?
+        };
+        let mut held = once.then(std::collections::VecDeque::new);
+        let mut held_bytes = 0usize;
         let mut init = InitFrames {
             w: 0,
             h: 0,
@@ -397,6 +517,14 @@ impl FirstLook<'_> {
             if frame.index > last {
                 break;
             }
+            if let Some(h) = &mut held {
+                held_bytes += frame.data.len();
+                if held_bytes <= HELD_MAX_BYTES {
+                    h.push_back(frame.clone());
+                } else {
+                    held = None;
+                }
+            }
             init.w = frame.width;
             init.h = frame.height;
             let t_first = *t_first.get_or_insert(frame.t_s);
@@ -424,10 +552,20 @@ impl FirstLook<'_> {
                 break;
             }
         }
-        drop(src);
-        // The streaming pass (or a look at another scale) follows: its decoder starts
-        // while the geometry is worked out.
-        input.prepare();
+        let stream = match held {
+            Some(held) => Some(Continued {
+                held,
+                rest: src,
+                bound,
+            }),
+            None => {
+                drop(src);
+                // The streaming pass (or a look at another scale) follows: its decoder
+                // starts while the geometry is worked out.
+                input.prepare();
+                None
+            }
+        };
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
                 "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
@@ -465,6 +603,8 @@ impl FirstLook<'_> {
         let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
         let init_reference = geometry::frame_mat(&init, 0)?;
         Ok(Located {
+            stream,
+            looks: 1,
             geo,
             init_bg,
             init_tmap,

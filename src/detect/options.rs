@@ -23,6 +23,11 @@ pub struct DetectOptions {
     /// Told the frames done (and the header's frame count) every 100 frames; when set,
     /// the detector prints no progress of its own.
     pub progress: Option<FrameProgress>,
+    /// Whether the first look's decoder may go on into the streaming pass (a short
+    /// video at the look's full size: see `detect::decode_once`); `false` always
+    /// decodes the streaming pass anew, cropped to the region of interest. Both give
+    /// the same angles, byte for byte; the one decoder is faster on a short video.
+    pub decode_once: bool,
 }
 
 /// A progress callback: `(frames done, frames expected)`.
@@ -48,6 +53,7 @@ impl Default for DetectOptions {
             calibration: None,
             diag_dir: None,
             progress: None,
+            decode_once: true,
         }
     }
 }

@@ -76,6 +76,11 @@ pub struct Detection {
     pub dark_wire: bool,
     pub band_px: [f64; 2],
     pub decoder: String,
+    /// How many times the video was decoded from its start: 1 when the first look's
+    /// decoder went on into the streaming pass (a short video), one more for each
+    /// first look otherwise.
+    #[serde(skip)]
+    pub decodings: usize,
     pub diagnostics: Vec<PathBuf>,
     /// The frame shown as Figure 11 ([`super::figure11_frame`]), kept by the pass.
     #[serde(skip)]

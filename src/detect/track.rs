@@ -4,6 +4,7 @@
 mod diag;
 mod evidence;
 mod measure;
+mod morph;
 
 use super::geometry::{self, WireGeometry};
 use super::light::Brightness;
@@ -34,14 +35,16 @@ pub(super) struct Tracker {
     /// Each frame's brightness against the first look's first frame.
     light: Brightness,
     tmp: Mat,
-    raw_ev: Mat,
-    kernel: Mat,
+    /// The difference from the background around the wedge, its top-hat's buffers and
+    /// the top-hat (`ev_outer`).
+    diff: Vec<u8>,
+    morph: morph::Morph,
     /// Per-pixel detection threshold (grey levels).
     tmap: Mat,
     /// The evidence, exact in `rect` (around the wedge `wedge` searched this frame)
     /// and zero elsewhere; `ev_outer` is the top-hat's working area around `rect`.
     ev: Mat,
-    ev_outer: Mat,
+    ev_outer: Vec<u8>,
     rect: core::Rect,
     wedge: (f64, f64),
     bin: Mat,
@@ -129,15 +132,12 @@ impl Tracker {
             small: Mat::default(),
             bg,
             light: Brightness::new(reference.data_bytes()?),
-            raw_ev: Mat::default(),
             tmp: Mat::default(),
-            kernel: imgproc::get_structuring_element_def(
-                imgproc::MORPH_ELLIPSE,
-                core::Size::new(7, 7),
-            )?,
+            diff: Vec::new(),
+            morph: morph::Morph::default(),
             tmap,
             ev: Mat::default(),
-            ev_outer: Mat::default(),
+            ev_outer: Vec::new(),
             rect: core::Rect::default(),
             wedge: (0.0, 0.0),
             bin: Mat::default(),

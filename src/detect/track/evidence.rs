@@ -13,7 +13,6 @@ use super::Tracker;
 use crate::detect::Pt;
 use anyhow::Result;
 use opencv::core::{self, Mat, Rect, Scalar};
-use opencv::imgproc;
 use opencv::prelude::*;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -23,7 +22,7 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 const EVIDENCE_MARGIN: f64 = 8.0;
 
 /// How far the top-hat of a pixel reaches, px: the erosion and then the dilation of the
-/// 7 x 7 structuring element, 3 px each.
+/// 7 x 7 structuring element, 3 px each ([`super::morph`]).
 const TOPHAT_REACH: i32 = 6;
 
 impl Tracker {
@@ -45,7 +44,6 @@ impl Tracker {
         let (w, h) = (self.small.cols(), self.small.rows());
         if self.ev.cols() != w || self.ev.rows() != h {
             self.ev = Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
-            self.raw_ev = Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
         } else if self.rect.width > 0 && self.rect.height > 0 {
             Mat::roi_mut(&mut self.ev, self.rect)?.set_to_def(&Scalar::all(0.0))?;
         }
@@ -59,26 +57,39 @@ impl Tracker {
         // The difference where the top-hat of `r` reads it, the top-hat there, and its
         // exact part (`r`) into the evidence image.
         let outer = grow(r, TOPHAT_REACH, w, h);
+        let (cols, x0, x1) = (
+            w as usize,
+            outer.x as usize,
+            (outer.x + outer.width) as usize,
+        );
         {
-            let bg = Mat::roi(&self.bg, outer)?;
-            let frame = Mat::roi(&self.small, outer)?;
-            let mut diff = Mat::roi_mut(&mut self.raw_ev, outer)?;
-            if self.geo.dark {
-                core::subtract_def(&bg, &frame, &mut diff)?;
-            } else {
-                core::subtract_def(&frame, &bg, &mut diff)?;
+            let (bg, frame) = (self.bg.data_bytes()?, self.small.data_bytes()?);
+            self.diff.clear();
+            for y in outer.y as usize..(outer.y + outer.height) as usize {
+                let (b, f) = (
+                    &bg[y * cols + x0..y * cols + x1],
+                    &frame[y * cols + x0..y * cols + x1],
+                );
+                if self.geo.dark {
+                    self.diff
+                        .extend(b.iter().zip(f).map(|(b, f)| b.saturating_sub(*f)));
+                } else {
+                    self.diff
+                        .extend(f.iter().zip(b).map(|(f, b)| f.saturating_sub(*b)));
+                }
             }
         }
-        let diff = Mat::roi(&self.raw_ev, outer)?;
-        imgproc::morphology_ex_def(
-            &diff,
-            &mut self.ev_outer,
-            imgproc::MORPH_TOPHAT,
-            &self.kernel,
-        )?;
-        let inner = Rect::new(r.x - outer.x, r.y - outer.y, r.width, r.height);
-        let exact = Mat::roi(&self.ev_outer, inner)?;
-        exact.copy_to(&mut Mat::roi_mut(&mut self.ev, r)?)?;
+        let ow = outer.width as usize;
+        self.morph
+            .tophat(&self.diff, ow, outer.height as usize, &mut self.ev_outer);
+        let ev = self.ev.data_bytes_mut()?;
+        let (dx, dy) = ((r.x - outer.x) as usize, (r.y - outer.y) as usize);
+        let rw = r.width as usize;
+        for k in 0..r.height as usize {
+            let from = (dy + k) * ow + dx;
+            let to = (r.y as usize + k) * cols + r.x as usize;
+            ev[to..to + rw].copy_from_slice(&self.ev_outer[from..from + rw]);
+        }
         Ok(())
     }
 }

@@ -6,15 +6,14 @@ use super::Tracker;
 use crate::detect::line::{fit_line_through, moments, unwrap_near, Line, Moments};
 use crate::detect::Pt;
 use anyhow::Result;
-use opencv::core::{self, Point, Vector};
 use opencv::prelude::*;
 
 /// The per-frame buffers of [`Tracker::measure`], kept from frame to frame so that a
 /// frame allocates nothing (a frame with rival peaks aside, see `sharpest_ridge`).
 #[derive(Default)]
 pub(super) struct Scratch {
-    /// Evidence pixels above the threshold, in the wedge's rectangle.
-    nz: Vector<Point>,
+    /// Evidence pixels above the threshold, in the wedge's rectangle (x, y).
+    nz: Vec<(i32, i32)>,
     /// (point, weight, angle) of the evidence pixels in the wedge and the band.
     cand: Vec<(Pt, f64, f64)>,
     /// Evidence per angle bin, then smoothed over three bins, then scored.
@@ -42,15 +41,18 @@ impl Tracker {
         b: &mut Scratch,
         pred: Option<f64>,
     ) -> Result<Option<(f64, f64, [f64; 6])>> {
-        // Only the wedge's rectangle holds evidence this frame (see `evidence`).
+        // Only the wedge's rectangle holds evidence this frame (see `evidence`): its
+        // pixels over their threshold, row by row.
         let rect = self.rect;
+        b.nz.clear();
         if rect.width > 0 && rect.height > 0 {
-            let ev = Mat::roi(&self.ev, rect)?;
-            let tmap = Mat::roi(&self.tmap, rect)?;
-            core::compare(&ev, &tmap, &mut self.bin, core::CMP_GT)?;
-            core::find_non_zero(&self.bin, &mut b.nz)?;
-        } else {
-            b.nz.clear();
+            let (ev, tmap) = (self.ev.data_bytes()?, self.tmap.data_bytes()?);
+            let stride = self.ev.cols() as usize;
+            let (x0, w) = (rect.x as usize, rect.width as usize);
+            for y in rect.y as usize..(rect.y + rect.height) as usize {
+                let (e, t) = (&ev[y * stride + x0..][..w], &tmap[y * stride + x0..][..w]);
+                over_threshold(e, t, |i| b.nz.push(((x0 + i) as i32, y as i32)));
+            }
         }
         let (lo, hi) = self.wedge;
         // Angles on the wedge's own branch (the wire may hang across -x).
@@ -65,8 +67,7 @@ impl Tracker {
         b.cand.clear();
         let ev = self.ev.data_bytes()?;
         let stride = self.ev.cols() as usize;
-        for p in b.nz.iter() {
-            let (x, y) = (p.x + rect.x, p.y + rect.y);
+        for &(x, y) in &b.nz {
             let q = Pt::new(x as f64, y as f64);
             let d = q - piv;
             let r = d.norm();
@@ -264,6 +265,27 @@ impl Tracker {
     }
 }
 
+/// Calls `found` with the index of every byte of `e` over the same one of `t`, in order.
+/// Most of the wedge lies under its threshold: blocks of [`SCAN_BLOCK`] bytes with none
+/// over it are passed over by one comparison of the whole block (vectorised).
+fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
+    let mut from = 0;
+    for (eb, tb) in e.chunks(SCAN_BLOCK).zip(t.chunks(SCAN_BLOCK)) {
+        let any = eb.iter().zip(tb).fold(0u8, |m, (a, b)| m | u8::from(a > b));
+        if any != 0 {
+            for (i, (a, b)) in eb.iter().zip(tb).enumerate() {
+                if a > b {
+                    found(from + i);
+                }
+            }
+        }
+        from += eb.len();
+    }
+}
+
+/// The block [`over_threshold`] passes over at once, bytes.
+const SCAN_BLOCK: usize = 32;
+
 /// Half the width of the strip the wire's line is fitted to, px of the working scale.
 const STRIP_HALF: f64 = 2.5;
 /// Times the kept moments' strip is re-centred on the wire's free line
@@ -400,5 +422,35 @@ impl Tracker {
             }
         }
         Ok(peaks[pick])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_byte_over_its_threshold_is_found_in_order() {
+        let mut rng = crate::rng::Rng::new(5);
+        for n in [0, 1, 31, 32, 33, 100, 257] {
+            // Sparse and dense: a tenth, then half, of the bytes over.
+            for share in [0.1, 0.5] {
+                let t: Vec<u8> = (0..n).map(|_| (200.0 * rng.uniform()) as u8).collect();
+                let e: Vec<u8> = t
+                    .iter()
+                    .map(|&v| {
+                        if rng.uniform() < share {
+                            v.saturating_add(1 + (50.0 * rng.uniform()) as u8)
+                        } else {
+                            v
+                        }
+                    })
+                    .collect();
+                let want: Vec<usize> = (0..n).filter(|&i| e[i] > t[i]).collect();
+                let mut got = Vec::new();
+                over_threshold(&e, &t, |i| got.push(i));
+                assert_eq!(got, want, "{n} bytes, {share} over");
+            }
+        }
     }
 }

@@ -26,7 +26,7 @@ use super::{fit_line_weighted, full_to_shrunk, shrunk_to_full, unwrap_near, Line
 use crate::config::Polarity;
 use crate::video::Roi;
 use anyhow::{bail, Result};
-use opencv::core::{self, Mat, Point, Size, Vector};
+use opencv::core::{self, Mat, Point, Vector};
 use opencv::imgproc;
 use opencv::prelude::*;
 
@@ -613,7 +613,6 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         Background::Median => Some(mat_of(w, h, &median_frame(init))?),
         Background::Extreme => None,
     };
-    let kernel = imgproc::get_structuring_element_def(imgproc::MORPH_ELLIPSE, Size::new(7, 7))?;
     // The wire is long; the bob's edges and a hand's fingers are short.
     let min_len = 0.2 * (w.min(h) as f64);
     let candidates: Vec<bool> = match polarity {
@@ -635,8 +634,9 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         } else {
             core::subtract_def(&f, bg, &mut ev)?;
         }
-        let mut th = Mat::default();
-        imgproc::morphology_ex_def(&ev, &mut th, imgproc::MORPH_TOPHAT, &kernel)?;
+        let mut top = Vec::new();
+        super::morph::Morph::default().tophat(ev.data_bytes()?, w, h, &mut top);
+        let th = mat_of(w, h, &top)?;
         // Keep what exceeds each pixel's own noise threshold.
         let mut keep = Mat::default();
         core::compare(&th, tmap, &mut keep, core::CMP_GT)?;

@@ -42,6 +42,7 @@ pub mod geometry;
 mod input;
 mod light;
 mod line;
+mod morph;
 mod options;
 mod repeats;
 pub mod review;

@@ -4,7 +4,6 @@
 mod diag;
 mod evidence;
 mod measure;
-mod morph;
 
 use super::geometry::{self, WireGeometry};
 use super::light::Brightness;
@@ -38,7 +37,7 @@ pub(super) struct Tracker {
     /// The difference from the background around the wedge, its top-hat's buffers and
     /// the top-hat (`ev_outer`).
     diff: Vec<u8>,
-    morph: morph::Morph,
+    morph: super::morph::Morph,
     /// Per-pixel detection threshold (grey levels).
     tmap: Mat,
     /// The evidence, exact in `rect` (around the wedge `wedge` searched this frame)
@@ -133,7 +132,7 @@ impl Tracker {
             light: Brightness::new(reference.data_bytes()?),
             tmp: Mat::default(),
             diff: Vec::new(),
-            morph: morph::Morph::default(),
+            morph: super::morph::Morph::default(),
             tmap,
             ev: Mat::default(),
             ev_outer: Vec::new(),

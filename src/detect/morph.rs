@@ -1,5 +1,6 @@
 //! The white top-hat by OpenCV's 7 x 7 elliptic structuring element, on grey bytes, as
-//! the streaming pass needs it for every frame: the image less its opening (the
+//! the first look needs it for each frame it searches for lines and the streaming
+//! pass for every frame's wedge: the image less its opening (the
 //! erosion, then the dilation). OpenCV's general morphology visits the element's 33
 //! pixels for every pixel and builds a filter engine per call; here the element is
 //! the union of three rectangles (1 x 7, 5 x 5 and 7 x 3: the rows of
@@ -14,7 +15,7 @@
 
 /// Buffers of one image's top-hat, kept from frame to frame.
 #[derive(Default)]
-pub(super) struct Morph {
+pub(crate) struct Morph {
     a: Vec<u8>,
     b: Vec<u8>,
     padded: Vec<u8>,
@@ -27,7 +28,7 @@ const PAD: usize = 3;
 
 impl Morph {
     /// The top-hat of the `w` x `h` image `src` (row-major) into `out` (resized).
-    pub(super) fn tophat(&mut self, src: &[u8], w: usize, h: usize, out: &mut Vec<u8>) {
+    pub(crate) fn tophat(&mut self, src: &[u8], w: usize, h: usize, out: &mut Vec<u8>) {
         assert_eq!(src.len(), w * h, "a {w}x{h} image");
         let wp = w + 2 * PAD;
         let mut padded = std::mem::take(&mut self.padded);

@@ -102,6 +102,43 @@ fn fails_when_video_is_empty_corrupt_or_truncated() {
         "cut.mp4",
         &["truncated or damaged", "last good frame"],
     );
+    // Cut within the first look (2.5 s): refused, naming the last good frame; the frames
+    // up to the one before it are measured, the damage never read (the first look's
+    // decoder, which goes on into the streaming pass of so short a video, stops at the
+    // frame after the last one asked for, as a second decoder would).
+    let early = d.join("early.mp4");
+    std::fs::write(&early, &full[..full.len() * 3 / 10]).unwrap();
+    let out = detect(&early, &csv);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{said}");
+    let good: u64 = said
+        .split("last good frame ")
+        .nth(1)
+        .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no last good frame in: {said}"));
+    assert!(
+        good > 10 && good < 75,
+        "the cut lies within the first look: {said}"
+    );
+    let frames = format!("0,{}", good - 1);
+    let out = rollfric(
+        &[
+            OsStr::new("detect"),
+            early.as_os_str(),
+            OsStr::new("--frames"),
+            OsStr::new(&frames),
+            OsStr::new("-o"),
+            csv.as_os_str(),
+        ],
+        &root(),
+    );
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "frames {frames}: {said}");
+    assert!(
+        said.contains(&format!("{good} frames")) && said.contains("decoded once"),
+        "{said}"
+    );
 }
 
 #[test]

@@ -653,6 +653,8 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     // looked at: the look stops (`None`) as soon as the directions seen so far, one more
     // for each frame still to look at, cannot reach it (a frame adds at most one
     // direction, its longest line's), since it could then not win (see the score below).
+    // A frame it no longer looks at cannot fail it either: an error OpenCV would have
+    // raised there goes unsaid, as the polarity's result would have gone unused.
     let looked_at = (0..init.data.len())
         .filter(|k| k.is_multiple_of(stride))
         .count();

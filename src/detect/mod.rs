@@ -87,6 +87,9 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
 /// a swing of any pendulum up to a 5 s period.
 const INIT_SECONDS: f64 = 2.5;
 
+/// The most frames a first look keeps (a high frame rate's [`INIT_SECONDS`]).
+const LOOK_MAX_FRAMES: usize = 300;
+
 /// Of a still start (a held ball, see [`still`]), the first look keeps the last this
 /// many frames and starts its clock at the first of them. A release from an extreme
 /// without a hold moves the wire visibly within a few frames at any frame rate.
@@ -285,8 +288,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
 struct Continued<'a> {
     /// The look's frames, as decoded (no brightness correction), from the first asked for.
     held: std::collections::VecDeque<Frame>,
-    /// The rest of the stream.
-    rest: Box<dyn FrameSource + 'a>,
+    /// The rest of the stream (none when the frames asked for end within the look).
+    rest: Option<Box<dyn FrameSource + 'a>>,
     /// The region the decoder crops (the look's), in which the streaming pass's lies.
     bound: Roi,
 }
@@ -305,7 +308,11 @@ impl FrameSource for CropSource<'_> {
         match self.from.held.pop_front() {
             Some(f) => self.full = f,
             None => {
-                if !self.from.rest.next_frame(&mut self.full)? {
+                let more = match &mut self.from.rest {
+                    Some(rest) => rest.next_frame(&mut self.full)?,
+                    None => false,
+                };
+                if !more {
                     return Ok(false);
                 }
             }
@@ -347,7 +354,9 @@ impl FrameSource for CropSource<'_> {
 const DECODE_ONCE_MAX_BYTES: u64 = 256 << 20;
 
 /// The first look's frames, as decoded, held for the streaming pass at most to this
-/// many bytes (a still start longer than that starts a decoder again).
+/// many bytes: a look expected to need more (a high frame rate at a large region:
+/// 960x540 at 60 frames/s) is not decoded once, and one that comes to need more (a long
+/// still start) starts a decoder again for the streaming pass.
 const HELD_MAX_BYTES: usize = 48 << 20;
 
 /// What the first look's decoder may decode ahead of the look, bytes: the frames after
@@ -363,12 +372,18 @@ fn decode_once(
     first: u64,
     last: u64,
 ) -> bool {
-    let Some(n) = info.frames_header else {
+    let (Some(n), Some(d)) = (info.frames_header, info.duration_s) else {
         return false;
     };
     let frames = n.min(last.saturating_add(1)).saturating_sub(first);
+    let bytes = u64::from(bound.w) * u64::from(bound.h);
+    // The look's frames at the nominal rate (at most `LOOK_MAX_FRAMES`).
+    let look = (INIT_SECONDS * n as f64 / d.max(1e-3))
+        .ceil()
+        .min(LOOK_MAX_FRAMES as f64) as u64;
     shrink == 1
-        && frames.saturating_mul(u64::from(bound.w) * u64::from(bound.h)) <= DECODE_ONCE_MAX_BYTES
+        && frames.saturating_mul(bytes) <= DECODE_ONCE_MAX_BYTES
+        && look.saturating_mul(bytes) <= HELD_MAX_BYTES as u64
 }
 
 /// The first look's findings at one working scale: the geometry, and what the
@@ -436,8 +451,11 @@ impl<'a> FirstLook<'a> {
                 return at_fine;
             }
             // The other scale is looked at: this look's decoder stops (and its frames
-            // go), and the streaming pass decodes anew whichever scale wins.
-            l.stream = None;
+            // go), and the streaming pass decodes anew whichever scale wins. The other
+            // look's decoder starts now.
+            if l.stream.take().is_some() {
+                self.input.prepare();
+            }
         }
         let at_coarse = self.at(coarse);
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -489,6 +507,7 @@ impl<'a> FirstLook<'a> {
         };
         let mut held = once.then(std::collections::VecDeque::new);
         let mut held_bytes = 0usize;
+        let mut past_last = false;
         let mut init = InitFrames {
             w: 0,
             h: 0,
@@ -516,6 +535,9 @@ impl<'a> FirstLook<'a> {
                 continue;
             }
             if frame.index > last {
+                // The frames asked for end within the look: the stream has nothing more
+                // for the streaming pass (and the rest of the video is not read).
+                past_last = true;
                 break;
             }
             if let Some(h) = &mut held {
@@ -549,14 +571,14 @@ impl<'a> FirstLook<'a> {
                     ))
                 }
             }
-            if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= 300 {
+            if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= LOOK_MAX_FRAMES {
                 break;
             }
         }
         let stream = match held {
             Some(held) => Some(Continued {
                 held,
-                rest: src,
+                rest: (!past_last).then_some(src),
                 bound,
             }),
             None => {

@@ -578,6 +578,53 @@ fn direction_bin(l: &FrameLine) -> i64 {
         * 2.0) as i64
 }
 
+/// The second polarity's look against the first's directions (`beat`): it is given up
+/// as soon as the directions seen so far, one more for each frame still to look at,
+/// cannot reach `beat` (a frame adds at most one direction, its longest line's), since
+/// it could then not win (the score is directions first). A frame it no longer looks
+/// at cannot fail it either: an error OpenCV would have raised there goes unsaid, as
+/// the polarity's result would have gone unused. Without `beat` (the first polarity)
+/// it is never given up. Shared by the look's threads.
+struct Race {
+    beat: Option<usize>,
+    /// Frames the look searches for lines (every `stride`-th).
+    to_look_at: usize,
+    /// The directions seen so far and the frames looked at.
+    seen: std::sync::Mutex<(std::collections::BTreeSet<i64>, usize)>,
+    lost: std::sync::atomic::AtomicBool,
+}
+
+impl Race {
+    fn new(beat: Option<usize>, to_look_at: usize) -> Self {
+        Self {
+            beat,
+            to_look_at,
+            seen: Default::default(),
+            lost: Default::default(),
+        }
+    }
+
+    /// A frame looked at, with its longest line if any.
+    fn looked(&self, longest: Option<&FrameLine>) {
+        let Some(beat) = self.beat else {
+            return;
+        };
+        let mut seen = self.seen.lock().expect("no thread panics holding it");
+        if let Some(l) = longest {
+            seen.0.insert(direction_bin(l));
+        }
+        seen.1 += 1;
+        if seen.0.len() + (self.to_look_at - seen.1) < beat {
+            self.lost.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// Whether the look is given up.
+    fn lost(&self) -> bool {
+        self.lost.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
 /// One first look's inputs, tried against either background.
 struct Look<'a> {
     init: &'a InitFrames,
@@ -649,52 +696,33 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     };
     // The frames' lines, each frame alone: shared among up to [`GEOMETRY_THREADS`]
     // processors (the look's geometry is most of the detector's fixed cost on a short
-    // video), in the frames' order. With `beat`, the directions of a polarity already
-    // looked at: the look stops (`None`) as soon as the directions seen so far, one more
-    // for each frame still to look at, cannot reach it (a frame adds at most one
-    // direction, its longest line's), since it could then not win (see the score below).
-    // A frame it no longer looks at cannot fail it either: an error OpenCV would have
-    // raised there goes unsaid, as the polarity's result would have gone unused.
+    // video), in the frames' order; `None` when `race` gave the polarity up.
     let looked_at = (0..init.data.len())
         .filter(|k| k.is_multiple_of(stride))
         .count();
     let lines_against =
-        |bg: &Mat, dark: bool, beat: Option<usize>| -> Result<Option<Vec<Vec<FrameLine>>>> {
+        |bg: &Mat, dark: bool, race: &Race| -> Result<Option<Vec<Vec<FrameLine>>>> {
             let n = init.data.len();
             let workers = std::thread::available_parallelism()
                 .map_or(1, |p| p.get())
                 .clamp(1, GEOMETRY_THREADS);
             let per = n.div_ceil(workers).max(1);
-            // The directions seen so far and the frames looked at, across the workers.
-            let seen = std::sync::Mutex::new((std::collections::BTreeSet::new(), 0usize));
-            let hopeless = std::sync::atomic::AtomicBool::new(false);
             let parts: Vec<Result<Vec<Vec<FrameLine>>>> = std::thread::scope(|s| {
                 let handles: Vec<_> = (0..n)
                     .step_by(per)
                     .map(|from| {
                         let work = &frame_lines_against;
-                        let (seen, hopeless) = (&seen, &hopeless);
                         s.spawn(move || {
-                            let mut out = Vec::with_capacity(per);
-                            for k in from..(from + per).min(n) {
-                                if hopeless.load(std::sync::atomic::Ordering::Relaxed) {
-                                    break;
-                                }
-                                let lines = work(bg, dark, k)?;
-                                if let (Some(beat), true) = (beat, k.is_multiple_of(stride)) {
-                                    let mut seen =
-                                        seen.lock().expect("no worker panics holding it");
-                                    if let Some(l) = lines.first() {
-                                        seen.0.insert(direction_bin(l));
+                            (from..(from + per).min(n))
+                                .take_while(|_| !race.lost())
+                                .map(|k| {
+                                    let lines = work(bg, dark, k)?;
+                                    if k.is_multiple_of(stride) {
+                                        race.looked(lines.first());
                                     }
-                                    seen.1 += 1;
-                                    if seen.0.len() + (looked_at - seen.1) < beat {
-                                        hopeless.store(true, std::sync::atomic::Ordering::Relaxed);
-                                    }
-                                }
-                                out.push(lines);
-                            }
-                            Ok(out)
+                                    Ok(lines)
+                                })
+                                .collect::<Result<Vec<_>>>()
                         })
                     })
                     .collect();
@@ -707,23 +735,20 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
             for part in parts {
                 lines.extend(part?);
             }
-            if hopeless.load(std::sync::atomic::Ordering::Relaxed) {
-                return Ok(None);
-            }
-            Ok(Some(lines))
+            Ok((!race.lost()).then_some(lines))
         };
     let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
     for &dark in &candidates {
-        let beat = best.as_ref().map(|b| (b.1 / 1e9) as usize);
+        let race = Race::new(best.as_ref().map(|b| (b.1 / 1e9) as usize), looked_at);
         let lines = match &median {
-            Some(m) => lines_against(m, dark, beat)?,
-            None => lines_against(&extreme_frame(init, dark)?, dark, beat)?,
+            Some(m) => lines_against(m, dark, &race)?,
+            None => lines_against(&extreme_frame(init, dark)?, dark, &race)?,
         };
         let Some(lines) = lines else {
             if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
                 eprintln!(
                     "geometry: dark={dark} cannot take {} directions; not looked at further",
-                    beat.unwrap_or(0)
+                    race.beat.unwrap_or(0)
                 );
             }
             continue;

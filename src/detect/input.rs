@@ -24,8 +24,7 @@ pub trait VideoInput {
     /// The frames from the first, cropped to `roi` at full size, with up to
     /// `ahead_bytes` of them decoded ahead of the reader (by default, [`VideoInput::open`]
     /// unshrunk: frames in memory are there already).
-    fn open_ahead(&self, roi: Roi, ahead_bytes: usize) -> Result<Box<dyn FrameSource + '_>> {
-        let _ = ahead_bytes;
+    fn open_ahead(&self, roi: Roi, _ahead_bytes: usize) -> Result<Box<dyn FrameSource + '_>> {
         self.open(roi, 1)
     }
     /// Another [`VideoInput::open`] will follow: its decoder may start now, so that its
@@ -197,6 +196,22 @@ impl VideoInput for MemoryVideo {
     }
 }
 
+/// The `w` x `h` pixels from `(x, y)` of a grey picture `stride` pixels wide, row by row
+/// into `out` (what a decoder's crop gives).
+pub(super) fn crop_rows(
+    src: &[u8],
+    stride: usize,
+    (x, y): (usize, usize),
+    (w, h): (usize, usize),
+    out: &mut Vec<u8>,
+) {
+    out.clear();
+    out.reserve(w * h);
+    for row in src.chunks_exact(stride).skip(y).take(h) {
+        out.extend_from_slice(&row[x..x + w]);
+    }
+}
+
 /// The frames of a [`MemoryVideo`], cropped and shrunk.
 struct MemorySource<'a> {
     video: &'a MemoryVideo,
@@ -214,15 +229,11 @@ impl FrameSource for MemorySource<'_> {
         let s = self.shrink as usize;
         let (x0, y0) = (self.roi.x as usize, self.roi.y as usize);
         let (ow, oh) = (self.roi.w as usize / s, self.roi.h as usize / s);
-        frame.data.clear();
-        frame.data.reserve(ow * oh);
         if s == 1 {
-            for y in y0..y0 + oh {
-                frame
-                    .data
-                    .extend_from_slice(&full[y * stride + x0..y * stride + x0 + ow]);
-            }
+            crop_rows(full, stride, (x0, y0), (ow, oh), &mut frame.data);
         } else {
+            frame.data.clear();
+            frame.data.reserve(ow * oh);
             // Each pixel the rounded mean of its block.
             let n = (s * s) as u32;
             for oy in 0..oh {

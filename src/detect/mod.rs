@@ -150,11 +150,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     // 2. The streaming pass over the region of interest: the first look's decoder
     // going on (its frames cut to the region here), or a decoder cropping to it.
     let mut src: Box<dyn FrameSource + '_> = match stream {
-        Some(from) => Box::new(CropSource {
-            from,
-            roi: geo.roi,
-            full: Frame::default(),
-        }),
+        Some(from) => Box::new(CropSource::new(from, geo.roi)?),
         None => input.open(geo.roi, 1)?,
     };
     let decodings = look.looks + usize::from(!continued);
@@ -303,6 +299,25 @@ struct CropSource<'a> {
     full: Frame,
 }
 
+impl<'a> CropSource<'a> {
+    /// The frames of `from` cut to `roi`, which must lie within the look's region.
+    fn new(from: Continued<'a>, roi: Roi) -> Result<Self> {
+        let bound = from.bound;
+        ensure!(
+            roi.x >= bound.x
+                && roi.y >= bound.y
+                && roi.x + roi.w <= bound.x + bound.w
+                && roi.y + roi.h <= bound.y + bound.h,
+            "the region {roi:?} does not lie within the first look's {bound:?}"
+        );
+        Ok(Self {
+            from,
+            roi,
+            full: Frame::default(),
+        })
+    }
+}
+
 impl FrameSource for CropSource<'_> {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
         match self.from.held.pop_front() {
@@ -319,26 +334,23 @@ impl FrameSource for CropSource<'_> {
         }
         let (bound, roi, full) = (self.from.bound, self.roi, &self.full);
         ensure!(
-            full.width == bound.w as usize
-                && full.height == bound.h as usize
-                && roi.x >= bound.x
-                && roi.y >= bound.y
-                && roi.x + roi.w <= bound.x + bound.w
-                && roi.y + roi.h <= bound.y + bound.h,
-            "frame {}: the decoded {}x{} px do not hold the region {roi:?} of {bound:?}",
+            full.width == bound.w as usize && full.height == bound.h as usize,
+            "frame {}: decoded at {}x{} px, not at the first look's {}x{}",
             full.index,
             full.width,
-            full.height
+            full.height,
+            bound.w,
+            bound.h
         );
-        let (dx, dy) = ((roi.x - bound.x) as usize, (roi.y - bound.y) as usize);
-        let (w, h) = (roi.w as usize, roi.h as usize);
-        frame.data.clear();
-        frame.data.reserve(w * h);
-        for row in full.data.chunks_exact(full.width).skip(dy).take(h) {
-            frame.data.extend_from_slice(&row[dx..dx + w]);
-        }
-        frame.width = w;
-        frame.height = h;
+        input::crop_rows(
+            &full.data,
+            full.width,
+            ((roi.x - bound.x) as usize, (roi.y - bound.y) as usize),
+            (roi.w as usize, roi.h as usize),
+            &mut frame.data,
+        );
+        frame.width = roi.w as usize;
+        frame.height = roi.h as usize;
         frame.index = full.index;
         frame.t_s = full.t_s;
         Ok(true)

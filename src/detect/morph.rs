@@ -30,57 +30,57 @@ impl Morph {
     /// The top-hat of the `w` x `h` image `src` (row-major) into `out` (resized).
     pub(crate) fn tophat(&mut self, src: &[u8], w: usize, h: usize, out: &mut Vec<u8>) {
         assert_eq!(src.len(), w * h, "a {w}x{h} image");
+        let Self {
+            a,
+            b,
+            padded,
+            eroded,
+            opened,
+        } = self;
         let wp = w + 2 * PAD;
-        let mut padded = std::mem::take(&mut self.padded);
-        let mut eroded = std::mem::take(&mut self.eroded);
-        let mut opened = std::mem::take(&mut self.opened);
         padded.clear();
         for row in src.chunks_exact(w.max(1)).take(h) {
             padded.extend_from_slice(&[u8::MAX; PAD]);
             padded.extend_from_slice(row);
             padded.extend_from_slice(&[u8::MAX; PAD]);
         }
-        self.extreme::<Min>(&padded, wp, &mut eroded);
+        extreme::<Min>(padded, wp, eroded, a, b);
         // The dilation's neutral byte in the padding.
         for row in eroded.chunks_exact_mut(wp) {
             row[..PAD].fill(0);
             row[PAD + w..].fill(0);
         }
-        self.extreme::<Max>(&eroded, wp, &mut opened);
+        extreme::<Max>(eroded, wp, opened, a, b);
         out.clear();
         for (row, o) in src.chunks_exact(w.max(1)).zip(opened.chunks_exact(wp)) {
             out.extend(row.iter().zip(&o[PAD..]).map(|(s, o)| s.saturating_sub(*o)));
         }
-        self.padded = padded;
-        self.eroded = eroded;
-        self.opened = opened;
     }
+}
 
-    /// The erosion (`F` = [`Min`]) or dilation ([`Max`]) by the element of the padded
-    /// image `src` (rows `wp` bytes long), into `out`: exact on the image's own pixels.
-    /// A window of radius `k + 1` is the extreme of two of radius `k` one step apart,
-    /// so the columns' extremes within 1, 2 and 3 rows follow one from another (and so
-    /// do the rows' within 1, 2 and 3 pixels): the rectangles 1 x 7, 5 x 5 and 7 x 3 are
-    /// then the extremes within 3 rows, within 2 pixels of those within 2 rows, and
-    /// within 3 pixels of those within 1 row.
-    fn extreme<F: Extreme>(&mut self, src: &[u8], wp: usize, out: &mut Vec<u8>) {
-        let Self { a, b, .. } = self;
-        // a = within 1 row; out = within 3 rows (1 x 7).
-        step::<F>(src, wp, a);
-        step::<F>(a, wp, b);
-        step::<F>(b, wp, out);
-        // b = within 2 rows and 2 pixels (5 x 5), into out.
-        let mut c = std::mem::take(b);
-        step::<F>(&c, 1, b);
-        step::<F>(b, 1, &mut c);
-        combine::<F>(out, &c);
-        // Within 1 row and 3 pixels (7 x 3), into out.
-        step::<F>(a, 1, b);
-        step::<F>(b, 1, &mut c);
-        step::<F>(&c, 1, b);
-        combine::<F>(out, b);
-        *b = c;
-    }
+/// The erosion (`F` = [`Min`]) or dilation ([`Max`]) by the element of the padded image
+/// `src` (rows `wp` bytes long), into `out` (`a` and `b` are scratch): exact on the
+/// image's own pixels. A window of radius `k + 1` is the extreme of two of radius `k`
+/// one step apart, so the columns' extremes within 1, 2 and 3 rows follow one from
+/// another (and so do the rows' within 1, 2 and 3 pixels): the rectangles 1 x 7, 5 x 5
+/// and 7 x 3 are then the extremes within 3 rows, within 2 pixels of those within 2
+/// rows, and within 3 pixels of those within 1 row.
+fn extreme<F: Extreme>(src: &[u8], wp: usize, out: &mut Vec<u8>, a: &mut Vec<u8>, b: &mut Vec<u8>) {
+    // a = within 1 row; out = within 3 rows (1 x 7).
+    step::<F>(src, wp, a);
+    step::<F>(a, wp, b);
+    step::<F>(b, wp, out);
+    // Within 2 rows and 2 pixels (5 x 5), into out.
+    let mut c = std::mem::take(b);
+    step::<F>(&c, 1, b);
+    step::<F>(b, 1, &mut c);
+    combine::<F>(out, &c);
+    // Within 1 row and 3 pixels (7 x 3), into out.
+    step::<F>(a, 1, b);
+    step::<F>(b, 1, &mut c);
+    step::<F>(&c, 1, b);
+    combine::<F>(out, b);
+    *b = c;
 }
 
 /// `out` = the extreme of each element of `src` and its neighbours `by` elements before
@@ -130,7 +130,7 @@ mod tests {
     use super::*;
     use crate::rng::Rng;
 
-    /// The element's rectangles, as [`Morph::extreme`] makes them: (half width, half
+    /// The element's rectangles, as [`extreme`] makes them: (half width, half
     /// height).
     const RECTS: [(usize, usize); 3] = [(0, 3), (2, 2), (3, 1)];
     use opencv::core::{self, Mat, Size};

@@ -255,15 +255,24 @@ impl Tracker {
         }
         // During the first seconds the geometry pass's angle of this very frame is the
         // better guess until three frames have been accepted.
+        let starting = self.hist.len() < 3 && hint.is_some();
         let pred = if self.hist.len() < 3 {
-            hint.or(self.predict(f.t_s))
+            // A hint is the first look's line in this frame, and it may be the wire's
+            // shadow in one frame and the wire in the next (their lines meet at the
+            // pivot): once a frame is accepted, a hint that leaves the line it followed
+            // gives way to the track's own prediction. Taken in turn, a shadow's frames
+            // and the wire's sent the prediction 30 deg off.
+            match (hint, self.predict(f.t_s)) {
+                (Some(h), Some(p)) if (h - p).abs() > self.gate => Some(p),
+                (h, p) => h.or(p),
+            }
         } else {
             self.predict(f.t_s).or(hint)
         };
         self.last_pred = pred;
         // Evidence (thin structures only: a top-hat removes the bob and a hand's
         // palm) where the wire can be, then the background follows the scene.
-        self.evidence(pred)?;
+        self.evidence(pred, starting)?;
         if !flash {
             if self.geo.dark {
                 core::max(&self.bg, &self.small, &mut self.tmp)?;
@@ -296,29 +305,13 @@ impl Tracker {
             self.save_diag(f.index, f64::NAN, pred)?;
             return Ok(row);
         }
-        let (angle, quality, moments) = match self.measure(pred)? {
+        let gate = self.accept_gate();
+        let (angle, quality, moments) = match self.measure(pred, gate)? {
             Some((a, q, m)) => (a, q, Some(m)),
             None => (f64::NAN, 0.0, None),
         };
         row.quality = quality;
         row.moments = moments;
-        // Fewer than three accepted frames make a poor prediction: open the gate.
-        let short = if self.hist.len() < 3 { 4.0 } else { 1.0 };
-        // Fast motion at a low frame rate predicts less well: widen the gate by half the
-        // last accepted step.
-        let step = match self.hist.as_slice() {
-            [.., (_, a), (_, b)] => (b - a).abs(),
-            _ => 0.0,
-        };
-        // Once the innovations (measured minus predicted) of accepted frames are known,
-        // the gate tightens to four times their RMS: a repeated frame that the codec did
-        // not keep bit-identical still lags its prediction by a fraction of a degree.
-        let base = match self.innov {
-            Some((ms, n)) if n >= 30 => (4.0 * ms.sqrt()).clamp(0.05f64.to_radians(), self.gate),
-            _ => self.gate,
-        };
-        let reach = 1.0 + self.repeats_since_good as f64;
-        let gate = (base + 0.5 * step * reach) * (1.0 + self.since_good as f64) * short;
         // A repeated frame that the codec did not keep identical is found after the
         // pass, from both sides (`flag_repeats`): the previous frames alone overshoot
         // at a turning point, where a wire that stops looks like a repeat.
@@ -404,6 +397,29 @@ impl Tracker {
             }
         }
         Ok(row)
+    }
+
+    /// How far this frame's angle may lie from its prediction to be accepted: the
+    /// configured gate, tightened to the accepted frames' innovations, widened for fast
+    /// motion, after refused or repeated frames, and while the history is short.
+    fn accept_gate(&self) -> f64 {
+        // Fewer than three accepted frames make a poor prediction: open the gate.
+        let short = if self.hist.len() < 3 { 4.0 } else { 1.0 };
+        // Fast motion at a low frame rate predicts less well: widen the gate by half the
+        // last accepted step.
+        let step = match self.hist.as_slice() {
+            [.., (_, a), (_, b)] => (b - a).abs(),
+            _ => 0.0,
+        };
+        // Once the innovations (measured minus predicted) of accepted frames are known,
+        // the gate tightens to four times their RMS: a repeated frame that the codec did
+        // not keep bit-identical still lags its prediction by a fraction of a degree.
+        let base = match self.innov {
+            Some((ms, n)) if n >= 30 => (4.0 * ms.sqrt()).clamp(0.05f64.to_radians(), self.gate),
+            _ => self.gate,
+        };
+        let reach = 1.0 + self.repeats_since_good as f64;
+        (base + 0.5 * step * reach) * (1.0 + self.since_good as f64) * short
     }
 
     /// How much more the wire's own direction turns than its angle about `pivot`

@@ -28,10 +28,14 @@ pub(super) struct Scratch {
 impl Tracker {
     /// The wire's angle and coverage in the current evidence image, searching the
     /// wedge `evidence` prepared around `pred` (or every angle the wire was seen at,
-    /// without a prediction).
-    pub(super) fn measure(&mut self, pred: Option<f64>) -> Result<Option<(f64, f64, [f64; 6])>> {
+    /// without a prediction). `gate` is how far from `pred` the angle will be accepted.
+    pub(super) fn measure(
+        &mut self,
+        pred: Option<f64>,
+        gate: f64,
+    ) -> Result<Option<(f64, f64, [f64; 6])>> {
         let mut b = std::mem::take(&mut self.scratch);
-        let found = self.measure_with(&mut b, pred);
+        let found = self.measure_with(&mut b, pred, gate);
         self.scratch = b;
         found
     }
@@ -40,6 +44,7 @@ impl Tracker {
         &mut self,
         b: &mut Scratch,
         pred: Option<f64>,
+        gate: f64,
     ) -> Result<Option<(f64, f64, [f64; 6])>> {
         // Only the wedge's rectangle holds evidence this frame (see `evidence`): its
         // pixels over their threshold, row by row.
@@ -118,7 +123,7 @@ impl Tracker {
             let (a, c) = side(i);
             sm[i] - a.min(c)
         }));
-        let best_i = self.sharpest_ridge(&b.scores, best, &b.cand, lo, bin_w, pred)?;
+        let best_i = self.sharpest_ridge(&b.scores, best, &b.cand, (lo, bin_w), pred, gate)?;
         let th0 = lo + (best_i as f64 + 0.5) * bin_w;
         let mut line = Line {
             point: piv,
@@ -313,6 +318,14 @@ const RIVAL_COVER: f64 = 0.6;
 /// shadow, diverging from the fulcrum beside it, can hold more evidence than a faint
 /// wire, but it is wide and the wire is a sharp ridge.
 const RIVAL_SHARPER: f64 = 0.7;
+/// ... or this much narrower while the track begins (fewer than three frames accepted,
+/// the whole sweep searched): there is no track to keep yet, and a wire beside a
+/// stronger shadow of a similar width (1.12 px against 1.40, 1.17 against 1.28 on
+/// 640x480 and 1280x720 twins) is told by its sharper ridge.
+const RIVAL_SHARPER_START: f64 = 0.92;
+/// A rival within the gate of the prediction, the strongest peak outside it, is the wire
+/// unless this much wider than the strongest.
+const RIVAL_WIDER_GATED: f64 = 1.25;
 /// Evidence within this many px of a peak's line counts towards its width.
 const WIDTH_STRIP: f64 = 4.0;
 
@@ -328,9 +341,9 @@ impl Tracker {
         scores: &[f64],
         best: (f64, usize),
         cand: &[(Pt, f64, f64)],
-        lo: f64,
-        bin_w: f64,
+        (lo, bin_w): (f64, f64),
         pred: Option<f64>,
+        gate: f64,
     ) -> Result<usize> {
         let reach = 4usize;
         let own = scores[best.1];
@@ -401,20 +414,33 @@ impl Tracker {
         }
         let rivals = || (1..peaks.len()).filter(|&j| cover(j) >= RIVAL_COVER * cover(0));
         let mut pick = 0;
+        let sharper = if self.hist.len() < 3 {
+            RIVAL_SHARPER_START
+        } else {
+            RIVAL_SHARPER
+        };
         for j in rivals() {
-            if width[j] < RIVAL_SHARPER * width[0] && width[j] < width[pick] {
+            if width[j] < sharper * width[0] && width[j] < width[pick] {
                 pick = j;
             }
         }
         // Neither clearly sharper: while tracking, a rival within the gate of the
         // prediction is the wire when the strongest lies outside it (the strongest would
-        // be refused, and a run of refusals would re-anchor the track on it).
+        // be refused, and a run of refusals would re-anchor the track on it). The gate
+        // is the narrower of the one the frame is accepted by and the configured gate
+        // widened by the refused frames. The latter alone let a wire's shadow, stronger
+        // once a passing hand had made the wire's frames `disturbed`, win while the
+        // acceptance refused it, until the refusals re-anchored the track on it; the
+        // former alone, widened by a fast swing's last step, accepted a shadow 3.8 deg
+        // from a faint wire. The rival may be a little wider than the strongest (a hand
+        // passing over the wire blurred it 6 % wider than its shadow for a few frames),
+        // not clearly wider.
         if let Some(p) = pred.filter(|_| pick == 0 && self.hist.len() >= 3) {
-            let gate = self.gate * (1.0 + self.since_good as f64);
+            let gate = gate.min(self.gate * (1.0 + self.since_good as f64));
             let off = |j: usize| (angle_of(j) - p).abs();
             if off(0) > gate {
                 if let Some(j) = rivals()
-                    .filter(|&j| off(j) <= gate && width[j] <= width[0])
+                    .filter(|&j| off(j) <= gate && width[j] <= RIVAL_WIDER_GATED * width[0])
                     .min_by(|&a, &b| off(a).total_cmp(&off(b)))
                 {
                     pick = j;

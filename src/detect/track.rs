@@ -255,8 +255,7 @@ impl Tracker {
         }
         // During the first seconds the geometry pass's angle of this very frame is the
         // better guess until three frames have been accepted.
-        let starting = self.hist.len() < 3 && hint.is_some();
-        let pred = if self.hist.len() < 3 {
+        let pred = if self.starting() {
             // A hint is the first look's line in this frame, and it may be the wire's
             // shadow in one frame and the wire in the next (their lines meet at the
             // pivot): once a frame is accepted, a hint that leaves the line it followed
@@ -271,8 +270,12 @@ impl Tracker {
         };
         self.last_pred = pred;
         // Evidence (thin structures only: a top-hat removes the bob and a hand's
-        // palm) where the wire can be, then the background follows the scene.
-        self.evidence(pred, starting)?;
+        // palm) where the wire can be, then the background follows the scene. While the
+        // track starts on a first-look hint, the wedge is the whole sweep (as without a
+        // prediction): the hint may be the wire's shadow, and the sharpest-ridge rule
+        // sees both.
+        let wedge_about = pred.filter(|_| !(self.starting() && hint.is_some()));
+        self.evidence(wedge_about)?;
         if !flash {
             if self.geo.dark {
                 core::max(&self.bg, &self.small, &mut self.tmp)?;
@@ -365,7 +368,7 @@ impl Tracker {
         };
         match flag {
             None => {
-                if let Some(p) = pred.filter(|_| self.hist.len() >= 3) {
+                if let Some(p) = pred.filter(|_| !self.starting()) {
                     let e2 = (angle - p).powi(2);
                     self.innov = Some(match self.innov {
                         Some((ms, n)) => (0.97 * ms + 0.03 * e2.min(9.0 * ms.max(1e-12)), n + 1),
@@ -399,12 +402,18 @@ impl Tracker {
         Ok(row)
     }
 
+    /// Fewer than [`START_FRAMES`] frames accepted since the track began (or was
+    /// re-anchored): the prediction is poor, and there is no track to keep yet.
+    fn starting(&self) -> bool {
+        self.hist.len() < START_FRAMES
+    }
+
     /// How far this frame's angle may lie from its prediction to be accepted: the
     /// configured gate, tightened to the accepted frames' innovations, widened for fast
     /// motion, after refused or repeated frames, and while the history is short.
     fn accept_gate(&self) -> f64 {
         // Fewer than three accepted frames make a poor prediction: open the gate.
-        let short = if self.hist.len() < 3 { 4.0 } else { 1.0 };
+        let short = if self.starting() { 4.0 } else { 1.0 };
         // Fast motion at a low frame rate predicts less well: widen the gate by half the
         // last accepted step.
         let step = match self.hist.as_slice() {
@@ -505,6 +514,9 @@ impl Tracker {
         to_full(p)
     }
 }
+
+/// Accepted frames that make a track: the quadratic prediction needs three.
+const START_FRAMES: usize = 3;
 
 /// Fewest accepted frames, and smallest spread of their angles, for [`Tracker::swing_scale`].
 const SWING_SCALE_FRAMES: usize = 20;

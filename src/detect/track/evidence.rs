@@ -27,12 +27,9 @@ const TOPHAT_REACH: i32 = 6;
 
 impl Tracker {
     /// The angle range searched: within three gates of the prediction (wider after
-    /// refused frames), or every angle the wire was seen at without a prediction or
-    /// when the track has just begun (`sweep`): the first look's line that hints at
-    /// the wire there may be its shadow, and the whole sweep shows both to the
-    /// sharpest-ridge rule.
-    pub(super) fn search_wedge(&self, pred: Option<f64>, sweep: bool) -> (f64, f64) {
-        match pred.filter(|_| !sweep) {
+    /// refused frames), or every angle the wire was seen at without a prediction.
+    pub(super) fn search_wedge(&self, pred: Option<f64>) -> (f64, f64) {
+        match pred {
             Some(p) => {
                 let wdg = (3.0 * self.gate * (1.0 + self.since_good as f64)).max(2f64.to_radians());
                 (p - wdg, p + wdg)
@@ -42,16 +39,15 @@ impl Tracker {
     }
 
     /// This frame's evidence (the top-hat of the difference from the background) in
-    /// the rectangle of the wedge around `pred` (the whole sweep with `sweep`, see
-    /// [`Tracker::search_wedge`]); zero elsewhere.
-    pub(super) fn evidence(&mut self, pred: Option<f64>, sweep: bool) -> Result<()> {
+    /// the rectangle of the wedge around `pred`; zero elsewhere.
+    pub(super) fn evidence(&mut self, pred: Option<f64>) -> Result<()> {
         let (w, h) = (self.small.cols(), self.small.rows());
         if self.ev.cols() != w || self.ev.rows() != h {
             self.ev = Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
         } else if self.rect.width > 0 && self.rect.height > 0 {
             Mat::roi_mut(&mut self.ev, self.rect)?.set_to_def(&Scalar::all(0.0))?;
         }
-        self.wedge = self.search_wedge(pred, sweep);
+        self.wedge = self.search_wedge(pred);
         let radii = (self.r_lo, self.r_hi);
         let r = sector_rect(self.piv, radii, self.wedge, EVIDENCE_MARGIN, w, h);
         self.rect = r;

@@ -414,7 +414,7 @@ impl Tracker {
         }
         let rivals = || (1..peaks.len()).filter(|&j| cover(j) >= RIVAL_COVER * cover(0));
         let mut pick = 0;
-        let sharper = if self.hist.len() < 3 {
+        let sharper = if self.starting() {
             RIVAL_SHARPER_START
         } else {
             RIVAL_SHARPER
@@ -435,7 +435,7 @@ impl Tracker {
         // from a faint wire. The rival may be a little wider than the strongest (a hand
         // passing over the wire blurred it 6 % wider than its shadow for a few frames),
         // not clearly wider.
-        if let Some(p) = pred.filter(|_| pick == 0 && self.hist.len() >= 3) {
+        if let Some(p) = pred.filter(|_| pick == 0 && !self.starting()) {
             let gate = gate.min(self.gate * (1.0 + self.since_good as f64));
             let off = |j: usize| (angle_of(j) - p).abs();
             if off(0) > gate {

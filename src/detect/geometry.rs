@@ -84,14 +84,13 @@ struct FrameLine {
     pts: Vec<(Pt, f64)>,
 }
 
-/// The longest straight segments of one evidence image (up to three, in different
-/// directions), each refined by an orthogonal fit of the pixels along it.
-fn frame_lines(evidence: &Mat, thresh: f64, min_len: f64) -> Result<Vec<FrameLine>> {
-    let mut bin = Mat::default();
-    imgproc::threshold(evidence, &mut bin, thresh, 255.0, imgproc::THRESH_BINARY)?;
+/// The longest straight segments of the pixels `bin` keeps (non-zero) of one evidence
+/// image (up to three, in different directions), each refined by an orthogonal fit of
+/// the kept pixels along it, weighted by their evidence.
+fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result<Vec<FrameLine>> {
     let mut segs = Vector::<core::Vec4i>::new();
     imgproc::hough_lines_p(
-        &bin,
+        bin,
         &mut segs,
         1.0,
         std::f64::consts::PI / 360.0,
@@ -126,7 +125,7 @@ fn frame_lines(evidence: &Mat, thresh: f64, min_len: f64) -> Result<Vec<FrameLin
         return Ok(Vec::new());
     }
     let mut nz = Vector::<Point>::new();
-    core::find_non_zero(&bin, &mut nz)?;
+    core::find_non_zero(bin, &mut nz)?;
     let mut out = Vec::new();
     for (p0, p1) in chosen {
         let seg = Line::through(p0, p1);
@@ -378,7 +377,7 @@ fn faint_threshold_map(init: &InitFrames, noise: &[u8]) -> Result<Mat> {
 /// directions), the longest run of those pixels within 1.5 px of it with no gap over
 /// [`FAINT_GAP`], kept when at least `min_len` long and fitted (orthogonal least
 /// squares, weighted by the evidence `ev`) as [`frame_lines`] fits a segment.
-fn faint_frame_lines(ev: &Mat, bin: &Mat, min_len: f64) -> Result<Vec<FrameLine>> {
+fn faint_frame_lines(ev: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result<Vec<FrameLine>> {
     let mut found = Vector::<core::Vec2f>::new();
     imgproc::hough_lines_def(
         bin,
@@ -642,6 +641,17 @@ struct Look<'a> {
     roi_given: Option<Roi>,
 }
 
+/// One geometry thread's buffers for a frame's lines ([`find_against`]), kept from frame
+/// to frame: an image the size of the look allocated afresh for every frame costs its
+/// pages' faults each time.
+#[derive(Default)]
+struct Scratch {
+    ev: Mat,
+    morph: super::morph::Morph,
+    top: Vec<u8>,
+    keep: Mat,
+}
+
 /// One first look against `kind` of background.
 fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     let Look {
@@ -670,30 +680,27 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
     // Per frame (every `stride`-th, at most about 60 looked at closely), the longest
     // straight thin structures darker (`dark`) or brighter than `bg`.
     let stride = init.data.len().div_ceil(60).max(1);
-    let frame_lines_against = |bg: &Mat, dark: bool, k: usize| -> Result<Vec<FrameLine>> {
-        if !k.is_multiple_of(stride) {
-            return Ok(Vec::new());
-        }
-        let f = mat_of(w, h, &init.data[k])?;
-        let mut ev = Mat::default();
-        if dark {
-            core::subtract_def(bg, &f, &mut ev)?;
-        } else {
-            core::subtract_def(&f, bg, &mut ev)?;
-        }
-        let mut top = Vec::new();
-        super::morph::Morph::default().tophat(ev.data_bytes()?, w, h, &mut top);
-        let th = mat_of(w, h, &top)?;
-        // Keep what exceeds each pixel's own noise threshold.
-        let mut keep = Mat::default();
-        core::compare(&th, tmap, &mut keep, core::CMP_GT)?;
-        if faint {
-            return faint_frame_lines(&th, &keep, min_len);
-        }
-        let mut masked = Mat::default();
-        th.copy_to_masked(&mut masked, &keep)?;
-        frame_lines(&masked, 0.5, min_len)
-    };
+    let frame_lines_against =
+        |bg: &Mat, dark: bool, k: usize, sc: &mut Scratch| -> Result<Vec<FrameLine>> {
+            if !k.is_multiple_of(stride) {
+                return Ok(Vec::new());
+            }
+            let f = Mat::new_rows_cols_with_data(h as i32, w as i32, &init.data[k])?;
+            if dark {
+                core::subtract_def(bg, &f, &mut sc.ev)?;
+            } else {
+                core::subtract_def(&f, bg, &mut sc.ev)?;
+            }
+            sc.morph.tophat(sc.ev.data_bytes()?, w, h, &mut sc.top);
+            let th = Mat::new_rows_cols_with_data(h as i32, w as i32, &sc.top)?;
+            // Keep what exceeds each pixel's own noise threshold (at least one grey level).
+            core::compare(&th, tmap, &mut sc.keep, core::CMP_GT)?;
+            if faint {
+                faint_frame_lines(&th, &sc.keep, min_len)
+            } else {
+                frame_lines(&th, &sc.keep, min_len)
+            }
+        };
     // The frames' lines, each frame alone: shared among up to [`GEOMETRY_THREADS`]
     // processors (the look's geometry is most of the detector's fixed cost on a short
     // video), in the frames' order; `None` when `race` gave the polarity up.
@@ -713,10 +720,11 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
                     .map(|from| {
                         let work = &frame_lines_against;
                         s.spawn(move || {
+                            let mut scratch = Scratch::default();
                             (from..(from + per).min(n))
                                 .take_while(|_| !race.lost())
                                 .map(|k| {
-                                    let lines = work(bg, dark, k)?;
+                                    let lines = work(bg, dark, k, &mut scratch)?;
                                     if k.is_multiple_of(stride) {
                                         race.looked(lines.first());
                                     }

@@ -393,3 +393,60 @@ fn one_decoding_measures_what_two_do() {
         );
     }
 }
+
+#[test]
+fn a_wire_beside_a_stronger_shadow_is_found_again_by_the_side_its_sharper_ridge_lies_on() {
+    // The shadow diverges 4 degrees from the wire, darker (60 grey levels against 40)
+    // and a little wider (sigma 1.1 px): the stronger ridge in most frames, and not
+    // clearly the wider in any one. Tracked by strength, the shadow is followed
+    // throughout. The frames where both are seen tell, over time, that the sharper
+    // ridge lies on the larger-angle side: from then on the wire is kept.
+    let scene = Scene {
+        width: 320,
+        height: 240,
+        fps: 25.0,
+        seconds: 24.0,
+        pivot: (161.3, 18.6),
+        length: 200.0,
+        rest: PI / 2.0 + 3f64.to_radians(),
+        amp: 12f64.to_radians(),
+        period: 2.2,
+        contrast: 40.0,
+        shadow: Some((-4f64.to_radians(), 1.1, 60.0)),
+        hand: None,
+    };
+    let d = detect_from(&scene.video(), &DetectOptions::default()).unwrap();
+    let n = d.rows.len();
+    assert_eq!(n, scene.frames());
+    // Frames measured more than 1 deg off (on the shadow), in the first quarter and after.
+    let off = |from: usize, to: usize| {
+        d.rows[from..to]
+            .iter()
+            .filter(|r| r.status == Status::Ok)
+            .filter(|r| {
+                (r.angle_rad.unwrap() - scene.angle(r.t_s))
+                    .to_degrees()
+                    .abs()
+                    > 1.0
+            })
+            .count()
+    };
+    let (early, late) = (off(0, n / 4), off(n / 4, n));
+    eprintln!(
+        "wire and shadow: {early} of the first {} frames on the shadow, {late} after",
+        n / 4
+    );
+    assert_eq!(
+        late, 0,
+        "{late} frames after the first quarter on the shadow"
+    );
+    assert!(
+        early <= n / 16,
+        "{early} frames of the first quarter on the shadow"
+    );
+    assert!(
+        d.count(Status::Ok) as f64 >= 0.95 * n as f64,
+        "{} of {n} frames ok",
+        d.count(Status::Ok)
+    );
+}

@@ -47,6 +47,8 @@ pub(super) struct Tracker {
     rect: core::Rect,
     wedge: (f64, f64),
     scratch: measure::Scratch,
+    /// Which side of a wire-and-shadow pair the wire lies on, as learnt.
+    ridges: measure::Ridges,
     prev: Vec<u8>,
     mean_level: Option<f64>,
     gate: f64,
@@ -139,6 +141,7 @@ impl Tracker {
             rect: core::Rect::default(),
             wedge: (0.0, 0.0),
             scratch: measure::Scratch::default(),
+            ridges: measure::Ridges::default(),
             prev: Vec::new(),
             mean_level: None,
             gate: opts.gate_deg.to_radians(),

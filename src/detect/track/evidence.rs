@@ -27,12 +27,24 @@ const TOPHAT_REACH: i32 = 6;
 
 impl Tracker {
     /// The angle range searched: within three gates of the prediction (wider after
-    /// refused frames), or every angle the wire was seen at without a prediction.
+    /// refused frames), or every angle the wire was seen at without a prediction. Once
+    /// the side of a wire-and-shadow pair the wire lies on is known, the range reaches
+    /// past the pair's separation on that side: a track on the shadow then sees the
+    /// wire beside it, and goes back to it.
     pub(super) fn search_wedge(&self, pred: Option<f64>) -> (f64, f64) {
         match pred {
             Some(p) => {
                 let wdg = (3.0 * self.gate * (1.0 + self.since_good as f64)).max(2f64.to_radians());
-                (p - wdg, p + wdg)
+                let (mut lo, mut hi) = (p - wdg, p + wdg);
+                if let Some((side, sep)) = self.ridges.side() {
+                    let reach = self.ridges.reach(sep);
+                    if side > 0.0 {
+                        hi = hi.max(p + reach);
+                    } else {
+                        lo = lo.min(p - reach);
+                    }
+                }
+                (lo, hi)
             }
             None => (self.geo.theta_min - 0.35, self.geo.theta_max + 0.35),
         }

@@ -337,7 +337,8 @@ const PAIR_MAX: f64 = 0.1745;
 const PAIR_VOTE_RATIO: f64 = 0.97;
 /// Votes before the side is known, and how far one side must lead, in standard
 /// deviations of a fair coin's lead (`sqrt(votes)`): ridges with no side of their own
-/// (a wire passing a fixed line) lead by chance that far about once in a thousand.
+/// (a wire passing a fixed line) lead that far by chance at any one count about 3 times
+/// in 1000 (more often over a long video, as the lead is weighed at every vote).
 const PAIR_MIN_VOTES: usize = 12;
 const PAIR_LEAD_SIGMAS: f64 = 3.0;
 /// A pair is the learnt one when its separation is within this share of the learnt

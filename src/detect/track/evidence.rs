@@ -37,7 +37,7 @@ impl Tracker {
                 let wdg = (3.0 * self.gate * (1.0 + self.since_good as f64)).max(2f64.to_radians());
                 let (mut lo, mut hi) = (p - wdg, p + wdg);
                 if let Some((side, sep)) = self.ridges.side() {
-                    let reach = self.ridges.reach(sep);
+                    let reach = super::measure::Ridges::reach(sep);
                     if side > 0.0 {
                         hi = hi.max(p + reach);
                     } else {

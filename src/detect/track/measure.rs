@@ -396,7 +396,7 @@ impl Ridges {
     /// How far past the prediction the search reaches on the wire's side, rad: the
     /// farthest a pair like the learnt one (separation `sep`) lies, and the room the
     /// histogram's peak score needs beyond it.
-    pub(super) fn reach(&self, sep: f64) -> f64 {
+    pub(super) fn reach(sep: f64) -> f64 {
         (1.0 + PAIR_SEP_TOL) * sep + 2f64.to_radians()
     }
 }
@@ -509,8 +509,10 @@ impl Tracker {
         // Neither clearly sharper: a pair like the ones seen is told by the side the wire
         // lies on ([`Ridges`]), unless the ridge on that side is clearly wider.
         let mut decided = pick != 0;
-        if let (Some(j), Some((side, along)), false) = (pair, learnt, decided || self.starting()) {
-            if (sep(j).abs() - along).abs() <= PAIR_SEP_TOL * along {
+        if let (Some(j), Some((side, along))) = (pair, learnt) {
+            let like_learnt = (sep(j).abs() - along).abs() <= PAIR_SEP_TOL * along;
+            if like_learnt && !decided && !self.starting() {
+                // The rival on the shadow's side: the strongest is the wire.
                 if sep(j) * side < 0.0 {
                     decided = true;
                 } else if width[j] <= RIVAL_WIDER_GATED * width[0] {
@@ -576,27 +578,22 @@ mod tests {
         // Nearly equal widths (0.98 of the other's) do not vote.
         r.observe((deg(20.0), 1.0), (deg(16.0), 0.98));
         assert_eq!(r.votes, 12);
+        // `n` votes, one in four for `fourth`'s side and the rest for `rest`'s.
+        let mixed =
+            |n: usize, fourth: &dyn Fn(&mut Ridges, f64), rest: &dyn Fn(&mut Ridges, f64)| {
+                let mut r = Ridges::default();
+                for k in 0..n {
+                    let vote = if k % 4 == 0 { fourth } else { rest };
+                    vote(&mut r, k as f64);
+                }
+                r
+            };
         // 12 against 4: a lead of 8 is under 3 sqrt(16) = 12.
-        let mut r = Ridges::default();
-        for k in 0..16 {
-            if k % 4 == 0 {
-                wire_below(&mut r, k as f64);
-            } else {
-                wire_above(&mut r, k as f64);
-            }
-        }
-        assert_eq!(r.side(), None);
+        assert_eq!(mixed(16, &wire_below, &wire_above).side(), None);
         // 27 against 9: a lead of 18 is 3 sqrt(36); the side is the wire's, below.
-        let mut r = Ridges::default();
-        for k in 0..36 {
-            if k % 4 == 0 {
-                wire_above(&mut r, k as f64);
-            } else {
-                wire_below(&mut r, k as f64);
-            }
-        }
+        let r = mixed(36, &wire_above, &wire_below);
         assert_eq!(r.side().map(|s| s.0), Some(-1.0));
-        assert!((r.reach(deg(4.0)) - deg(8.0)).abs() < 1e-12);
+        assert!((Ridges::reach(deg(4.0)) - deg(8.0)).abs() < 1e-12);
     }
 
     #[test]

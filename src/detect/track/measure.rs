@@ -319,9 +319,12 @@ const RIVAL_COVER: f64 = 0.6;
 /// wire, but it is wide and the wire is a sharp ridge.
 const RIVAL_SHARPER: f64 = 0.7;
 /// ... or this much narrower while the track begins (fewer than three frames accepted,
-/// the whole sweep searched): there is no track to keep yet, and a wire beside a
-/// stronger shadow of a similar width (1.12 px against 1.40, 1.17 against 1.28 on
-/// 640x480 and 1280x720 twins) is told by its sharper ridge.
+/// the whole sweep searched) or starts again (lost: no prediction): there is no track
+/// to keep, and a wire beside a stronger shadow of a similar width (1.12 px against
+/// 1.40, 1.17 against 1.28 on 640x480 and 1280x720 twins) is told by its sharper
+/// ridge. On a 1280x720 twin with a 1 px wire (worked at half size), a lost track that
+/// took the strongest ridge took the numerals of a protractor the wire had left (their
+/// ridge 1.25 times as wide as the wire's), and stayed on them for 45 frames.
 const RIVAL_SHARPER_START: f64 = 0.92;
 /// A rival within the gate of the prediction, the strongest peak outside it, is the wire
 /// unless this much wider than the strongest.
@@ -486,7 +489,7 @@ impl Tracker {
         }
         let rivals = || (1..peaks.len()).filter(|&j| cover(j) >= RIVAL_COVER * cover(0));
         let mut pick = 0;
-        let sharper = if self.starting() {
+        let sharper = if self.starting() || pred.is_none() {
             RIVAL_SHARPER_START
         } else {
             RIVAL_SHARPER
@@ -551,6 +554,107 @@ impl Tracker {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 320x240 wall at 200 with a wire 45 grey levels dark (2 px wide) from (160, 20)
+    /// at `wire` rad, and a line 120 dark, a Gaussian of sigma 0.9 px across, at `other`:
+    /// the stronger ridge, and a little wider (not by the 30 % that outweighs a kept
+    /// track's strongest ridge, by more than the 8 % a starting track needs).
+    fn two_lines(index: u64, wire: Option<f64>, other: Option<f64>) -> crate::video::Frame {
+        let (w, h) = (320usize, 240usize);
+        let mut data = vec![200u8; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let (vx, vy) = (x as f64 - 160.0, y as f64 - 20.0);
+                let mut v = 200.0;
+                for (th, depth, sharp) in [(wire, 45.0, true), (other, 120.0, false)] {
+                    let Some(th) = th else { continue };
+                    let along = vx * th.cos() + vy * th.sin();
+                    let across = (vx * th.sin() - vy * th.cos()).abs();
+                    if (0.0..=200.0).contains(&along) {
+                        v -= depth
+                            * if sharp {
+                                (1.5 - across).clamp(0.0, 1.0)
+                            } else {
+                                (-0.5 * (across / 0.9).powi(2)).exp()
+                            };
+                    }
+                }
+                data[y * w + x] = v.round() as u8;
+            }
+        }
+        crate::video::Frame {
+            index,
+            t_s: index as f64 / 25.0,
+            width: w,
+            height: h,
+            data,
+        }
+    }
+
+    #[test]
+    fn a_lost_track_starts_again_on_the_sharper_ridge_not_the_stronger() {
+        use crate::detect::geometry::WireGeometry;
+        use opencv::core::{Mat, Scalar, CV_8UC1};
+        let deg = |d: f64| d.to_radians();
+        let roi = crate::video::Roi {
+            x: 0,
+            y: 0,
+            w: 320,
+            h: 240,
+        };
+        let geo = WireGeometry {
+            pivot: Pt::new(160.0, 20.0),
+            dark: true,
+            r_lo: 30.0,
+            r_hi: 190.0,
+            theta_min: deg(78.0),
+            theta_max: deg(102.0),
+            roi,
+            initial_angles: Vec::new(),
+            lines_used: 20,
+            jumps: 0,
+            roughness: 0.0,
+            stage: 0,
+        };
+        let flat = |v: f64| Mat::new_rows_cols_with_default(240, 320, CV_8UC1, Scalar::all(v));
+        let mut t = Tracker::new(
+            &geo,
+            &crate::detect::DetectOptions::default(),
+            flat(200.0).unwrap(),
+            flat(4.0).unwrap(),
+            flat(200.0).unwrap(),
+            1.0,
+            roi,
+        )
+        .unwrap();
+        // The wire alone, swinging 1 deg a frame: the track is on it.
+        let wire = |k: u64| deg(80.0 + k as f64);
+        for k in 0..8 {
+            let row = t.step(&two_lines(k, Some(wire(k)), None), None).unwrap();
+            assert!(row.flag.is_none(), "frame {k}: {:?}", row.flag);
+        }
+        // Gone for six frames: the track is lost (no prediction).
+        for k in 8..14 {
+            t.step(&two_lines(k, None, None), None).unwrap();
+        }
+        assert_eq!(t.predict(14.0 / 25.0), None, "the track is lost");
+        // Back, with the stronger and wider line 15 deg off (past the wedge a track
+        // keeps, within the sweep a lost track searches).
+        let k = 14;
+        let row = t
+            .step(
+                &two_lines(k, Some(wire(k)), Some(wire(k) - deg(15.0))),
+                None,
+            )
+            .unwrap();
+        let got = row.angle_rad.expect("an angle").to_degrees();
+        assert!(
+            (got - wire(k).to_degrees()).abs() < 0.5,
+            "started again at {got:.2} deg: the wire is at {:.2}, the stronger line at {:.2}",
+            wire(k).to_degrees(),
+            wire(k).to_degrees() - 15.0
+        );
+    }
 
     #[test]
     fn the_wire_s_side_is_known_once_the_sharper_ridge_leads_by_three_sigmas() {

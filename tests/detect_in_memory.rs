@@ -32,6 +32,26 @@ struct Scene {
 }
 
 impl Scene {
+    /// The 320x240 scene most tests start from: a wire 120 grey levels dark from 19 px
+    /// below the top edge's middle, 200 px long, swinging 20 deg either side of 3 deg
+    /// past straight down every 2.2 s, for 8 s at 25 frames/s; no shadow, no hand.
+    fn small() -> Self {
+        Self {
+            width: 320,
+            height: 240,
+            fps: 25.0,
+            seconds: 8.0,
+            pivot: (161.3, 18.6),
+            length: 200.0,
+            rest: PI / 2.0 + 3f64.to_radians(),
+            amp: 20f64.to_radians(),
+            period: 2.2,
+            contrast: 120.0,
+            shadow: None,
+            hand: None,
+        }
+    }
+
     fn angle(&self, t: f64) -> f64 {
         self.rest + self.amp * (TAU * t / self.period).cos()
     }
@@ -182,20 +202,7 @@ fn measure(name: &str, scene: &Scene) -> (f64, f64, f64) {
 
 #[test]
 fn a_wire_drawn_in_memory_is_measured_back_without_a_decoder() {
-    let scene = Scene {
-        width: 320,
-        height: 240,
-        fps: 25.0,
-        seconds: 8.0,
-        pivot: (161.3, 18.6),
-        length: 200.0,
-        rest: PI / 2.0 + 3f64.to_radians(),
-        amp: 20f64.to_radians(),
-        period: 2.2,
-        contrast: 120.0,
-        shadow: None,
-        hand: None,
-    };
+    let scene = Scene::small();
     let (rms, max, piv) = measure("320x240", &scene);
     assert!(rms < 0.1, "angle error RMS {rms:.4} deg");
     assert!(max < 0.5, "largest angle error {max:.4} deg");
@@ -232,18 +239,9 @@ fn a_faint_wire_is_followed_beside_its_darker_soft_shadow() {
     // px) and, on its centre line, twice as dark as the wire: it holds more evidence,
     // but the wire is the sharp ridge.
     let scene = Scene {
-        width: 320,
-        height: 240,
-        fps: 25.0,
-        seconds: 8.0,
-        pivot: (161.3, 18.6),
-        length: 200.0,
-        rest: PI / 2.0 + 3f64.to_radians(),
-        amp: 20f64.to_radians(),
-        period: 2.2,
         contrast: 30.0,
         shadow: Some((-4f64.to_radians(), 2.5, 60.0)),
-        hand: None,
+        ..Scene::small()
     };
     // Followed, not swapped for the shadow: every error well inside the 4 degrees. The
     // shadow's flank near the fulcrum still pulls the angle by about 0.27 degrees and
@@ -265,18 +263,11 @@ fn a_wire_beside_a_stronger_shadow_of_its_width_is_kept_through_a_passing_hand()
     // keeps it while a hand passes over both: once the hand has gone, the shadow is
     // the strongest line but lies outside the gate, the wire within it.
     let scene = Scene {
-        width: 320,
-        height: 240,
-        fps: 25.0,
-        seconds: 8.0,
-        pivot: (161.3, 18.6),
-        length: 200.0,
-        rest: PI / 2.0 + 3f64.to_radians(),
         amp: 12f64.to_radians(),
-        period: 2.2,
         contrast: 45.0,
         shadow: Some((5f64.to_radians(), 1.8, 70.0)),
         hand: Some((45.0, 100, 108)),
+        ..Scene::small()
     };
     let (rms, max, piv) = measure("320x240, a shadow and a hand", &scene);
     assert!(
@@ -402,18 +393,11 @@ fn a_wire_beside_a_stronger_shadow_is_found_again_by_the_side_its_sharper_ridge_
     // throughout. The frames where both are seen tell, over time, that the sharper
     // ridge lies on the larger-angle side: from then on the wire is kept.
     let scene = Scene {
-        width: 320,
-        height: 240,
-        fps: 25.0,
         seconds: 24.0,
-        pivot: (161.3, 18.6),
-        length: 200.0,
-        rest: PI / 2.0 + 3f64.to_radians(),
         amp: 12f64.to_radians(),
-        period: 2.2,
         contrast: 40.0,
         shadow: Some((-4f64.to_radians(), 1.1, 60.0)),
-        hand: None,
+        ..Scene::small()
     };
     let d = detect_from(&scene.video(), &DetectOptions::default()).unwrap();
     let n = d.rows.len();

@@ -178,6 +178,18 @@ impl Tracker {
         if n == 0 || self.since_good + self.repeats_since_good > 4 {
             return None;
         }
+        // Frames after a refused one are predicted further ahead, where three noisy
+        // angles' curvature throws the quadratic off: the least-squares quadratic of
+        // the accepted angles of the last [`LONG_FIT_S`] then.
+        if self.since_good + self.repeats_since_good > 0 {
+            let t_last = self.hist[n - 1].0;
+            let from = self.hist.partition_point(|h| h.0 < t_last - LONG_FIT_S);
+            if n - from >= LONG_FIT_FRAMES {
+                if let Some(p) = quadratic_at(&self.hist[from..], t) {
+                    return Some(p);
+                }
+            }
+        }
         let recent = &self.hist[n.saturating_sub(3)..];
         if recent.len() == 3 && recent[2].0 - recent[0].0 < 0.25 {
             // The quadratic through the last three accepted angles (Lagrange form).
@@ -346,20 +358,31 @@ impl Tracker {
                 flag
             );
         }
-        if angle.is_finite() {
+        // A weak measurement (too little of the band covered) is no evidence of where
+        // the wire went: the re-anchoring below does not count it.
+        if angle.is_finite() && flag != Some(Flag::Weak) {
             self.raw.push((f.t_s, angle));
             if self.raw.len() > 8 {
                 self.raw.remove(0);
             }
         }
         // Re-anchor after a run of rejections when the last three raw measurements agree
-        // with one another (a smooth motion): the history, not the wire, was wrong.
+        // with one another (a smooth motion): the history, not the wire, was wrong. Not
+        // onto a line that stands still away from where the track last was: a wire
+        // that was moving does not stop dead elsewhere, but a fixed mark does not move
+        // (a twin's protractor numerals took the track that way at the release, and
+        // held it for 2.7 s while the wire swung 19 deg away).
         let flag = match flag {
             Some(Flag::Gate) if self.since_good >= 2 && self.raw.len() >= 3 => {
                 let r = &self.raw[self.raw.len() - 3..];
                 let smooth =
                     (r[2].1 - 2.0 * r[1].1 + r[0].1).abs() < self.gate && r[2].0 - r[0].0 < 0.2;
-                if smooth {
+                let still_elsewhere = (r[2].1 - r[0].1).abs() < REANCHOR_STILL_DEG.to_radians()
+                    && self
+                        .hist
+                        .last()
+                        .is_some_and(|h| (r[2].1 - h.1).abs() > REANCHOR_AWAY_GATES * self.gate);
+                if smooth && !still_elsewhere {
                     self.hist.clear();
                     self.hist.extend_from_slice(&r[..2]);
                     None
@@ -548,6 +571,39 @@ const REFINE_LINES: usize = 20;
 const REFINE_CENTRAL: f64 = 0.8;
 const REFINE_SPREAD_DEG: f64 = 2.0;
 
+/// A re-anchoring's three raw measurements that move less than this (deg) and lie
+/// more than [`REANCHOR_AWAY_GATES`] gate from the last accepted angle are a fixed
+/// mark, not the wire (`Tracker::step`).
+const REANCHOR_STILL_DEG: f64 = 0.25;
+const REANCHOR_AWAY_GATES: f64 = 1.0;
+
+/// The least-squares quadratic through `pts` (time s, angle rad) evaluated at `t`,
+/// in time about the last point (`None` when the points do not fix one).
+fn quadratic_at(pts: &[(f64, f64)], t: f64) -> Option<f64> {
+    if pts.len() < 3 {
+        return None;
+    }
+    let t0 = pts.last()?.0;
+    let mut a = nalgebra::Matrix3::<f64>::zeros();
+    let mut b = nalgebra::Vector3::<f64>::zeros();
+    for &(ti, yi) in pts {
+        let x = ti - t0;
+        let v = nalgebra::Vector3::new(1.0, x, x * x);
+        a += v * v.transpose();
+        b += v * yi;
+    }
+    let c = a.lu().solve(&b)?;
+    let x = t - t0;
+    let p = c[0] + c[1] * x + c[2] * x * x;
+    p.is_finite().then_some(p)
+}
+
+/// After a refused frame, the prediction is the least-squares quadratic of the
+/// accepted angles of the last `LONG_FIT_S` s, when there are `LONG_FIT_FRAMES` or
+/// more of them (`Tracker::predict_raw`).
+const LONG_FIT_S: f64 = 0.3;
+const LONG_FIT_FRAMES: usize = 6;
+
 /// Accepted frames that make a track: the quadratic prediction needs three.
 const START_FRAMES: usize = 3;
 
@@ -577,6 +633,45 @@ fn mean_abs_diff_sampled(a: &[u8], sampled: &[u8], step: usize) -> f64 {
         return f64::INFINITY;
     }
     s as f64 / n.max(1) as f64
+}
+
+/// A tracker of a 320x240 region on a flat wall at 200 (the noise threshold 4 grey
+/// levels everywhere), its wire dark and hung from (160, 20), seen from 30 to 190 px and
+/// between `theta` rad: for tests that step it through frames drawn in memory.
+#[cfg(test)]
+pub(super) fn test_tracker(theta: (f64, f64)) -> Tracker {
+    use opencv::core::CV_8UC1;
+    let roi = Roi {
+        x: 0,
+        y: 0,
+        w: 320,
+        h: 240,
+    };
+    let geo = WireGeometry {
+        pivot: Pt::new(160.0, 20.0),
+        dark: true,
+        r_lo: 30.0,
+        r_hi: 190.0,
+        theta_min: theta.0,
+        theta_max: theta.1,
+        roi,
+        initial_angles: Vec::new(),
+        lines_used: 20,
+        jumps: 0,
+        roughness: 0.0,
+        stage: 0,
+    };
+    let flat = |v: f64| Mat::new_rows_cols_with_default(240, 320, CV_8UC1, Scalar::all(v));
+    Tracker::new(
+        &geo,
+        &DetectOptions::default(),
+        flat(200.0).unwrap(),
+        flat(4.0).unwrap(),
+        flat(200.0).unwrap(),
+        1.0,
+        roi,
+    )
+    .unwrap()
 }
 
 #[cfg(test)]
@@ -645,6 +740,41 @@ mod tests {
         );
         // Too few lines.
         assert_eq!(refined_pivot(&fan(truth)[..19], piv, 12.0), None);
+    }
+
+    #[test]
+    fn after_a_refused_frame_the_prediction_is_the_longer_fit_not_three_noisy_angles() {
+        let mut t = test_tracker((1.3, 1.9));
+        // A wire turning 1 deg a frame at 25 frames/s, slowing by 0.02 deg a frame each
+        // frame, measured with 0.15 deg of noise, alternately either side.
+        let truth = |k: f64| (80.0 + k - 0.01 * k * k).to_radians();
+        for k in 0..8 {
+            let e = if k % 2 == 0 { 0.15 } else { -0.15 };
+            t.hist
+                .push((k as f64 / 25.0, truth(k as f64) + f64::to_radians(e)));
+        }
+        // One frame refused; the next is two frames ahead of the last accepted.
+        t.since_good = 1;
+        let p = t.predict_raw(9.0 / 25.0).expect("a prediction");
+        let err = (p - truth(9.0)).to_degrees();
+        assert!(err.abs() < 0.3, "predicted {err:.2} deg off");
+        // The three last angles alone put it off by 1.8 deg (their second difference
+        // is 0.6 deg of noise against 0.02 of motion): the track's own.
+        t.since_good = 0;
+        let three = (t.predict_raw(9.0 / 25.0).unwrap() - truth(9.0)).to_degrees();
+        assert!(three.abs() > 1.0, "three angles: {three:.2} deg off");
+    }
+
+    #[test]
+    fn the_least_squares_quadratic_is_exact_on_a_parabola() {
+        let f = |t: f64| 1.0 - 2.0 * t + 3.0 * t * t;
+        let pts: Vec<(f64, f64)> = (0..6)
+            .map(|k| (0.1 * k as f64, f(0.1 * k as f64)))
+            .collect();
+        let p = quadratic_at(&pts, 0.8).unwrap();
+        assert!((p - f(0.8)).abs() < 1e-9, "{p}");
+        // Two points do not fix a quadratic.
+        assert_eq!(quadratic_at(&pts[..2], 0.8), None);
     }
 
     #[test]

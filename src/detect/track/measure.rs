@@ -593,40 +593,8 @@ mod tests {
 
     #[test]
     fn a_lost_track_starts_again_on_the_sharper_ridge_not_the_stronger() {
-        use crate::detect::geometry::WireGeometry;
-        use opencv::core::{Mat, Scalar, CV_8UC1};
         let deg = |d: f64| d.to_radians();
-        let roi = crate::video::Roi {
-            x: 0,
-            y: 0,
-            w: 320,
-            h: 240,
-        };
-        let geo = WireGeometry {
-            pivot: Pt::new(160.0, 20.0),
-            dark: true,
-            r_lo: 30.0,
-            r_hi: 190.0,
-            theta_min: deg(78.0),
-            theta_max: deg(102.0),
-            roi,
-            initial_angles: Vec::new(),
-            lines_used: 20,
-            jumps: 0,
-            roughness: 0.0,
-            stage: 0,
-        };
-        let flat = |v: f64| Mat::new_rows_cols_with_default(240, 320, CV_8UC1, Scalar::all(v));
-        let mut t = Tracker::new(
-            &geo,
-            &crate::detect::DetectOptions::default(),
-            flat(200.0).unwrap(),
-            flat(4.0).unwrap(),
-            flat(200.0).unwrap(),
-            1.0,
-            roi,
-        )
-        .unwrap();
+        let mut t = super::super::test_tracker((deg(78.0), deg(102.0)));
         // The wire alone, swinging 1 deg a frame: the track is on it.
         let wire = |k: u64| deg(80.0 + k as f64);
         for k in 0..8 {
@@ -653,6 +621,56 @@ mod tests {
             "started again at {got:.2} deg: the wire is at {:.2}, the stronger line at {:.2}",
             wire(k).to_degrees(),
             wire(k).to_degrees() - 15.0
+        );
+    }
+
+    #[test]
+    fn a_track_does_not_re_anchor_on_a_fixed_line_the_wire_moved_away_from() {
+        let deg = |d: f64| d.to_radians();
+        let mut t = super::super::test_tracker((deg(78.0), deg(102.0)));
+        // A fixed line at 80 deg, and the wire 4 deg from it, leaving it 0.25 deg a
+        // frame.
+        let mark = Some(deg(80.0));
+        let wire = |k: u64| deg(84.0 + 0.25 * k as f64);
+        // A grey level of sensor noise, so that frames that show the same lines are not
+        // taken for repeated ones.
+        let frame = |k: u64, wire: Option<f64>| {
+            let mut f = two_lines(k, wire, mark);
+            for (i, v) in f.data.iter_mut().enumerate() {
+                *v = (*v as usize + (i * 31 + k as usize * 17) % 3).saturating_sub(1) as u8;
+            }
+            f
+        };
+        for k in 0..14 {
+            let row = t.step(&frame(k, Some(wire(k))), None).unwrap();
+            let got = row.angle_rad.expect("an angle").to_degrees();
+            assert!(
+                row.flag.is_none() && (got - wire(k).to_degrees()).abs() < 0.5,
+                "frame {k}: {got:.2} deg, {:?}: the wire is at {:.2}",
+                row.flag,
+                wire(k).to_degrees()
+            );
+        }
+        // The wire unseen for four frames (too faint, too fast): only the fixed line,
+        // 7.5 deg behind the track, which stands still there. It is in the track's
+        // search from the second of them, and refused by the gate.
+        for k in 14..18 {
+            let row = t.step(&frame(k, None), None).unwrap();
+            assert!(
+                row.flag.is_some(),
+                "frame {k}: the fixed line accepted at {:?} deg",
+                row.angle_rad.map(f64::to_degrees)
+            );
+        }
+        // Back: the track is still the wire's.
+        let k = 18;
+        let row = t.step(&frame(k, Some(wire(k))), None).unwrap();
+        let got = row.angle_rad.expect("an angle").to_degrees();
+        assert!(
+            row.flag.is_none() && (got - wire(k).to_degrees()).abs() < 0.5,
+            "frame {k}: {got:.2} deg, {:?}: the wire is at {:.2}",
+            row.flag,
+            wire(k).to_degrees()
         );
     }
 

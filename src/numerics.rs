@@ -6,7 +6,7 @@
 //!   [`f64::total_cmp`].
 //! * [`linear_fit`] is the ordinary least-squares line `y = intercept + slope x` with the
 //!   standard error of its slope; [`slope_through_origin`] is the least-squares line
-//!   `y = k x`.
+//!   `y = k x`; [`quadratic_at`] is the least-squares quadratic's value at a point.
 //! * [`golden_section_min`] narrows a bracket around the minimum of a unimodal function;
 //!   [`bisect`] narrows a bracket around the point where a condition stops holding.
 //!
@@ -14,6 +14,28 @@
 //! result does not change by a bit from one caller or release to the next.
 
 use serde::Serialize;
+
+/// The least-squares quadratic through the points `(x, y)`, evaluated at `at`: the
+/// points are taken about `at` (`x - at`, in their order) and the normal equations
+/// solved by Cholesky. `None` with fewer than three points, or points that do not fix a
+/// quadratic.
+pub fn quadratic_at(pts: impl IntoIterator<Item = (f64, f64)>, at: f64) -> Option<f64> {
+    let mut ata = nalgebra::Matrix3::<f64>::zeros();
+    let mut atb = nalgebra::Vector3::<f64>::zeros();
+    let mut n = 0;
+    for (x, y) in pts {
+        let x = x - at;
+        let v = nalgebra::Vector3::new(1.0, x, x * x);
+        ata += v * v.transpose();
+        atb += v * y;
+        n += 1;
+    }
+    if n < 3 {
+        return None;
+    }
+    let p = ata.cholesky()?.solve(&atb)[0];
+    p.is_finite().then_some(p)
+}
 
 /// Median of `v`: the middle value of an odd count, the mean of the two middle values of
 /// an even count. Sorts `v`; `v` must not be empty.
@@ -148,6 +170,18 @@ pub fn bisect(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_least_squares_quadratic_is_exact_on_a_parabola() {
+        let f = |t: f64| 1.0 - 2.0 * t + 3.0 * t * t;
+        let pts: Vec<(f64, f64)> = (0..6)
+            .map(|k| (0.1 * k as f64, f(0.1 * k as f64)))
+            .collect();
+        let p = quadratic_at(pts.iter().copied(), 0.8).unwrap();
+        assert!((p - f(0.8)).abs() < 1e-9, "{p}");
+        // Two points do not fix a quadratic.
+        assert_eq!(quadratic_at(pts[..2].iter().copied(), 0.8), None);
+    }
 
     #[test]
     fn golden_section_ends_when_the_tolerance_is_below_float_spacing() {

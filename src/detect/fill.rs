@@ -75,17 +75,13 @@ pub(super) fn fill_flagged(rows: &mut [AngleRow]) {
             rows[i].status = Status::Corrected;
             continue;
         }
-        let mut ata = nalgebra::Matrix3::<f64>::zeros();
-        let mut atb = nalgebra::Vector3::<f64>::zeros();
-        for &g in before.iter().chain(&after) {
-            let x = rows[g].t_s - t;
-            let v = nalgebra::Vector3::new(1.0, x, x * x);
-            ata += v * v.transpose();
-            atb += v * rows[g].angle_rad.expect("good rows have angles");
-        }
-        match ata.cholesky() {
-            Some(c) => {
-                rows[i].angle_rad = Some(c.solve(&atb)[0]);
+        let near = before.iter().chain(&after).map(|&g| {
+            let r = &rows[g];
+            (r.t_s, r.angle_rad.expect("good rows have angles"))
+        });
+        match crate::numerics::quadratic_at(near, t) {
+            Some(v) => {
+                rows[i].angle_rad = Some(v);
                 rows[i].status = Status::Corrected;
             }
             None => {

@@ -185,7 +185,8 @@ impl Tracker {
             let t_last = self.hist[n - 1].0;
             let from = self.hist.partition_point(|h| h.0 < t_last - LONG_FIT_S);
             if n - from >= LONG_FIT_FRAMES {
-                if let Some(p) = quadratic_at(&self.hist[from..], t) {
+                if let Some(p) = crate::numerics::quadratic_at(self.hist[from..].iter().copied(), t)
+                {
                     return Some(p);
                 }
             }
@@ -577,27 +578,6 @@ const REFINE_SPREAD_DEG: f64 = 2.0;
 const REANCHOR_STILL_DEG: f64 = 0.25;
 const REANCHOR_AWAY_GATES: f64 = 1.0;
 
-/// The least-squares quadratic through `pts` (time s, angle rad) evaluated at `t`,
-/// in time about the last point (`None` when the points do not fix one).
-fn quadratic_at(pts: &[(f64, f64)], t: f64) -> Option<f64> {
-    if pts.len() < 3 {
-        return None;
-    }
-    let t0 = pts.last()?.0;
-    let mut a = nalgebra::Matrix3::<f64>::zeros();
-    let mut b = nalgebra::Vector3::<f64>::zeros();
-    for &(ti, yi) in pts {
-        let x = ti - t0;
-        let v = nalgebra::Vector3::new(1.0, x, x * x);
-        a += v * v.transpose();
-        b += v * yi;
-    }
-    let c = a.lu().solve(&b)?;
-    let x = t - t0;
-    let p = c[0] + c[1] * x + c[2] * x * x;
-    p.is_finite().then_some(p)
-}
-
 /// After a refused frame, the prediction is the least-squares quadratic of the
 /// accepted angles of the last `LONG_FIT_S` s, when there are `LONG_FIT_FRAMES` or
 /// more of them (`Tracker::predict_raw`).
@@ -763,18 +743,6 @@ mod tests {
         t.since_good = 0;
         let three = (t.predict_raw(9.0 / 25.0).unwrap() - truth(9.0)).to_degrees();
         assert!(three.abs() > 1.0, "three angles: {three:.2} deg off");
-    }
-
-    #[test]
-    fn the_least_squares_quadratic_is_exact_on_a_parabola() {
-        let f = |t: f64| 1.0 - 2.0 * t + 3.0 * t * t;
-        let pts: Vec<(f64, f64)> = (0..6)
-            .map(|k| (0.1 * k as f64, f(0.1 * k as f64)))
-            .collect();
-        let p = quadratic_at(&pts, 0.8).unwrap();
-        assert!((p - f(0.8)).abs() < 1e-9, "{p}");
-        // Two points do not fix a quadratic.
-        assert_eq!(quadratic_at(&pts[..2], 0.8), None);
     }
 
     #[test]

@@ -641,8 +641,7 @@ mod tests {
             }
             f
         };
-        for k in 0..14 {
-            let row = t.step(&frame(k, Some(wire(k))), None).unwrap();
+        let on_wire = |k: u64, row: crate::detect::AngleRow| {
             let got = row.angle_rad.expect("an angle").to_degrees();
             assert!(
                 row.flag.is_none() && (got - wire(k).to_degrees()).abs() < 0.5,
@@ -650,6 +649,9 @@ mod tests {
                 row.flag,
                 wire(k).to_degrees()
             );
+        };
+        for k in 0..14 {
+            on_wire(k, t.step(&frame(k, Some(wire(k))), None).unwrap());
         }
         // The wire unseen for four frames (too faint, too fast): only the fixed line,
         // 7.5 deg behind the track, which stands still there. It is in the track's
@@ -663,15 +665,7 @@ mod tests {
             );
         }
         // Back: the track is still the wire's.
-        let k = 18;
-        let row = t.step(&frame(k, Some(wire(k))), None).unwrap();
-        let got = row.angle_rad.expect("an angle").to_degrees();
-        assert!(
-            row.flag.is_none() && (got - wire(k).to_degrees()).abs() < 0.5,
-            "frame {k}: {got:.2} deg, {:?}: the wire is at {:.2}",
-            row.flag,
-            wire(k).to_degrees()
-        );
+        on_wire(18, t.step(&frame(18, Some(wire(18))), None).unwrap());
     }
 
     #[test]

@@ -162,11 +162,61 @@ enum Outcome {
     Measured {
         angle_rms_deg: f64,
         s_r_err: f64,
+        /// The angle error's swing scale and what is left of it ([`error_parts`]).
+        parts: Option<ErrorParts>,
         /// `ok`, or `suspect (checks...)`: the result's own verdict.
         verdict: String,
         suspect: bool,
     },
     Refused(String),
+}
+
+/// The accepted frames' angle error split into its parts: `error = offset + scale *
+/// (true angle - its mean) + lag * true angular velocity + rest`. A swing measured too
+/// small or too large (`scale`, a share: what a pivot placed off along the wire gives)
+/// scales the fitted s_r with it; `lag` (s) is a time offset; `rest_rms_deg` is what
+/// neither explains (the frame-to-frame noise, and errors of other shapes).
+struct ErrorParts {
+    scale: f64,
+    lag_s: f64,
+    rest_rms_deg: f64,
+}
+
+fn error_parts(
+    rows: &[rollfric::detect::AngleRow],
+    truth: &[rollfric::synth::TruthRow],
+) -> Option<ErrorParts> {
+    // The truth's angular velocity at each frame: central differences of its angles.
+    let velocity = |i: usize| {
+        let (a, b) = (i.saturating_sub(1), (i + 1).min(truth.len() - 1));
+        let dt = truth[b].t_s - truth[a].t_s;
+        (dt > 0.0).then(|| (truth[b].angle_rad - truth[a].angle_rad) / dt)
+    };
+    let used: Vec<(f64, f64, f64)> = rows
+        .iter()
+        .zip(truth)
+        .enumerate()
+        .filter(|(_, (r, t))| r.status == rollfric::series::Status::Ok && t.spoiled == "none")
+        .filter_map(|(i, (r, t))| {
+            let e = r.angle_rad? - t.angle_rad;
+            let e =
+                (e + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+            Some((t.angle_rad, velocity(i)?, e))
+        })
+        .collect();
+    let mid = used.iter().map(|u| u.0).sum::<f64>() / used.len().max(1) as f64;
+    let c =
+        rollfric::numerics::least_squares3(used.iter().map(|&(th, w, e)| ([1.0, th - mid, w], e)))?;
+    let rest = used
+        .iter()
+        .map(|&(th, w, e)| (e - c[0] - c[1] * (th - mid) - c[2] * w).powi(2))
+        .sum::<f64>()
+        / used.len() as f64;
+    Some(ErrorParts {
+        scale: c[1],
+        lag_s: c[2],
+        rest_rms_deg: rest.sqrt().to_degrees(),
+    })
 }
 
 fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome> {
@@ -208,6 +258,7 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
     let rms = (errs.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / errs.len().max(1) as f64)
         .sqrt()
         .to_degrees();
+    let parts = error_parts(&d.rows, &truth);
     let table = AngleTable::parse_csv(&d.to_csv())?;
     let angles = Angles {
         source: Source::Twin,
@@ -226,6 +277,7 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
         .unwrap_or(f64::NAN);
     Ok(Outcome::Measured {
         angle_rms_deg: rms,
+        parts,
         s_r_err: a.fit.s_r_m / truth_s_r - 1.0,
         verdict: {
             // The residual check's ratio, shown for every result.
@@ -286,6 +338,8 @@ fn main() -> Result<()> {
     let keep = std::env::var_os("ROBUSTNESS_KEEP").map(std::path::PathBuf::from);
     let mut rng = Rng::new(seed);
     let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());
+    // Per measured scene: |swing scale error| and the RMS of the rest ([`error_parts`]).
+    let (mut swings, mut rests) = (Vec::new(), Vec::new());
     let mut refused = 0;
     // Verdict against error: [ok, suspect] for |error| <= 0.5 %, 0.5-1 % and > 1 %.
     let mut confusion = [[0usize; 2]; 3];
@@ -325,10 +379,23 @@ fn main() -> Result<()> {
         let line = match &outcome {
             Ok(Outcome::Measured {
                 angle_rms_deg,
+                parts,
                 s_r_err,
                 verdict,
                 suspect,
             }) => {
+                if let Some(p) = parts {
+                    swings.push(p.scale.abs());
+                    rests.push(p.rest_rms_deg);
+                }
+                let parts = parts.as_ref().map_or(String::new(), |p| {
+                    format!(
+                        " (swing {:+.3} %, lag {:+.2} ms, rest {:.4} deg)",
+                        100.0 * p.scale,
+                        1e3 * p.lag_s,
+                        p.rest_rms_deg
+                    )
+                });
                 rms.push(*angle_rms_deg);
                 errs.push(s_r_err.abs());
                 let band = match s_r_err.abs() {
@@ -339,13 +406,13 @@ fn main() -> Result<()> {
                 confusion[band][usize::from(*suspect)] += 1;
                 if s_r_err.abs() > 0.005 || *angle_rms_deg > 0.02 {
                     failures.push(format!(
-                        "scene {i}: s_r {:+.2} %, angle RMS {angle_rms_deg:.4} deg, {verdict}: {}",
+                        "scene {i}: s_r {:+.2} %, angle RMS {angle_rms_deg:.4} deg{parts}, {verdict}: {}",
                         100.0 * s_r_err,
                         scene.describe()
                     ));
                 }
                 format!(
-                    "s_r {:+.3} %, angle RMS {angle_rms_deg:.4} deg, {verdict}",
+                    "s_r {:+.3} %, angle RMS {angle_rms_deg:.4} deg{parts}, {verdict}",
                     100.0 * s_r_err
                 )
             }
@@ -388,6 +455,17 @@ fn main() -> Result<()> {
         100.0 * percentile(&errs, 0.95),
         100.0 * percentile(&errs, 1.0),
         100.0 * errs.iter().filter(|e| **e <= 0.005).count() as f64 / n.max(1) as f64
+    );
+    println!(
+        "  its parts: |swing scale error| (%) p50 {:.3}  p90 {:.3}  max {:.3}; \
+         RMS of the rest (deg) p50 {:.4}  p90 {:.4}  max {:.4}, <= 0.02 deg: {:.1} %",
+        100.0 * percentile(&swings, 0.5),
+        100.0 * percentile(&swings, 0.9),
+        100.0 * percentile(&swings, 1.0),
+        percentile(&rests, 0.5),
+        percentile(&rests, 0.9),
+        percentile(&rests, 1.0),
+        100.0 * rests.iter().filter(|r| **r <= 0.02).count() as f64 / rests.len().max(1) as f64
     );
     println!("  verdicts against the s_r error:");
     println!("    |s_r error|   ok  suspect");

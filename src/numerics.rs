@@ -6,7 +6,8 @@
 //!   [`f64::total_cmp`].
 //! * [`linear_fit`] is the ordinary least-squares line `y = intercept + slope x` with the
 //!   standard error of its slope; [`slope_through_origin`] is the least-squares line
-//!   `y = k x`; [`quadratic_at`] is the least-squares quadratic's value at a point.
+//!   `y = k x`; [`quadratic_at`] is the least-squares quadratic's value at a point;
+//!   [`least_squares3`] is the least-squares fit of `y` on three regressors.
 //! * [`golden_section_min`] narrows a bracket around the minimum of a unimodal function;
 //!   [`bisect`] narrows a bracket around the point where a condition stops holding.
 //!
@@ -35,6 +36,29 @@ pub fn quadratic_at(pts: impl IntoIterator<Item = (f64, f64)>, at: f64) -> Optio
     }
     let p = ata.cholesky()?.solve(&atb)[0];
     p.is_finite().then_some(p)
+}
+
+/// The least-squares coefficients `c` of `y = c[0] x[0] + c[1] x[1] + c[2] x[2]` over the
+/// rows `(x, y)`, by the normal equations solved by Cholesky (sums in the rows' order).
+/// `None` when the rows do not fix the three coefficients (fewer than three, or
+/// regressors that are not independent: a pivot of the Cholesky factor under 1e-6 of
+/// the largest).
+pub fn least_squares3(rows: impl IntoIterator<Item = ([f64; 3], f64)>) -> Option<[f64; 3]> {
+    let mut ata = nalgebra::Matrix3::<f64>::zeros();
+    let mut atb = nalgebra::Vector3::<f64>::zeros();
+    for (x, y) in rows {
+        let v = nalgebra::Vector3::from(x);
+        ata += v * v.transpose();
+        atb += v * y;
+    }
+    let chol = ata.cholesky()?;
+    // Dependent regressors leave a pivot of the factor at rounding level, not zero.
+    let d = chol.l_dirty().diagonal();
+    if d.min() <= 1e-6 * d.max() {
+        return None;
+    }
+    let c = chol.solve(&atb);
+    c.iter().all(|v| v.is_finite()).then(|| [c[0], c[1], c[2]])
 }
 
 /// Median of `v`: the middle value of an odd count, the mean of the two middle values of
@@ -181,6 +205,23 @@ mod tests {
         assert!((p - f(0.8)).abs() < 1e-9, "{p}");
         // Two points do not fix a quadratic.
         assert_eq!(quadratic_at(pts[..2].iter().copied(), 0.8), None);
+    }
+
+    #[test]
+    fn three_regressors_are_recovered_exactly_and_dependent_ones_refused() {
+        // y = 2 - 0.5 a + 4 b over a grid: the fit returns the three coefficients.
+        let rows: Vec<([f64; 3], f64)> = (0..4)
+            .flat_map(|i| (0..3).map(move |j| (i as f64, j as f64)))
+            .map(|(a, b)| ([1.0, a, b], 2.0 - 0.5 * a + 4.0 * b))
+            .collect();
+        let c = least_squares3(rows.iter().copied()).unwrap();
+        for (got, want) in c.iter().zip([2.0, -0.5, 4.0]) {
+            assert!((got - want).abs() < 1e-9, "{c:?}");
+        }
+        // A regressor that is twice another fixes nothing.
+        let dependent = rows.iter().map(|(x, y)| ([1.0, x[1], 2.0 * x[1]], *y));
+        assert_eq!(least_squares3(dependent), None);
+        assert_eq!(least_squares3(rows[..2].iter().copied()), None);
     }
 
     #[test]

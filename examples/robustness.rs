@@ -164,6 +164,8 @@ enum Outcome {
         s_r_err: f64,
         /// The angle error's swing scale and what is left of it ([`error_parts`]).
         parts: Option<ErrorParts>,
+        /// The detector's own pivot check (`Detection::swing_scale`).
+        pivot_check: Option<f64>,
         /// `ok`, or `suspect (checks...)`: the result's own verdict.
         verdict: String,
         suspect: bool,
@@ -278,6 +280,7 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
     Ok(Outcome::Measured {
         angle_rms_deg: rms,
         parts,
+        pivot_check: d.swing_scale,
         s_r_err: a.fit.s_r_m / truth_s_r - 1.0,
         verdict: {
             // The residual check's ratio, shown for every result.
@@ -380,6 +383,7 @@ fn main() -> Result<()> {
             Ok(Outcome::Measured {
                 angle_rms_deg,
                 parts,
+                pivot_check,
                 s_r_err,
                 verdict,
                 suspect,
@@ -390,10 +394,11 @@ fn main() -> Result<()> {
                 }
                 let parts = parts.as_ref().map_or(String::new(), |p| {
                     format!(
-                        " (swing {:+.3} %, lag {:+.2} ms, rest {:.4} deg)",
+                        " (swing {:+.3} %, lag {:+.2} ms, rest {:.4} deg; pivot check {})",
                         100.0 * p.scale,
                         1e3 * p.lag_s,
-                        p.rest_rms_deg
+                        p.rest_rms_deg,
+                        pivot_check.map_or("none".to_string(), |s| format!("{s:.4}"))
                     )
                 });
                 rms.push(*angle_rms_deg);

@@ -21,21 +21,37 @@ use serde::Serialize;
 /// solved by Cholesky. `None` with fewer than three points, or points that do not fix a
 /// quadratic.
 pub fn quadratic_at(pts: impl IntoIterator<Item = (f64, f64)>, at: f64) -> Option<f64> {
+    let (chol, atb, n) = normal_equations3(pts.into_iter().map(|(x, y)| {
+        let x = x - at;
+        ([1.0, x, x * x], y)
+    }))?;
+    if n < 3 {
+        return None;
+    }
+    let p = chol.solve(&atb)[0];
+    p.is_finite().then_some(p)
+}
+
+/// The normal equations of `y` on three regressors over the rows, summed in their order:
+/// the Cholesky factor of `sum x x^T`, `sum x y` and the count of rows (`None` when the
+/// factor does not exist).
+fn normal_equations3(
+    rows: impl IntoIterator<Item = ([f64; 3], f64)>,
+) -> Option<(
+    nalgebra::Cholesky<f64, nalgebra::U3>,
+    nalgebra::Vector3<f64>,
+    usize,
+)> {
     let mut ata = nalgebra::Matrix3::<f64>::zeros();
     let mut atb = nalgebra::Vector3::<f64>::zeros();
     let mut n = 0;
-    for (x, y) in pts {
-        let x = x - at;
-        let v = nalgebra::Vector3::new(1.0, x, x * x);
+    for (x, y) in rows {
+        let v = nalgebra::Vector3::from(x);
         ata += v * v.transpose();
         atb += v * y;
         n += 1;
     }
-    if n < 3 {
-        return None;
-    }
-    let p = ata.cholesky()?.solve(&atb)[0];
-    p.is_finite().then_some(p)
+    Some((ata.cholesky()?, atb, n))
 }
 
 /// The least-squares coefficients `c` of `y = c[0] x[0] + c[1] x[1] + c[2] x[2]` over the
@@ -44,14 +60,7 @@ pub fn quadratic_at(pts: impl IntoIterator<Item = (f64, f64)>, at: f64) -> Optio
 /// regressors that are not independent: a pivot of the Cholesky factor under 1e-6 of
 /// the largest).
 pub fn least_squares3(rows: impl IntoIterator<Item = ([f64; 3], f64)>) -> Option<[f64; 3]> {
-    let mut ata = nalgebra::Matrix3::<f64>::zeros();
-    let mut atb = nalgebra::Vector3::<f64>::zeros();
-    for (x, y) in rows {
-        let v = nalgebra::Vector3::from(x);
-        ata += v * v.transpose();
-        atb += v * y;
-    }
-    let chol = ata.cholesky()?;
+    let (chol, atb, _) = normal_equations3(rows)?;
     // Dependent regressors leave a pivot of the factor at rounding level, not zero.
     let d = chol.l_dirty().diagonal();
     if d.min() <= 1e-6 * d.max() {

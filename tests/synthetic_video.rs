@@ -476,10 +476,6 @@ fn a_look_that_merged_the_wire_with_its_shadow_is_measured_again_at_the_other_sc
         "measured again: {} decodings",
         det.decodings
     );
-    let diffs = ok_errors_against_truth(d);
-    let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
-    let rms = (diffs.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / diffs.len() as f64)
-        .sqrt()
-        .to_degrees();
+    let rms = scatter_deg(&ok_errors_against_truth(d));
     assert!(rms < 0.03, "angle RMS {rms:.4} deg");
 }

@@ -176,7 +176,10 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                 input.name(),
                 a.swing_scale.unwrap_or(f64::NAN)
             );
-            d
+            Detection {
+                decodings: d.decodings + a.decodings,
+                ..d
+            }
         }
         Err(e) => {
             eprintln!(

@@ -465,8 +465,7 @@ impl Tracker {
     /// [`StripMoments::inner`](crate::detect::StripMoments::inner)), by least squares
     /// over the pass. 1 when the pivot is on the wire's line; a pivot off along the wire
     /// by `delta` at a mean radius `R` gives about `(R + delta) / R`, and scales the
-    /// angles' swing (refitted about that pivot from the whole strip), and `s_r` with
-    /// it, by about the inverse. The free fits' noise is in the
+    /// angles' swing, and `s_r` with it, by the inverse. The free fits' noise is in the
     /// regressand, so it does not bias the slope. `None` with fewer than
     /// [`SWING_SCALE_FRAMES`] accepted frames or a swing under
     /// [`SWING_SCALE_SPREAD_DEG`].

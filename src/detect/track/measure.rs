@@ -197,22 +197,16 @@ impl Tracker {
     /// ridge) keeps the strip about the pivot's line. The re-centred strip is narrower
     /// ([`FREE_STRIP_HALF`]) than the one the line is found in: it holds the wire's
     /// ridge and less of its flanks' neighbours (a shadow's edge, the noise). `b.sel`
-    /// holds the first strip on entry. The same strip's pixels short of the band's
-    /// outer end give the moments of the pivot's lines ([`StripMoments::inner`]), zero
-    /// (no line) when fewer than five pixels lie there.
+    /// holds the first strip on entry.
     fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<StripMoments> {
         let inner_r = self.r_lo + PIVOT_LINES_SHARE * (self.r_hi - self.r_lo);
         let (piv, inner_r2) = (self.piv, inner_r * inner_r);
-        let with_inner = |all: [f64; 6], pts: &[(Pt, f64)]| {
-            let short = |(q, _): &&(Pt, f64)| (q - piv).norm_squared() <= inner_r2;
-            StripMoments {
-                all,
-                inner: if pts.iter().filter(short).count() >= 5 {
-                    moments_of(pts.iter().filter(short))
-                } else {
-                    [0.0; 6]
-                },
-            }
+        let with_inner = |all: [f64; 6], pts: &[(Pt, f64)]| StripMoments {
+            all,
+            inner: moments_of(
+                pts.iter()
+                    .filter(|(q, _)| (q - piv).norm_squared() <= inner_r2),
+            ),
         };
         let fallback = moments(&b.sel);
         let ends = [self.r_lo, self.r_hi].map(|r| about.point + about.dir * r);
@@ -308,14 +302,11 @@ const SCAN_BLOCK: usize = 32;
 
 /// The share of the band's radii, from its inner end, whose strip pixels give each
 /// frame's free line to the pivot's refinement and its check ([`StripMoments::inner`]).
-/// On a 960x540 twin with a camera's defocus (robustness seed 2, scene 19) the ball's
-/// blurred highlight, over the band's outer end, took the refined pivot 0.56 px
-/// behind the rendered one along the wire and the swing 0.40 % small; lines from the
-/// inner five sixths: 0.28 % small, and the angle RMS 0.0232 -> 0.0191 deg. Over both
-/// sweeps (126 measured scenes) the swing error moved by more than 0.05 % of the swing
-/// on 8: smaller on 5, larger on 3 (seed 2 scene 55, a faint 1 px wire: +0.17 ->
-/// +0.29 %, RMS 0.0161 -> 0.0204 deg); the mean |s_r error| of the scenes within 1 %
-/// went from 0.070 to 0.068 % (seed 1) and 0.101 to 0.100 % (seed 2).
+/// On a 960x540 twin with a camera's defocus the ball's blurred highlight, over the
+/// band's outer end, took the refined pivot 0.56 px behind the rendered one along the
+/// wire and the swing 0.40 % small; lines from the inner five sixths: 0.28 % small,
+/// and the angle RMS 0.0230 -> 0.0189 deg. Over 33 other sweep scenes the swing error
+/// moved by at most 0.07 % of the swing either way.
 const PIVOT_LINES_SHARE: f64 = 5.0 / 6.0;
 
 /// Half the width of the strip the wire's line is fitted to, px of the working scale.

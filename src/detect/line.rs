@@ -68,11 +68,6 @@ pub fn fit_line_through(pivot: Pt, pts: &[(Pt, f64)]) -> Option<Line> {
 
 /// Weighted pixel moments `[sum w, sum w x, sum w y, sum w x^2, sum w x y, sum w y^2]`.
 pub fn moments(pts: &[(Pt, f64)]) -> [f64; 6] {
-    moments_of(pts)
-}
-
-/// [`moments`] of the points an iterator gives, in its order.
-pub fn moments_of<'a>(pts: impl IntoIterator<Item = &'a (Pt, f64)>) -> [f64; 6] {
     let mut m = [0.0f64; 6];
     for (q, w) in pts {
         m[0] += w;

@@ -56,7 +56,7 @@ pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
 pub use options::{DetectOptions, FrameProgress};
 pub use review::{Review, ReviewFrame};
-pub use row::{AngleRow, Detection, Flag, Status, StripMoments};
+pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, FrameSource, Roi};
 use anyhow::{bail, ensure, Context, Result};

@@ -60,24 +60,11 @@ pub struct AngleRow {
     /// 0..1: the fraction of the wire's visible band covered by detected pixels.
     pub quality: f64,
     pub flag: Option<Flag>,
-    /// The wire pixels' weighted moments, so that the angle can be refitted about a
-    /// refined pivot after the pass.
+    /// Weighted moments of the wire pixels `[sum w, sum w x, sum w y, sum w x^2,
+    /// sum w x y, sum w y^2]` (working-scale region pixels), so that the angle can be
+    /// refitted about a refined pivot after the pass.
     #[serde(skip)]
-    pub moments: Option<StripMoments>,
-}
-
-/// Weighted moments `[sum w, sum w x, sum w y, sum w x^2, sum w x y, sum w y^2]` of one
-/// frame's wire pixels (working-scale region pixels).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StripMoments {
-    /// The whole strip's: the angle is fitted to them.
-    pub all: [f64; 6],
-    /// Those of the strip's pixels short of the band's outer end (the inner
-    /// `PIVOT_LINES_SHARE` of its radii): the wire's free line for the pivot's
-    /// refinement and its check. At the outer end the wire crosses the ball, whose
-    /// highlight a defocused camera blurs into the strip, pulling each frame's free
-    /// line by an amount that follows the swing; the lines then meet behind the pivot.
-    pub inner: [f64; 6],
+    pub moments: Option<[f64; 6]>,
 }
 
 /// The result of a detection.

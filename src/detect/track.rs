@@ -460,9 +460,7 @@ impl Tracker {
 
     /// How much more the wire's own direction turns than its angle about `pivot`
     /// (full-frame px): the slope of each accepted frame's free line fit (its direction
-    /// alone, whatever the pivot) against its angle through the pivot, both from the
-    /// strip short of the band's outer end (the lines the pivot came from, see
-    /// [`StripMoments::inner`](crate::detect::StripMoments::inner)), by least squares
+    /// alone, whatever the pivot) against its angle through the pivot, by least squares
     /// over the pass. 1 when the pivot is on the wire's line; a pivot off along the wire
     /// by `delta` at a mean radius `R` gives about `(R + delta) / R`, and scales the
     /// angles' swing, and `s_r` with it, by the inverse. The free fits' noise is in the
@@ -475,7 +473,7 @@ impl Tracker {
             .iter()
             .filter(|r| r.flag.is_none() && r.status == Status::Ok)
             .filter_map(|r| {
-                let m = &r.moments.as_ref()?.inner;
+                let m = r.moments.as_ref()?;
                 let (about, _) = m.line_about(p)?;
                 let free = m.free_line()?;
                 // The free line has no direction: the branch nearest the angle about
@@ -508,22 +506,20 @@ impl Tracker {
 
     /// Refine the pivot from the whole pass: the robust intersection of every accepted
     /// frame's free line fit (hundreds of lines at different angles, against the few
-    /// dozen of the first seconds) to the strip short of the band's outer end
-    /// ([`StripMoments::inner`](crate::detect::StripMoments::inner)), then refit
-    /// every angle about it from the whole strip's stored pixel moments. Returns the
-    /// pivot in full-frame pixels.
+    /// dozen of the first seconds), then refit every angle about it from the stored
+    /// pixel moments. Returns the pivot in full-frame pixels.
     pub(super) fn refine_pivot(&self, rows: &mut [AngleRow]) -> Pt {
         let to_full = |p: Pt| shrunk_to_full(p, Pt::new(self.roi_x, self.roi_y), self.scale);
         let lines: Vec<Line> = rows
             .iter()
             .filter(|r| r.flag.is_none())
-            .filter_map(|r| r.moments.as_ref().and_then(|m| m.inner.free_line()))
+            .filter_map(|r| r.moments.as_ref().and_then(|m| m.free_line()))
             .collect();
         let Some(p) = refined_pivot(&lines, self.piv, 0.05 * (self.r_lo + self.r_hi)) else {
             return to_full(self.piv);
         };
         for r in rows.iter_mut() {
-            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.all.line_about(p)) {
+            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {
                 if let Some(old) = r.angle_rad {
                     r.angle_rad = Some(unwrap_near(a, old));
                 }
@@ -757,69 +753,5 @@ mod tests {
             .collect();
         let s = central_spread(&lines).to_degrees();
         assert!((s - 8.0).abs() < 0.05, "{s} deg");
-    }
-
-    /// A 320x240 plate at 200, the wire 45 grey levels dark and 2 px wide from the
-    /// pivot (160, 20) to 180 px out at `deg`, and a dark spot (the ball's edge or a
-    /// highlight's rim, 60 dark, sigma 1.2 px) 5 px beyond the wire's end along +y
-    /// whatever the swing: across the wire it lies `5 sin(deg - 90)` px to one side,
-    /// so it pulls the outer end of the strip by an amount that follows the swing. A
-    /// grey level of grain keeps frames from reading as repeats.
-    fn wire_with_spot(index: u64, deg: f64) -> Frame {
-        let (w, h) = (320usize, 240usize);
-        let th = deg.to_radians();
-        let spot = Pt::new(160.0 + 180.0 * th.cos(), 20.0 + 180.0 * th.sin() + 5.0);
-        let mut data = vec![0u8; w * h];
-        for y in 0..h {
-            for x in 0..w {
-                let (vx, vy) = (x as f64 - 160.0, y as f64 - 20.0);
-                let along = vx * th.cos() + vy * th.sin();
-                let across = (vx * th.sin() - vy * th.cos()).abs();
-                let mut v = 200.0;
-                if (0.0..=180.0).contains(&along) {
-                    v -= 45.0 * (1.5 - across).clamp(0.0, 1.0);
-                }
-                let d2 = (Pt::new(x as f64, y as f64) - spot).norm_squared();
-                v -= 60.0 * (-0.5 * d2 / (1.2 * 1.2)).exp();
-                let grain = ((y * w + x) * 31 + index as usize * 17) % 3;
-                data[y * w + x] = (v.round() as usize + grain).saturating_sub(1) as u8;
-            }
-        }
-        Frame {
-            index,
-            t_s: index as f64 / 25.0,
-            width: w,
-            height: h,
-            data,
-        }
-    }
-
-    #[test]
-    fn the_pivot_comes_from_the_wire_short_of_its_outer_end() {
-        let mut t = test_tracker((72f64.to_radians(), 108f64.to_radians()));
-        let swing = |k: u64| 90.0 + 12.0 * (std::f64::consts::TAU * k as f64 / 50.0).sin();
-        let mut rows: Vec<AngleRow> = (0..100)
-            .map(|k| t.step(&wire_with_spot(k, swing(k)), None).unwrap())
-            .collect();
-        let accepted = rows.iter().filter(|r| r.flag.is_none()).count();
-        assert!(accepted >= 95, "{accepted} of 100 frames accepted");
-        let truth = Pt::new(160.0, 20.0);
-        // The whole strip's free lines meet off the pivot (0.26 px behind it along the
-        // wire, a swing about 0.2 % small): the spot is there to pull.
-        let whole: Vec<Line> = rows
-            .iter()
-            .filter(|r| r.flag.is_none())
-            .filter_map(|r| r.moments.and_then(|m| m.all.free_line()))
-            .collect();
-        let off = geometry::intersect(&whole).unwrap() - truth;
-        assert!(
-            off.norm() > 0.2,
-            "the whole strip's lines meet {off:?} from the pivot"
-        );
-        // The lines short of the band's outer end meet at it, and the check agrees.
-        let p = t.refine_pivot(&mut rows);
-        assert!((p - truth).norm() < 0.05, "refined to {p:?}");
-        let check = t.swing_scale(&rows, p).expect("a pivot check");
-        assert!((check - 1.0).abs() < 0.002, "pivot check {check}");
     }
 }

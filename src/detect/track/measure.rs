@@ -3,8 +3,8 @@
 //! along it.
 
 use super::Tracker;
-use crate::detect::line::{fit_line_through, moments, moments_of, unwrap_near, Line, Moments};
-use crate::detect::{Pt, StripMoments};
+use crate::detect::line::{fit_line_through, moments, unwrap_near, Line, Moments};
+use crate::detect::Pt;
 use anyhow::Result;
 use opencv::prelude::*;
 
@@ -33,7 +33,7 @@ impl Tracker {
         &mut self,
         pred: Option<f64>,
         gate: f64,
-    ) -> Result<Option<(f64, f64, StripMoments)>> {
+    ) -> Result<Option<(f64, f64, [f64; 6])>> {
         let mut b = std::mem::take(&mut self.scratch);
         let found = self.measure_with(&mut b, pred, gate);
         self.scratch = b;
@@ -45,7 +45,7 @@ impl Tracker {
         b: &mut Scratch,
         pred: Option<f64>,
         gate: f64,
-    ) -> Result<Option<(f64, f64, StripMoments)>> {
+    ) -> Result<Option<(f64, f64, [f64; 6])>> {
         // Only the wedge's rectangle holds evidence this frame (see `evidence`): its
         // pixels over their threshold, row by row.
         let rect = self.rect;
@@ -198,33 +198,24 @@ impl Tracker {
     /// ([`FREE_STRIP_HALF`]) than the one the line is found in: it holds the wire's
     /// ridge and less of its flanks' neighbours (a shadow's edge, the noise). `b.sel`
     /// holds the first strip on entry.
-    fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<StripMoments> {
-        let inner_r = self.r_lo + PIVOT_LINES_SHARE * (self.r_hi - self.r_lo);
-        let (piv, inner_r2) = (self.piv, inner_r * inner_r);
-        let with_inner = |all: [f64; 6], pts: &[(Pt, f64)]| StripMoments {
-            all,
-            inner: moments_of(
-                pts.iter()
-                    .filter(|(q, _)| (q - piv).norm_squared() <= inner_r2),
-            ),
-        };
+    fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<[f64; 6]> {
         let fallback = moments(&b.sel);
         let ends = [self.r_lo, self.r_hi].map(|r| about.point + about.dir * r);
         let mut m = fallback;
         for _ in 0..FREE_STRIP_PASSES {
             let Some(free) = m.free_line() else {
-                return Ok(with_inner(fallback, &b.sel));
+                return Ok(fallback);
             };
             if ends.iter().any(|e| free.distance(*e) > FREE_STRIP_DRIFT) {
-                return Ok(with_inner(fallback, &b.sel));
+                return Ok(fallback);
             }
             self.strip_pixels(&free, FREE_STRIP_HALF, &mut b.strip)?;
             if b.strip.len() < 5 {
-                return Ok(with_inner(fallback, &b.sel));
+                return Ok(fallback);
             }
             m = moments(&b.strip);
         }
-        Ok(with_inner(m, &b.strip))
+        Ok(m)
     }
 
     /// The evidence pixels within `half` px of `line` (a line through the pivot, or
@@ -299,15 +290,6 @@ fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
 
 /// The block [`over_threshold`] passes over at once, bytes.
 const SCAN_BLOCK: usize = 32;
-
-/// The share of the band's radii, from its inner end, whose strip pixels give each
-/// frame's free line to the pivot's refinement and its check ([`StripMoments::inner`]).
-/// On a 960x540 twin with a camera's defocus the ball's blurred highlight, over the
-/// band's outer end, took the refined pivot 0.56 px behind the rendered one along the
-/// wire and the swing 0.40 % small; lines from the inner five sixths: 0.28 % small,
-/// and the angle RMS 0.0230 -> 0.0189 deg. Over 33 other sweep scenes the swing error
-/// moved by at most 0.07 % of the swing either way.
-const PIVOT_LINES_SHARE: f64 = 5.0 / 6.0;
 
 /// Half the width of the strip the wire's line is fitted to, px of the working scale.
 const STRIP_HALF: f64 = 2.5;

@@ -61,6 +61,11 @@ pub struct Frame {
 pub trait FrameSource {
     /// Fill `frame` with the next frame; `Ok(false)` at the end of the video.
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool>;
+
+    /// A frame's buffer the caller is done with, for the source to fill again (a
+    /// decoder's reader thread then allocates, and the system zeroes, no fresh pages for
+    /// it). By default it is dropped.
+    fn recycle(&mut self, _buf: Vec<u8>) {}
 }
 
 /// Whether the `ffmpeg` program is installed: an executable file of that name in a
@@ -530,6 +535,11 @@ pub const READ_AHEAD: usize = 6;
 const PIPE_MAX: usize = 1 << 20;
 
 impl FrameSource for FfmpegSource {
+    fn recycle(&mut self, buf: Vec<u8>) {
+        // A reader that has stopped has no use for it.
+        let _ = self.spent.send(buf);
+    }
+
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
         if self.finished {
             return Ok(false);

@@ -398,7 +398,12 @@ impl<'a> CropSource<'a> {
 impl FrameSource for CropSource<'_> {
     fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
         match self.from.held.pop_front() {
-            Some(f) => self.full = f,
+            Some(f) => {
+                let spent = std::mem::replace(&mut self.full, f);
+                if let Some(rest) = &mut self.from.rest {
+                    rest.recycle(spent.data);
+                }
+            }
             None => {
                 let more = match &mut self.from.rest {
                     Some(rest) => rest.next_frame(&mut self.full)?,
@@ -677,7 +682,7 @@ impl<'a> FirstLook<'a> {
                 break;
             }
         }
-        let stream = match held {
+        let mut stream = match held {
             Some(held) => Some(Continued {
                 held,
                 rest: (!past_last).then_some(src),
@@ -727,6 +732,12 @@ impl<'a> FirstLook<'a> {
         let init_bg = geometry::extreme_frame(&init, geo.dark)?;
         let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
         let init_reference = geometry::frame_mat(&init, 0)?;
+        // The look's frames, done with, go to the decoder going on (see `recycle`).
+        if let Some(rest) = stream.as_mut().and_then(|s| s.rest.as_mut()) {
+            for buf in init.data {
+                rest.recycle(buf);
+            }
+        }
         Ok(Located {
             stream,
             looks: 1,

@@ -59,17 +59,6 @@ pub struct WireGeometry {
     /// lower threshold, [`FAINT_STAGE`] the faint look. An earlier try needed less
     /// leniency to see a wire.
     pub stage: usize,
-    /// The shrink factor of the frames its lines were found in (from the full frame).
-    pub found_at: f64,
-}
-
-impl WireGeometry {
-    /// Found at the strict threshold (against either background) and never jumping: a
-    /// look that needed no leniency to see the wire (the first look keeps the finer of
-    /// two working scales on this).
-    pub fn clean(&self) -> bool {
-        self.stage <= 1 && self.jumps == 0
-    }
 }
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
@@ -82,89 +71,6 @@ pub struct InitFrames {
     pub x0: f64,
     pub y0: f64,
     pub data: Vec<Vec<u8>>,
-    /// The side a line must be a fifth of to count as the wire: the frames' shorter
-    /// side, or that of the frames they were cut from ([`InitFrames::cut`]).
-    pub lines_side: Option<usize>,
-}
-
-impl InitFrames {
-    /// These frames shrunk `k` times more: each pixel the rounded mean of a `k` x `k`
-    /// block (a last partial row or column of blocks is dropped).
-    pub fn shrunk(&self, k: usize) -> InitFrames {
-        let (w, h) = (self.w / k, self.h / k);
-        let (n, half) = ((k * k) as u32, (k * k / 2) as u32);
-        // Each block row: the columns' sums over its `k` rows (whole rows at a time, so
-        // that it vectorises), then `k` columns at a time.
-        let mut cols = vec![0u32; w * k];
-        let data = self
-            .data
-            .iter()
-            .map(|f| {
-                let mut out = Vec::with_capacity(w * h);
-                for by in 0..h {
-                    cols.fill(0);
-                    for row in f[by * k * self.w..].chunks_exact(self.w).take(k) {
-                        for (c, &v) in cols.iter_mut().zip(row) {
-                            *c += u32::from(v);
-                        }
-                    }
-                    let sums = cols.chunks_exact(k).map(|b| b.iter().sum::<u32>() + half);
-                    // A shift for a block of a power of two's pixels (2 x 2: a division
-                    // per pixel was most of the cost).
-                    if n.is_power_of_two() {
-                        out.extend(sums.map(|s| (s >> n.trailing_zeros()) as u8));
-                    } else {
-                        out.extend(sums.map(|s| (s / n) as u8));
-                    }
-                }
-                out
-            })
-            .collect();
-        InitFrames {
-            w,
-            h,
-            shrink: self.shrink * k as f64,
-            x0: self.x0,
-            y0: self.y0,
-            data,
-            lines_side: None,
-        }
-    }
-
-    /// The part of these frames within `roi` (full-frame pixels, cut to the frames),
-    /// and the per-pixel map `values` (of the frames' size) cut alike. Its lines are
-    /// held to the length the whole frames' lines are.
-    pub fn cut(&self, roi: Roi, values: &[u8]) -> (InitFrames, Vec<u8>) {
-        let to = |full: f64, origin: f64, limit: usize| {
-            (((full - origin) / self.shrink).floor().max(0.0) as usize).min(limit)
-        };
-        let (x0, y0) = (
-            to(roi.x as f64, self.x0, self.w),
-            to(roi.y as f64, self.y0, self.h),
-        );
-        let x1 = to((roi.x + roi.w) as f64 + self.shrink - 1.0, self.x0, self.w);
-        let y1 = to((roi.y + roi.h) as f64 + self.shrink - 1.0, self.y0, self.h);
-        let (w, h) = (x1.saturating_sub(x0), y1.saturating_sub(y0));
-        let cut = |f: &[u8]| -> Vec<u8> {
-            let mut out = Vec::with_capacity(w * h);
-            for row in f.chunks_exact(self.w).skip(y0).take(h) {
-                out.extend_from_slice(&row[x0..x0 + w]);
-            }
-            out
-        };
-        (
-            InitFrames {
-                w,
-                h,
-                shrink: self.shrink,
-                x0: self.x0 + x0 as f64 * self.shrink,
-                y0: self.y0 + y0 as f64 * self.shrink,
-                data: self.data.iter().map(|f| cut(f)).collect(),
-                lines_side: Some(self.lines_side.unwrap_or(self.w.min(self.h))),
-            },
-            cut(values),
-        )
-    }
 }
 
 fn mat_of(w: usize, h: usize, data: &[u8]) -> Result<Mat> {
@@ -765,7 +671,7 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         Background::Extreme => None,
     };
     // The wire is long; the bob's edges and a hand's fingers are short.
-    let min_len = 0.2 * (init.lines_side.unwrap_or(w.min(h)) as f64);
+    let min_len = 0.2 * (w.min(h) as f64);
     let candidates: Vec<bool> = match polarity {
         Polarity::Dark => vec![true],
         Polarity::Light => vec![false],
@@ -1053,7 +959,6 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         initial_angles,
         lines_used: good.len(),
         stage: 0,
-        found_at: init.shrink,
     })
 }
 
@@ -1084,74 +989,8 @@ mod tests {
             x0: 0.0,
             y0: 0.0,
             data,
-            lines_side: None,
         };
         let m = median_frame(&init);
         assert!(m.iter().enumerate().all(|(i, &v)| v == 100 + (i % 7) as u8));
-    }
-
-    /// A 5 x 3 look at (10, 20) in the full frame, shrunk twice, of pixels `10 y + x`
-    /// in frame 0 and one more in frame 1.
-    fn small_look() -> InitFrames {
-        let frame = |k: u8| (0..15u8).map(|i| 10 * (i / 5) + i % 5 + k).collect();
-        InitFrames {
-            w: 5,
-            h: 3,
-            shrink: 2.0,
-            x0: 10.0,
-            y0: 20.0,
-            data: vec![frame(0), frame(1)],
-            lines_side: None,
-        }
-    }
-
-    #[test]
-    fn shrinking_a_look_averages_whole_blocks_rounded_and_keeps_its_place() {
-        let s = small_look().shrunk(2);
-        // Blocks (0, 1, 10, 11) and (2, 3, 12, 13): means 5.5 and 7.5, rounded up; the
-        // fifth column and the third row make no whole block.
-        assert_eq!((s.w, s.h, s.shrink, s.x0, s.y0), (2, 1, 4.0, 10.0, 20.0));
-        assert_eq!(s.data, vec![vec![6, 8], vec![7, 9]]);
-        // A 3 x 3 block's mean (a division, not a shift): 11 + 1/9 rounds to 11.
-        let mut l = small_look();
-        l.data = vec![(0..15u8)
-            .map(|i| 10 * (i / 5) + i % 5 + u8::from(i == 0))
-            .collect()];
-        assert_eq!(l.shrunk(3).data, vec![vec![11]]);
-    }
-
-    #[test]
-    fn a_cut_of_a_look_keeps_its_place_and_the_whole_look_s_line_length() {
-        let look = small_look();
-        let noise: Vec<u8> = (100..115).collect();
-        // Full-frame pixels 12..17 x 22..24 are look pixels 1..3 (the last one partly) x
-        // 1..2 at a shrink of 2.
-        let roi = Roi {
-            x: 12,
-            y: 22,
-            w: 5,
-            h: 3,
-        };
-        let (cut, cut_noise) = look.cut(roi, &noise);
-        assert_eq!((cut.w, cut.h, cut.x0, cut.y0), (3, 2, 12.0, 22.0));
-        assert_eq!(cut.data[0], vec![11, 12, 13, 21, 22, 23]);
-        assert_eq!(cut.data[1], vec![12, 13, 14, 22, 23, 24]);
-        assert_eq!(cut_noise, vec![106, 107, 108, 111, 112, 113]);
-        // Lines are held to a fifth of the whole look's shorter side (3), not the cut's
-        // (2), and a cut of a cut to the first look's.
-        assert_eq!(cut.lines_side, Some(3));
-        let (again, _) = cut.cut(roi, &cut_noise);
-        assert_eq!(again.lines_side, Some(3));
-        // A region past the look's edge is cut to it.
-        let (edge, _) = look.cut(
-            Roi {
-                x: 16,
-                y: 0,
-                w: 100,
-                h: 100,
-            },
-            &noise,
-        );
-        assert_eq!((edge.w, edge.h, edge.x0), (2, 3, 16.0));
     }
 }

@@ -58,7 +58,6 @@ pub use options::{DetectOptions, FrameProgress};
 pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 
-use crate::config::Polarity;
 use crate::video::{Frame, FrameSource, Roi};
 use anyhow::{bail, ensure, Context, Result};
 use fill::{apply_marks, fill_flagged};
@@ -545,17 +544,10 @@ impl<'a> FirstLook<'a> {
         if fine == coarse {
             return Ok((self.at(coarse)?, None));
         }
-        // The finer look's geometry is sought first in its frames shrunk to the coarser
-        // scale, when that is a whole factor more ([`FirstLook::look`]).
-        let by = if coarse.is_multiple_of(fine) {
-            coarse / fine
-        } else {
-            1
-        };
-        let mut at_fine = self.look(fine, by);
+        let mut at_fine = self.at(fine);
         let rank = |l: &Located| (l.geo.stage, l.geo.jumps);
         if let Ok(l) = &mut at_fine {
-            if l.geo.clean() {
+            if l.geo.stage <= 1 && l.geo.jumps == 0 {
                 return Ok((at_fine?, Some(Other::Unlooked(coarse))));
             }
             // The other scale is looked at: this look's decoder stops (and its frames
@@ -595,21 +587,6 @@ impl<'a> FirstLook<'a> {
     /// The first look (about [`INIT_SECONDS`] of motion) shrunk `use_shrink` times, and the
     /// geometry found in it.
     fn at(&self, use_shrink: u32) -> Result<Located<'a>> {
-        self.look(use_shrink, 1)
-    }
-
-    /// [`FirstLook::at`], with the geometry sought first in the look's frames shrunk
-    /// `by` times more. Kept from there when it is clean there (found at the strict
-    /// threshold, against either background, with no jump) and the look's own frames
-    /// see the wire cleanly too: the look at `use_shrink` keeps that scale only when
-    /// its own geometry is clean ([`FirstLook::at_best_scale`]), and that is judged
-    /// by the same search, of the shrunk look's polarity, within its region of
-    /// interest (lines held to the whole look's length). The streaming pass works at
-    /// `use_shrink`, from that scale's background and thresholds, and its own lines
-    /// refine the pivot. Otherwise the geometry is sought at `use_shrink` over the
-    /// whole look, as without `by`. The lines of the whole look at full size are most
-    /// of a short video's fixed cost.
-    fn look(&self, use_shrink: u32, by: u32) -> Result<Located<'a>> {
         let FirstLook {
             input,
             opts,
@@ -645,7 +622,6 @@ impl<'a> FirstLook<'a> {
             x0: bound.x as f64,
             y0: bound.y as f64,
             data: Vec::new(),
-            lines_side: None,
         };
         let mut frame = Frame::default();
         // Every frame at the first frame's brightness (flicker, drift): see `light`.
@@ -737,46 +713,16 @@ impl<'a> FirstLook<'a> {
             bail!("{}: no frame could be decoded", name);
         }
         let noise = geometry::noise_map(&init);
-        let find = |init: &geometry::InitFrames, noise: &[u8], polarity| {
-            geometry::find(
-                init,
-                noise,
-                info.width,
-                info.height,
-                polarity,
-                opts.pivot.map(|[x, y]| Pt::new(x, y)),
-                opts.roi,
-            )
-        };
-        let debug = std::env::var_os("ROLLFRIC_DEBUG").is_some();
-        let shrunk = (by > 1)
-            .then(|| {
-                let s = init.shrunk(by as usize);
-                find(&s, &geometry::noise_map(&s), opts.polarity)
-            })
-            .and_then(|found| {
-                let g = found.ok().filter(geometry::WireGeometry::clean)?;
-                let (cut, cut_noise) = init.cut(g.roi, &noise);
-                let polarity = if g.dark {
-                    Polarity::Dark
-                } else {
-                    Polarity::Light
-                };
-                let seen = find(&cut, &cut_noise, polarity);
-                if debug {
-                    let said = match &seen {
-                        Ok(f) => format!("stage {} jumps {}", f.stage, f.jumps),
-                        Err(e) => format!("{e:#}"),
-                    };
-                    eprintln!("geometry: shrunk {by}x more, clean; at the look's scale within its region: {said}");
-                }
-                seen.ok().filter(geometry::WireGeometry::clean).map(|_| g)
-            });
-        let geo = match shrunk {
-            Some(g) => g,
-            None => find(&init, &noise, opts.polarity)
-                .with_context(|| format!("{}: no wire found", name))?,
-        };
+        let geo = geometry::find(
+            &init,
+            &noise,
+            info.width,
+            info.height,
+            opts.polarity,
+            opts.pivot.map(|[x, y]| Pt::new(x, y)),
+            opts.roi,
+        )
+        .with_context(|| format!("{}: no wire found", name))?;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
                 "timing: geometry done at {:.2} s",
@@ -809,84 +755,6 @@ impl<'a> FirstLook<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::{FRAC_PI_2, TAU};
-
-    /// A 960x540 video, 4 s at 25 frames/s: a dark wire 2 px wide (100 grey levels on
-    /// its centre line), 400 px long from (480.3, 30.6), swinging 15 deg either side of
-    /// straight down every 1.8 s, over a wall at 190 with a grey level of noise; and
-    /// the wire's angle in each frame.
-    fn swinging_wire_960() -> (MemoryVideo, Vec<f64>) {
-        let (w, h, fps) = (960usize, 540usize, 25.0);
-        let pivot = Pt::new(480.3, 30.6);
-        let angle = |k: usize| FRAC_PI_2 + 15f64.to_radians() * (TAU * k as f64 / fps / 1.8).cos();
-        let mut rng = crate::rng::Rng::new(3);
-        let frames = (0..100)
-            .map(|k| {
-                let d = Pt::new(angle(k).cos(), angle(k).sin());
-                (0..w * h)
-                    .map(|i| {
-                        let v = Pt::new((i % w) as f64, (i / w) as f64) - pivot;
-                        let along = v.dot(&d);
-                        let across = (v.x * d.y - v.y * d.x).abs();
-                        let cover = if (0.0..=400.0).contains(&along) {
-                            (1.5 - across).clamp(0.0, 1.0)
-                        } else {
-                            0.0
-                        };
-                        (190.0 - 100.0 * cover + rng.normal()).round() as u8
-                    })
-                    .collect()
-            })
-            .collect();
-        let video = MemoryVideo::new(w as u32, h as u32, fps, frames).unwrap();
-        (video, (0..100).map(angle).collect())
-    }
-
-    #[test]
-    fn a_960x540_look_finds_its_lines_at_half_size_and_measures_at_full_size() {
-        let (video, truth) = swinging_wire_960();
-        let opts = DetectOptions::default();
-        let looks = FirstLook {
-            input: &video,
-            opts: &opts,
-            bound: Roi {
-                x: 0,
-                y: 0,
-                w: 960,
-                h: 540,
-            },
-            first: 0,
-            last: u64::MAX,
-            started: std::time::Instant::now(),
-        };
-        // Clean at half size, and seen cleanly at full size within its region: the
-        // look's geometry is the half size's, the look is kept at full size.
-        let (kept, _) = looks.at_best_scale().unwrap();
-        assert_eq!((kept.shrink, kept.geo.found_at), (1, 2.0));
-        let off = (kept.geo.pivot - Pt::new(480.3, 30.6)).norm();
-        assert!(off < 1.5, "pivot {:?}, {off:.2} px off", kept.geo.pivot);
-        // The same look without the shrunk search finds the same wire at full size.
-        let full = looks.at(1).unwrap();
-        assert_eq!(full.geo.found_at, 1.0);
-        assert_eq!(full.geo.dark, kept.geo.dark);
-        // The whole detection measures the wire back at full size.
-        let d = detect_from(&video, &opts).unwrap();
-        let worst = d
-            .rows
-            .iter()
-            .filter(|r| r.status == Status::Ok)
-            .map(|r| {
-                (r.angle_rad.unwrap() - truth[r.frame as usize])
-                    .abs()
-                    .to_degrees()
-            })
-            .fold(0.0, f64::max);
-        let ok = d.rows.iter().filter(|r| r.status == Status::Ok).count();
-        assert!(
-            ok >= 95 && worst < 0.05,
-            "{ok} frames ok, worst {worst:.3} deg"
-        );
-    }
 
     #[test]
     fn shrunk_pixel_centres_map_to_the_centres_of_the_pixels_they_average() {

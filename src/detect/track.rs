@@ -640,7 +640,6 @@ pub(super) fn test_tracker(theta: (f64, f64)) -> Tracker {
         jumps: 0,
         roughness: 0.0,
         stage: 0,
-        found_at: 1.0,
     };
     let flat = |v: f64| Mat::new_rows_cols_with_default(240, 320, CV_8UC1, Scalar::all(v));
     Tracker::new(

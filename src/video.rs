@@ -548,7 +548,7 @@ impl FrameSource for FfmpegSource {
         let partial = match chunk {
             Chunk::Frame(buf) => {
                 let old = std::mem::replace(&mut frame.data, buf);
-                let _ = self.spent.send(old);
+                self.recycle(old);
                 let t = self.times.recv().unwrap_or(f64::NAN);
                 frame.index = self.next_index;
                 frame.t_s = t;

@@ -282,10 +282,11 @@ impl Tracker {
 /// box that lies inside). Counted whole or not at all, the pixels at the edge made the
 /// strip a few tenths of a pixel wider on one side than the other, depending on where
 /// the line fell between pixel centres: the noise's evidence on the wider side pulled
-/// the line, differently in every frame. With the ramp, the 21 twins' angle noise (the
-/// error's RMS after the swing scale) fell in 18, by 4 % at the median (1 px faint
-/// wires under flicker: 0.0229 to 0.0220 deg; a 640x480 shadowed dark wire: 0.0034 to
-/// 0.0023).
+/// the line, differently in every frame. With the ramp, the angle noise (the error's
+/// RMS after the swing scale) of 20 sweep twins fell in 17 and rose in one, by 4 % at
+/// the median (a 1 px faint wire under flicker: 0.0229 to 0.0220 deg; a 640x480
+/// shadowed dark wire: 0.0034 to 0.0023); of 32 others, drawn apart, it fell in 26 and
+/// rose in one.
 fn edge_share(half: f64, dist: f64) -> f64 {
     ((half + STRIP_EDGE - dist) / (2.0 * STRIP_EDGE)).clamp(0.0, 1.0)
 }

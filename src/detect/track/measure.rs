@@ -238,7 +238,8 @@ impl Tracker {
         let foot = line.point + d * (piv - line.point).dot(&d);
         let (a, b) = (foot + d * self.r_lo, foot + d * self.r_hi);
         // Along the major axis `u` (y when the line is steep), the strip at `u` spans
-        // `v` within `half / |d_u|` of the line.
+        // `v` within `(half + STRIP_EDGE) / |d_u|` of the line: a step of `v` is `|d_u|`
+        // px across it.
         let steep = d.y.abs() >= d.x.abs();
         let (pu, pv, du, dv, nu, nv) = if steep {
             (foot.y, foot.x, d.y, d.x, rows, cols)
@@ -246,7 +247,8 @@ impl Tracker {
             (foot.x, foot.y, d.x, d.y, cols, rows)
         };
         let (au, bu) = if steep { (a.y, b.y) } else { (a.x, b.x) };
-        let span = (half + STRIP_EDGE) / du.abs();
+        let across = du.abs();
+        let span = (half + STRIP_EDGE) / across;
         let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
         let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
         let (r_lo2, r_hi2) = (self.r_lo * self.r_lo, self.r_hi * self.r_hi);
@@ -264,8 +266,7 @@ impl Tracker {
                 let q = Pt::new(x as f64, y as f64);
                 let r2 = (q - piv).norm_squared();
                 if r2 >= r_lo2 && r2 <= r_hi2 {
-                    // Across the line, `v` is `|d_u|` px per step of `v`.
-                    let share = edge_share(half, (v as f64 - vc).abs() * du.abs());
+                    let share = edge_share(half, (v as f64 - vc).abs() * across);
                     if share > 0.0 {
                         out.push((q, w as f64 * share));
                     }

@@ -68,6 +68,7 @@ pub(super) struct Tracker {
     /// allowance for the motion grows with it) and, with the refused frames, gives up
     /// after a long run.
     repeats_since_good: usize,
+    decay_every: u64,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
     /// `ROLLFRIC_DEBUG=frames` or `=mad`: a line per frame on stderr (read once).
@@ -151,6 +152,7 @@ impl Tracker {
             innov: None,
             since_good: 0,
             repeats_since_good: 0,
+            decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
             debug: std::env::var("ROLLFRIC_DEBUG").ok(),
@@ -297,8 +299,14 @@ impl Tracker {
                 core::min(&self.bg, &self.small, &mut self.tmp)?;
             }
             std::mem::swap(&mut self.bg, &mut self.tmp);
-            if f.index.is_multiple_of(DECAY_EVERY) {
-                self.decay_background()?;
+            if f.index.is_multiple_of(self.decay_every) {
+                let one = Scalar::all(1.0);
+                if self.geo.dark {
+                    core::subtract_def(&self.bg, &one, &mut self.tmp)?;
+                } else {
+                    core::add_def(&self.bg, &one, &mut self.tmp)?;
+                }
+                std::mem::swap(&mut self.bg, &mut self.tmp);
             }
         }
         let mut row = AngleRow {
@@ -419,52 +427,6 @@ impl Tracker {
             }
         }
         Ok(row)
-    }
-
-    /// The background creeps a grey level towards the scene (down for a dark wire, up
-    /// for a light one), so that a lasting local change of light is forgotten; except
-    /// within [`DECAY_SPARED_PX`] of the wire's last accepted line. There the wire hides
-    /// the scene: a background that crept there too ate into a wire that stood still
-    /// (held before its release, at rest after it) and into the pixels a small swing
-    /// always covers near the pivot, its profile's weaker edge and its shadow's first,
-    /// so that its angle drifted (by up to 0.04 deg between the swinging and the
-    /// resting frames of one twin).
-    fn decay_background(&mut self) -> Result<()> {
-        let one = Scalar::all(1.0);
-        if self.geo.dark {
-            core::subtract_def(&self.bg, &one, &mut self.tmp)?;
-        } else {
-            core::add_def(&self.bg, &one, &mut self.tmp)?;
-        }
-        if let Some(&(_, a)) = self.hist.last() {
-            let (w, h) = (self.bg.cols(), self.bg.rows());
-            let r = evidence::sector_rect(
-                self.piv,
-                (self.r_lo, self.r_hi),
-                (a, a),
-                DECAY_SPARED_PX,
-                w,
-                h,
-            );
-            let (cos, sin) = (a.cos(), a.sin());
-            let (bg, tmp) = (self.bg.data_bytes()?, self.tmp.data_bytes_mut()?);
-            let cols = w as usize;
-            for y in r.y..r.y + r.height {
-                for x in r.x..r.x + r.width {
-                    let (dx, dy) = (x as f64 - self.piv.x, y as f64 - self.piv.y);
-                    let along = dx * cos + dy * sin;
-                    if (dx * sin - dy * cos).abs() <= DECAY_SPARED_PX
-                        && along >= self.r_lo - DECAY_SPARED_PX
-                        && along <= self.r_hi + DECAY_SPARED_PX
-                    {
-                        let i = y as usize * cols + x as usize;
-                        tmp[i] = bg[i];
-                    }
-                }
-            }
-        }
-        std::mem::swap(&mut self.bg, &mut self.tmp);
-        Ok(())
     }
 
     /// Fewer than [`START_FRAMES`] frames accepted since the track began (or was
@@ -606,19 +568,6 @@ fn central_spread(lines: &[Line]) -> f64 {
 
 /// Fewest free lines, and the share of them whose directions must spread over
 /// [`REFINE_SPREAD_DEG`], for [`refined_pivot`].
-/// The background creeps a grey level towards the scene every this many frames
-/// ([`Tracker::decay_background`]).
-const DECAY_EVERY: u64 = 120;
-
-/// Within this many px (of the working scale) of the wire's last accepted line, the
-/// background does not creep ([`Tracker::decay_background`]): the 4 px strip either side
-/// of the line whose ridges are weighed, and a shadow's near side. Chosen among 6, 12
-/// and 25 px on six twins of the robustness sweep whose angles erred most (0.021 to
-/// 0.071 deg RMS, all over the sweep's 0.02): within 0.02 deg with 6 px, none; 12 px,
-/// three; 25 px, two. With no creep at all two were, and the mirrored greenscreen clip
-/// lost a turning point by 0.9 deg to a line beside the wire.
-const DECAY_SPARED_PX: f64 = 12.0;
-
 const REFINE_LINES: usize = 20;
 const REFINE_CENTRAL: f64 = 0.8;
 const REFINE_SPREAD_DEG: f64 = 2.0;
@@ -804,90 +753,5 @@ mod tests {
             .collect();
         let s = central_spread(&lines).to_degrees();
         assert!((s - 8.0).abs() < 0.05, "{s} deg");
-    }
-    /// A 320x240 wall at 200 with a wire from (160, 20) at `deg`, 45 grey levels dark
-    /// where it covers a pixel whole (1.5 px either side of its line, its edge pixels
-    /// partly), its soft shadow 3 px to one side (15 grey levels at most, a Gaussian of
-    /// 1.5 px across), and sensor noise of up to 3 grey levels either way (a fixed
-    /// sequence).
-    fn wire_frame(index: u64, deg: f64) -> crate::video::Frame {
-        let (w, h) = (320usize, 240usize);
-        let th = deg.to_radians();
-        let mut state = index
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let data = (0..w * h)
-            .map(|i| {
-                let (vx, vy) = ((i % w) as f64 - 160.0, (i / w) as f64 - 20.0);
-                let (along, across) =
-                    (vx * th.cos() + vy * th.sin(), vx * th.sin() - vy * th.cos());
-                let dark = if (0.0..=200.0).contains(&along) {
-                    45.0 * (1.5 - across.abs()).clamp(0.0, 1.0)
-                        + 15.0 * (-0.5 * ((across - 3.0) / 1.5).powi(2)).exp()
-                } else {
-                    0.0
-                };
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let noise = ((state >> 33) % 7) as f64 - 3.0;
-                (200.0 - dark + noise).round() as u8
-            })
-            .collect();
-        crate::video::Frame {
-            index,
-            t_s: index as f64 / 25.0,
-            width: w,
-            height: h,
-            data,
-        }
-    }
-
-    #[test]
-    fn a_wire_at_rest_keeps_its_angle_however_long_it_rests() {
-        let mut t = test_tracker((78f64.to_radians(), 102f64.to_radians()));
-        // A swing that comes to rest at 93.3 deg (a line that falls between pixel
-        // centres differently along its length), then 2 min at rest at 25 frames/s.
-        let at = |k: u64| 93.3 + 5.0 * (-(k as f64) / 20.0).exp() * (k as f64 / 4.0).cos();
-        let mut rest = Vec::new();
-        for k in 0..3100 {
-            let row = t.step(&wire_frame(k, at(k)), None).unwrap();
-            if k >= 200 {
-                assert!(row.flag.is_none(), "frame {k}: {:?}", row.flag);
-                rest.push(row.angle_rad.unwrap().to_degrees());
-            }
-        }
-        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-        let (first, last) = (mean(&rest[..200]), mean(&rest[rest.len() - 200..]));
-        // A background that crept a grey level towards each frame every 120 frames,
-        // there too, ate the shadow's evidence before the wire's: the last 8 s read
-        // 0.086 deg off the first (93.275 against 93.189 deg).
-        assert!(
-            (last - first).abs() < 0.002,
-            "at rest: first 8 s {first:.4} deg, last 8 s {last:.4} deg"
-        );
-    }
-    #[test]
-    fn the_background_creeps_everywhere_but_beside_the_wire() {
-        let mut t = test_tracker((78f64.to_radians(), 102f64.to_radians()));
-        // The wire last accepted straight down from the pivot (160, 20): along x = 160.
-        t.hist.push((0.0, 90f64.to_radians()));
-        t.decay_background().unwrap();
-        let at = |t: &Tracker, x: i32, y: i32| *t.bg.at_2d::<u8>(y, x).unwrap();
-        // On the line, and 11 px beside it within the band (30 to 190 px from the
-        // pivot) or 11 px short of it: as it was.
-        assert_eq!(at(&t, 160, 100), 200);
-        assert_eq!(at(&t, 171, 100), 200);
-        assert_eq!(at(&t, 149, 150), 200);
-        // 13 px beside it, or beyond the band's ends by more than 12 px: a grey level
-        // down (a dark wire's background creeps down).
-        assert_eq!(at(&t, 173, 100), 199);
-        assert_eq!(at(&t, 147, 150), 199);
-        assert_eq!(at(&t, 160, 37), 199);
-        assert_eq!(at(&t, 160, 39), 200);
-        // No accepted line: it creeps everywhere.
-        let mut t = test_tracker((78f64.to_radians(), 102f64.to_radians()));
-        t.decay_background().unwrap();
-        assert_eq!(at(&t, 160, 100), 199);
     }
 }

@@ -10,11 +10,13 @@
 //!    a dark wire, minimum for a light one, decaying slowly with the lighting; frames
 //!    with a global flash are kept out of it). Pixels above a noise threshold that lie
 //!    in a wedge around the angle predicted from the previous frames and in the band
-//!    vote in a histogram of angles about the pivot; the sharpest peak is the wire
-//!    (a hand or the bob is broad). The orthogonal line fit through the pivot of
+//!    vote in a histogram of angles about the pivot, each angle's votes counted by the
+//!    share of the band they reach; the sharpest peak is the wire (a hand or the bob
+//!    is broad, the bob's rim short). The orthogonal line fit through the pivot of
 //!    every evidence pixel in a ±2.5 px strip along it gives the angle: below the
 //!    threshold too, since a threshold that differs from pixel to pixel cuts a blurred
-//!    wire's flanks unevenly and tilts the fit.
+//!    wire's flanks unevenly and tilts the fit; parts of the band whose pixels stray
+//!    from the line (the bob's rim beside the wire) are dropped from it.
 //! 3. The gate: a measured angle farther from the prediction than `gate_deg`, a
 //!    frame with too little of the wire, a flash, or a frame identical to the previous
 //!    one (a dropped frame the recorder repeated) is flagged. After the pass, a repeat

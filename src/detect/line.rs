@@ -59,7 +59,12 @@ pub fn fit_line_through(pivot: Pt, pts: &[(Pt, f64)]) -> Option<Line> {
     if pts.len() < 2 {
         return None;
     }
-    let (th, _) = moments(pts).line_about(pivot)?;
+    line_through_moments(pivot, &moments(pts))
+}
+
+/// The line through `pivot` of pixels with moments `m` ([`fit_line_through`]).
+pub fn line_through_moments(pivot: Pt, m: &[f64; 6]) -> Option<Line> {
+    let (th, _) = m.line_about(pivot)?;
     Some(Line {
         point: pivot,
         dir: Pt::new(th.cos(), th.sin()),
@@ -68,6 +73,11 @@ pub fn fit_line_through(pivot: Pt, pts: &[(Pt, f64)]) -> Option<Line> {
 
 /// Weighted pixel moments `[sum w, sum w x, sum w y, sum w x^2, sum w x y, sum w y^2]`.
 pub fn moments(pts: &[(Pt, f64)]) -> [f64; 6] {
+    moments_of(pts.iter().copied())
+}
+
+/// [`moments`] of pixels given one by one (weights made as they are summed).
+pub fn moments_of(pts: impl IntoIterator<Item = (Pt, f64)>) -> [f64; 6] {
     let mut m = [0.0f64; 6];
     for (q, w) in pts {
         m[0] += w;

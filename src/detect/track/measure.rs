@@ -3,7 +3,9 @@
 //! along it.
 
 use super::Tracker;
-use crate::detect::line::{fit_line_through, moments, unwrap_near, Line, Moments};
+use crate::detect::line::{
+    fit_line_through, line_through_moments, moments, moments_of, unwrap_near, Line, Moments,
+};
 use crate::detect::Pt;
 use anyhow::Result;
 use opencv::prelude::*;
@@ -342,9 +344,10 @@ fn band_part(r: f64, (r_lo, r_hi): (f64, f64)) -> usize {
 }
 
 /// Each angle bin's evidence (`cells`, [`CELLS`] parts of the band per bin) times the
-/// share of [`COVERED_FULL`] parts it reaches, at most 1. A wire runs the band; the rim of the bob at the
-/// band's end (the wire's line runs on over the bob) is a crescent that holds as much
-/// evidence in its three or four parts as a faint wire in all of them. On a 1280x720
+/// share of [`COVERED_FULL`] parts it reaches, at most 1. A wire runs the band; the rim
+/// of the bob at the band's end (the wire's line runs on over the bob) is a crescent
+/// that holds as much evidence in its three or four parts as a faint wire in all of
+/// them. On a 1280x720
 /// oblique twin with a 1 px wire, the bob come to a turning point beside its wire took
 /// the histogram's peak, 1.4 deg off, for up to ten frames at each turning point on
 /// that side (angle RMS 0.10 deg, s_r -2.4 %).
@@ -404,25 +407,14 @@ fn drop_stray_parts(
         return false;
     };
     let line = if sums.iter().any(|&s| s > HEAVY_TIMES * median) {
-        // The fit through the pivot of the pixels so weighed (their moments as
-        // `moments` sums them, with no copy of the strip).
+        // The fit through the pivot of the pixels so weighed (no copy of the strip).
         let cap = HEAVY_COUNTS * median;
-        let mut m = [0.0f64; 6];
-        for (&(q, w), &c) in pts.iter().zip(parts.iter()) {
+        let m = moments_of(pts.iter().zip(parts.iter()).map(|(&(q, w), &c)| {
             let s = sums[c as usize];
-            let w = if s > cap { w * cap / s } else { w };
-            m[0] += w;
-            m[1] += w * q.x;
-            m[2] += w * q.y;
-            m[3] += w * q.x * q.x;
-            m[4] += w * q.x * q.y;
-            m[5] += w * q.y * q.y;
-        }
-        match m.line_about(piv).filter(|_| pts.len() >= 2) {
-            Some((th, _)) => Line {
-                point: piv,
-                dir: Pt::new(th.cos(), th.sin()),
-            },
+            (q, if s > cap { w * cap / s } else { w })
+        }));
+        match line_through_moments(piv, &m).filter(|_| pts.len() >= 2) {
+            Some(l) => l,
             None => return false,
         }
     } else {
@@ -745,6 +737,17 @@ impl Tracker {
 mod tests {
     use super::*;
 
+    /// A 320x240 frame `index` of a 25 frames/s video.
+    fn frame(index: u64, data: Vec<u8>) -> crate::video::Frame {
+        crate::video::Frame {
+            index,
+            t_s: index as f64 / 25.0,
+            width: 320,
+            height: 240,
+            data,
+        }
+    }
+
     /// A 320x240 wall at 200 with a wire 45 grey levels dark (2 px wide) from (160, 20)
     /// at `wire` rad, and a line 120 dark, a Gaussian of sigma 0.9 px across, at `other`:
     /// the stronger ridge, and a little wider (not by the 30 % that outweighs a kept
@@ -772,13 +775,7 @@ mod tests {
                 data[y * w + x] = v.round() as u8;
             }
         }
-        crate::video::Frame {
-            index,
-            t_s: index as f64 / 25.0,
-            width: w,
-            height: h,
-            data,
-        }
+        frame(index, data)
     }
 
     /// A 320x240 wall at 200 with a faint wire 20 grey levels dark (2 px wide) from
@@ -808,13 +805,7 @@ mod tests {
                 data[y * w + x] = g.round() as u8;
             }
         }
-        crate::video::Frame {
-            index,
-            t_s: index as f64 / 25.0,
-            width: w,
-            height: h,
-            data,
-        }
+        frame(index, data)
     }
 
     /// The rim's parts of the band weigh less in the histogram ([`covered_bins`]) and

@@ -31,6 +31,11 @@ pub struct DetectArgs {
     /// Pivot `x,y` (px; may lie outside the frame).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pivot: Option<Vec<f64>>,
+    /// The largest side (px) the detector works at: frames are shrunk by a whole factor
+    /// to at most this (default 640, or the experiment's `video.work_side_px`); 1280
+    /// measures 1280x720 footage at full size, more finely and more slowly.
+    #[arg(long, value_name = "PX")]
+    work_side: Option<u32>,
 }
 
 /// Exactly `N` comma-separated numbers for `--name`.
@@ -69,6 +74,10 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
         if first > last {
             bail!("--frames {first},{last}: the first frame comes after the last");
         }
+    }
+    if let Some(side) = a.work_side {
+        crate::config::work_side("--work-side", side)?;
+        opts.work_side_px = f64::from(side);
     }
     opts.frames = frames.or(opts.frames);
     opts.pivot = pivot.or(opts.pivot);

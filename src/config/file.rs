@@ -561,6 +561,14 @@ pub struct Video {
     /// image's (a camera square to the plate).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<PlateCalibration>,
+    /// The largest side, px, the detector works at: a frame (or its region of interest)
+    /// is shrunk by a whole factor to at most this before the wire is measured (and to
+    /// the default's scale when the finer one's look is in doubt). Default 640, at
+    /// least 640. A larger one measures high-resolution footage more finely, for more of
+    /// the detector's time and memory: 1280 measures a 1280x720 video at its full size
+    /// and a 1920x1080 one at half size (README, "Working scale").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work_side_px: Option<u32>,
 }
 
 /// `video.calibration`, e.g. `{points: [{image: [412.5, 96.0], plate: [0, 0]}, ...]}`.

@@ -279,6 +279,9 @@ impl Experiment {
                 );
             }
         }
+        if let Some(side) = file.video.as_ref().and_then(|v| v.work_side_px) {
+            work_side("video.work_side_px", side)?;
+        }
         let calibration = file
             .video
             .as_ref()
@@ -422,6 +425,18 @@ fn plate_calibration(c: &PlateCalibration) -> Result<crate::plane::Calibration> 
     let image: Vec<[f64; 2]> = c.points.iter().map(|p| p.image).collect();
     let plate: Vec<[f64; 2]> = c.points.iter().map(|p| p.plate).collect();
     crate::plane::Calibration::new(&image, &plate, c.u_px).with_context(|| format!("`{key}`"))
+}
+
+/// The side the detector works at (`video.work_side_px`, `detect --work-side`): from
+/// the default 640 px to the largest frame's side.
+pub fn work_side(key: &str, side: u32) -> Result<()> {
+    if !(640..=8192).contains(&side) {
+        bail!(
+            "`{key}` = {side} px: expected 640 (the default) to 8192 px, the largest side \
+             the detector may work at"
+        );
+    }
+    Ok(())
 }
 
 fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
@@ -586,6 +601,25 @@ synthetic: { s_r_m: 3.2e-6 }
         let e = Experiment::parse(Path::new("g.yaml"), &text).unwrap();
         assert!((e.pendulum.d - 0.14).abs() < 1e-4);
         assert!((e.pendulum.m - 1.0458).abs() < 0.01);
+    }
+
+    #[test]
+    fn the_working_side_is_read_and_one_out_of_range_is_refused_by_its_key() {
+        let with = |side: &str| format!("{GOOD}video:\n  work_side_px: {side}\n");
+        let e = Experiment::parse(Path::new("g.yaml"), &with("1280")).unwrap();
+        let opts = crate::detect::DetectOptions::from_video(e.file.video.as_ref().unwrap());
+        assert_eq!(opts.work_side_px, 1280.0);
+        let e = Experiment::parse(Path::new("g.yaml"), GOOD).unwrap();
+        assert!(e.file.video.is_none());
+        assert_eq!(crate::detect::DetectOptions::default().work_side_px, 640.0);
+        for bad in ["320", "9000"] {
+            let e = err(&with(bad));
+            assert!(
+                e.contains(&format!("`video.work_side_px` = {bad} px"))
+                    && e.contains("640 (the default) to 8192"),
+                "{e}"
+            );
+        }
     }
 
     #[test]

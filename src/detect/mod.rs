@@ -506,8 +506,11 @@ struct Located<'a> {
     dropped: usize,
 }
 
-/// The working side of the first look, px: a frame is shrunk by a whole factor towards
-/// this size for the geometry (the streaming pass always works at full size).
+/// The working side, px, by default (`video.work_side_px` asks for a larger one): a
+/// frame is shrunk by a whole factor towards this size for the first look, and the
+/// streaming pass works at the look's scale. A 1280x720 video is so measured at half
+/// size, its 2 px wire sampled as 1 px: at full size its angles err less, for about
+/// twice the detector's own processor time (README, "Working scale").
 const WORK_SIDE_PX: f64 = 640.0;
 
 /// What every first look at one video shares: the input, the options, the region
@@ -525,10 +528,12 @@ struct FirstLook<'a> {
 impl<'a> FirstLook<'a> {
     /// The first look at the working scale that sees the wire best. A frame is shrunk by
     /// whole factors only, so two scales bracket [`WORK_SIDE_PX`]: the coarser (larger side
-    /// at most 640 px) and the finer (at least 640 px). They coincide for 640, 1280 and
-    /// 1920 px wide frames; for others (960x540, say) the coarser one may blur a 1 px wire
-    /// into its own shadow while the finer one sees edges too sharply to settle on the
-    /// wire. The finer scale is looked at first and kept when it found, at the strict
+    /// at most 640 px) and the finer (at least 640 px). With a larger working side asked
+    /// for (`work_side_px`), the finer is the finest at most that wide instead (for 1280:
+    /// 1280x720 at full size, 1920x1080 at half size). By default they coincide for 640,
+    /// 1280 and 1920 px wide frames; for others (960x540, say) the coarser one may blur a
+    /// 1 px wire into its own shadow while the finer one sees edges too sharply to settle
+    /// on the wire. The finer scale is looked at first and kept when it found, at the strict
     /// threshold (against either background), a wire that never jumps; otherwise the
     /// coarser one is looked at too, and the scale whose wire needed fewer of the
     /// geometry's fallbacks (then fewer jumps) wins, the finer on a tie.
@@ -542,7 +547,11 @@ impl<'a> FirstLook<'a> {
     fn at_best_scale(&self) -> Result<(Located<'a>, Option<Other<'a>>)> {
         let side = self.bound.w.max(self.bound.h) as f64;
         let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
-        let fine = (side / WORK_SIDE_PX).floor().max(1.0) as u32;
+        let fine = if self.opts.work_side_px > WORK_SIDE_PX {
+            (side / self.opts.work_side_px).ceil().max(1.0) as u32
+        } else {
+            (side / WORK_SIDE_PX).floor().max(1.0) as u32
+        };
         if fine == coarse {
             return Ok((self.at(coarse)?, None));
         }

@@ -28,6 +28,9 @@ pub struct DetectOptions {
     /// decodes the streaming pass anew, cropped to the region of interest. Both give
     /// the same angles, byte for byte; the one decoder is faster on a short video.
     pub decode_once: bool,
+    /// The side, px, a frame is shrunk towards by a whole factor before the wire is
+    /// measured (`video.work_side_px`; see `FirstLook::at_best_scale`).
+    pub work_side_px: f64,
 }
 
 /// A progress callback: `(frames done, frames expected)`.
@@ -54,6 +57,7 @@ impl Default for DetectOptions {
             diag_dir: None,
             progress: None,
             decode_once: true,
+            work_side_px: super::WORK_SIDE_PX,
         }
     }
 }
@@ -70,6 +74,7 @@ impl DetectOptions {
             threshold_sigma: v.threshold_sigma.unwrap_or(4.0),
             gate_deg: v.gate_deg.unwrap_or(1.5),
             marks: v.marks.clone(),
+            work_side_px: v.work_side_px.map_or(super::WORK_SIDE_PX, f64::from),
             ..Self::default()
         }
     }

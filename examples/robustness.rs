@@ -15,7 +15,8 @@
 //! the same scenes. With `ROBUSTNESS_KEEP=DIR`, each measured scene's experiment file,
 //! angles, truth and swing scale are kept in `DIR/scene-NNN/` (not its video), for
 //! analyses that re-fit the sweep's angles without detecting again (the interval
-//! coverage of `examples/coverage.rs`).
+//! coverage of `examples/coverage.rs`). `ROBUSTNESS_WORK_SIDE=PX` detects every scene
+//! at that working side (`video.work_side_px`, default 640).
 
 use anyhow::{Context, Result};
 use rollfric::config::Experiment;
@@ -223,7 +224,13 @@ fn error_parts(
     })
 }
 
-fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome> {
+fn run(
+    scene: &Scene,
+    root: &Path,
+    dir: &Path,
+    duration: f64,
+    opts: &DetectOptions,
+) -> Result<Outcome> {
     let exp = scene.experiment(root, dir, duration)?;
     let video = dir.join(format!("scene.{}", scene.ext));
     rollfric::synth::render(&exp, &video, None, &mut |_, _| {})?;
@@ -233,7 +240,7 @@ fn run(scene: &Scene, root: &Path, dir: &Path, duration: f64) -> Result<Outcome>
     // scale's share of the angle uncertainty).
     let (angles, d) = match pipeline::detect(
         &video,
-        &DetectOptions::default(),
+        opts,
         video.display().to_string(),
         String::new(),
         Source::Twin,
@@ -344,6 +351,17 @@ fn main() -> Result<()> {
     let only: Option<usize> = args.get(3).map(|a| a.parse()).transpose()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let keep = std::env::var_os("ROBUSTNESS_KEEP").map(std::path::PathBuf::from);
+    // `ROBUSTNESS_WORK_SIDE=PX`: the detector's working side (`video.work_side_px`) for
+    // every scene; otherwise the default.
+    let mut opts = DetectOptions::default();
+    if let Some(v) = std::env::var_os("ROBUSTNESS_WORK_SIDE") {
+        let side: u32 = v
+            .to_string_lossy()
+            .parse()
+            .context("ROBUSTNESS_WORK_SIDE: expected a whole number of px")?;
+        rollfric::config::work_side("ROBUSTNESS_WORK_SIDE", side)?;
+        opts.work_side_px = f64::from(side);
+    }
     let mut rng = Rng::new(seed);
     let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());
     // Per measured scene: |swing scale error| and the RMS of the rest ([`error_parts`]).
@@ -369,7 +387,7 @@ fn main() -> Result<()> {
             Dir::Temp(dir)
         };
         let started = std::time::Instant::now();
-        let outcome = run(&scene, root, dir.path(), duration);
+        let outcome = run(&scene, root, dir.path(), duration, &opts);
         if let (Some(keep), Ok(Outcome::Measured { .. })) = (&keep, &outcome) {
             let to = keep.join(format!("scene-{i:03}"));
             std::fs::create_dir_all(&to)
@@ -444,7 +462,10 @@ fn main() -> Result<()> {
         );
     }
     let n = errs.len();
-    println!("robustness sweep: {scenes} scenes, seed {seed}, {duration} s each");
+    println!(
+        "robustness sweep: {scenes} scenes, seed {seed}, {duration} s each, working side {} px",
+        opts.work_side_px
+    );
     println!(
         "  detected and fitted: {n} ({:.1} %), refused with a reason: {refused}, errors: {}",
         100.0 * n as f64 / scenes as f64,

@@ -157,14 +157,11 @@ impl Tracker {
             return Ok(None);
         }
         // Coverage of the band by the selected pixels.
-        let nbins = 24usize;
-        let mut cov = [false; 24];
+        let mut cov = [false; CELLS];
         for (q, _) in &b.sel {
-            let r = (q - piv).norm();
-            let k = (((r - r_lo) / (r_hi - r_lo)) * nbins as f64) as usize;
-            cov[k.min(nbins - 1)] = true;
+            cov[band_part((q - piv).norm(), (r_lo, r_hi))] = true;
         }
-        let quality = cov.iter().filter(|c| **c).count() as f64 / nbins as f64;
+        let quality = cov.iter().filter(|c| **c).count() as f64 / CELLS as f64;
         // The angle itself from every pixel of the strip, below the threshold too: the
         // threshold, which differs from pixel to pixel, would cut the blurred wire's
         // flanks unevenly and tilt the fit (by about 0.4 % of the swing on a light wire).
@@ -640,14 +637,12 @@ impl Tracker {
                 .min_by(|a, b| a.1.total_cmp(&b.1))
                 .expect("two peaks or more")
         };
-        // The band's bins each peak's thresholded pixels reach.
-        let nbins = 24usize;
-        let mut seen = vec![[false; 24]; peaks.len()];
+        // The band's parts each peak's thresholded pixels reach.
+        let mut seen = vec![[false; CELLS]; peaks.len()];
         for (q, _, _) in cand {
             let (j, dj) = nearest(*q);
             if dj <= WIDTH_STRIP {
-                let b = ((((*q - piv).norm() - r_lo) / (r_hi - r_lo)) * nbins as f64) as usize;
-                seen[j][b.min(nbins - 1)] = true;
+                seen[j][band_part((*q - piv).norm(), (r_lo, r_hi))] = true;
             }
         }
         let cover = |j: usize| seen[j].iter().filter(|c| **c).count() as f64;

@@ -89,12 +89,38 @@ fn extreme<F: Extreme>(src: &[u8], wp: usize, out: &mut Vec<u8>, a: &mut Vec<u8>
 fn step<F: Extreme>(src: &[u8], by: usize, out: &mut Vec<u8>) {
     let n = src.len();
     out.clear();
-    out.extend_from_slice(src);
     if by >= n {
+        out.extend_from_slice(src);
         return;
     }
-    combine::<F>(&mut out[..n - by], &src[by..]);
-    combine::<F>(&mut out[by..], &src[..n - by]);
+    if n < 2 * by {
+        // Too short for an element with neighbours on both sides.
+        out.extend_from_slice(src);
+        combine::<F>(&mut out[..n - by], &src[by..]);
+        combine::<F>(&mut out[by..], &src[..n - by]);
+        return;
+    }
+    // One pass, written once: the first `by` elements have no neighbour before them,
+    // the last `by` none after, the rest both.
+    out.extend(
+        src[..by]
+            .iter()
+            .zip(&src[by..2 * by])
+            .map(|(a, b)| F::of(*a, *b)),
+    );
+    out.extend(
+        src[..n - 2 * by]
+            .iter()
+            .zip(&src[by..n - by])
+            .zip(&src[2 * by..])
+            .map(|((a, b), c)| F::of(F::of(*a, *b), *c)),
+    );
+    out.extend(
+        src[n - 2 * by..n - by]
+            .iter()
+            .zip(&src[n - by..])
+            .map(|(a, b)| F::of(*a, *b)),
+    );
 }
 
 /// The minimum or the maximum of two bytes (a type, so that each pass is compiled for

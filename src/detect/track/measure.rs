@@ -80,11 +80,12 @@ impl Tracker {
         b.cand.clear();
         let ev = self.ev.data_bytes()?;
         let stride = self.ev.cols() as usize;
+        let outside = WedgeTest::new(lo, hi);
         for &(x, y) in &b.nz {
             let q = Pt::new(x as f64, y as f64);
             let d = q - piv;
             let r = d.norm();
-            if r < r_lo || r > r_hi {
+            if r < r_lo || r > r_hi || outside.surely(d, r) {
                 continue;
             }
             let th = unwrap_near(d.y.atan2(d.x), mid);
@@ -263,31 +264,114 @@ impl Tracker {
         let span = (half + STRIP_EDGE) / across;
         let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
         let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
-        let (r_lo2, r_hi2) = (self.r_lo * self.r_lo, self.r_hi * self.r_hi);
+        let (piv_u, piv_v) = if steep {
+            (piv.y, piv.x)
+        } else {
+            (piv.x, piv.y)
+        };
+        let walk = StripWalk {
+            ev,
+            cols,
+            rows: u0..u1,
+            line: (pu, pv, dv, du),
+            span,
+            nv,
+            piv: (piv_u, piv_v),
+            band2: (self.r_lo * self.r_lo, self.r_hi * self.r_hi),
+            half,
+            across,
+        };
         out.clear();
-        for u in u0..u1 {
-            let vc = pv + (u as f64 - pu) * dv / du;
-            let v0 = (vc - span).ceil().max(0.0) as usize;
-            let v1 = ((vc + span).floor() + 1.0).clamp(0.0, nv as f64) as usize;
-            for v in v0..v1 {
-                let (x, y) = if steep { (v, u) } else { (u, v) };
-                let w = ev[y * cols + x];
-                if w == 0 {
-                    continue;
-                }
-                let q = Pt::new(x as f64, y as f64);
-                let r2 = (q - piv).norm_squared();
-                if r2 >= r_lo2 && r2 <= r_hi2 {
-                    let share = edge_share(half, (v as f64 - vc).abs() * across);
-                    if share > 0.0 {
-                        out.push((q, w as f64 * share));
-                    }
-                }
-            }
+        if steep {
+            walk.run::<true>(out);
+        } else {
+            walk.run::<false>(out);
         }
         Ok(())
     }
 }
+
+/// A strip's walk ([`Tracker::strip_pixels`]), compiled once for each major axis: `u`
+/// runs along the strip (y when `STEEP`, else x), `v` across it.
+struct StripWalk<'a> {
+    ev: &'a [u8],
+    cols: usize,
+    rows: std::ops::Range<usize>,
+    /// The line's point along `u` and `v`, and its direction's `v` and `u`.
+    line: (f64, f64, f64, f64),
+    /// How far across (in `v`) a row reaches either side of the line, and its end.
+    span: f64,
+    nv: usize,
+    /// The pivot along `u` and `v`, and the band's squared radii.
+    piv: (f64, f64),
+    band2: (f64, f64),
+    half: f64,
+    across: f64,
+}
+
+impl StripWalk<'_> {
+    fn run<const STEEP: bool>(&self, out: &mut Vec<(Pt, f64)>) {
+        let (pu, pv, dv, du) = self.line;
+        let (piv_u, piv_v) = self.piv;
+        let (r_lo2, r_hi2) = self.band2;
+        for u in self.rows.clone() {
+            let vc = pv + (u as f64 - pu) * dv / du;
+            let v0 = (vc - self.span).ceil().max(0.0) as usize;
+            let v1 = ((vc + self.span).floor() + 1.0).clamp(0.0, self.nv as f64) as usize;
+            // The same squared distance as `(q - piv).norm_squared()`, its `u` term
+            // found once per row (a sum of two terms does not depend on their order).
+            let off_u = u as f64 - piv_u;
+            let du2 = off_u * off_u;
+            for v in v0..v1 {
+                let (x, y) = if STEEP { (v, u) } else { (u, v) };
+                let w = self.ev[y * self.cols + x];
+                if w == 0 {
+                    continue;
+                }
+                let off_v = v as f64 - piv_v;
+                let r2 = off_v * off_v + du2;
+                if r2 >= r_lo2 && r2 <= r_hi2 {
+                    let share = edge_share(self.half, (v as f64 - vc).abs() * self.across);
+                    if share > 0.0 {
+                        out.push((Pt::new(x as f64, y as f64), w as f64 * share));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A test that passes over, without trigonometry, the pixels that lie surely outside a
+/// wedge of angles `lo..hi` about the pivot: those whose direction is further from the
+/// wedge's middle than its half width and [`WEDGE_TEST_SLACK`]. The pixels it lets by
+/// are tested by their angle as before, so the pixels kept are the same; the slack,
+/// far above the rounding of a dot product, leaves a pixel on the wedge's edge to that
+/// test.
+struct WedgeTest {
+    /// The middle's direction and the cosine of the half width with its slack; `None`
+    /// when the wedge is too wide (half width and slack past a right angle) to be
+    /// tested so.
+    mid: Option<(Pt, f64)>,
+}
+
+impl WedgeTest {
+    fn new(lo: f64, hi: f64) -> Self {
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo) + WEDGE_TEST_SLACK);
+        Self {
+            mid: (half < std::f64::consts::FRAC_PI_2)
+                .then(|| (Pt::new(mid.cos(), mid.sin()), half.cos())),
+        }
+    }
+
+    /// True when `d` (from the pivot, of length `r`) is surely outside the wedge.
+    #[inline]
+    fn surely(&self, d: Pt, r: f64) -> bool {
+        self.mid.is_some_and(|(m, cos)| d.dot(&m) < r * cos)
+    }
+}
+
+/// The slack of [`WedgeTest`], rad.
+const WEDGE_TEST_SLACK: f64 = 1e-6;
 
 /// The share of a pixel whose centre lies `dist` px from a strip's line that counts in
 /// a strip `half` px either side of it: all of it within `half - STRIP_EDGE`, none
@@ -311,18 +395,29 @@ const STRIP_EDGE: f64 = 0.5;
 /// Most of the wedge lies under its threshold: blocks of [`SCAN_BLOCK`] bytes with none
 /// over it are passed over by one comparison of the whole block (vectorised).
 fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
-    let mut from = 0;
-    for (eb, tb) in e.chunks(SCAN_BLOCK).zip(t.chunks(SCAN_BLOCK)) {
-        let any = eb.iter().zip(tb).fold(0u8, |m, (a, b)| m | u8::from(a > b));
-        if any != 0 {
-            for (i, (a, b)) in eb.iter().zip(tb).enumerate() {
-                if a > b {
-                    found(from + i);
-                }
+    let n = e.len().min(t.len());
+    let (e, t) = (&e[..n], &t[..n]);
+    let mut each = |from: usize, eb: &[u8], tb: &[u8]| {
+        for (i, (a, b)) in eb.iter().zip(tb).enumerate() {
+            if a > b {
+                found(from + i);
             }
         }
-        from += eb.len();
+    };
+    // Whole blocks, each tested at once; then the row's last bytes one by one.
+    let (blocks, rest) = (e.chunks_exact(SCAN_BLOCK), t.chunks_exact(SCAN_BLOCK));
+    let (e_rest, t_rest) = (blocks.remainder(), rest.remainder());
+    for (k, (eb, tb)) in blocks.zip(rest).enumerate() {
+        let (eb, tb): (&[u8; SCAN_BLOCK], &[u8; SCAN_BLOCK]) = (
+            eb.try_into().expect("a block"),
+            tb.try_into().expect("a block"),
+        );
+        let any = eb.iter().zip(tb).fold(0u8, |m, (a, b)| m | u8::from(a > b));
+        if any != 0 {
+            each(k * SCAN_BLOCK, eb, tb);
+        }
     }
+    each(n - e_rest.len(), e_rest, t_rest);
 }
 
 /// A histogram bin reaching this many of the band's parts counts whole
@@ -731,6 +826,52 @@ impl Tracker {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_wedge_test_passes_over_only_pixels_outside_the_wedge_by_their_angle() {
+        let mut rng = crate::rng::Rng::new(5);
+        let (mut passed, mut kept) = (0, 0);
+        for _ in 0..2000 {
+            // Wedges at any direction, from 2 deg to wider than a half turn.
+            let mid = 8.0 * rng.uniform() - 4.0;
+            let half = (2.0 + 100.0 * rng.uniform()).to_radians();
+            let (lo, hi) = (mid - half, mid + half);
+            let test = WedgeTest::new(lo, hi);
+            for _ in 0..50 {
+                let d = Pt::new(
+                    (400.0 * rng.uniform() - 200.0).round(),
+                    (400.0 * rng.uniform() - 200.0).round(),
+                );
+                let r = d.norm();
+                if r == 0.0 {
+                    continue;
+                }
+                let th = unwrap_near(d.y.atan2(d.x), 0.5 * (lo + hi));
+                let inside = th >= lo && th <= hi;
+                if test.surely(d, r) {
+                    assert!(!inside, "{d:?} inside {lo}..{hi} passed over");
+                    passed += 1;
+                } else {
+                    kept += 1;
+                }
+            }
+        }
+        // It does pass over most of what lies outside.
+        assert!(passed > kept / 2, "passed over {passed}, kept {kept}");
+    }
+
+    #[test]
+    fn a_pixel_on_the_wedge_s_edge_is_left_to_its_angle() {
+        // The edge of a wedge from 0 to 30 deg, a pixel on it, and one just past it.
+        let test = WedgeTest::new(0.0, 30f64.to_radians());
+        let on = Pt::new(30f64.to_radians().cos(), 30f64.to_radians().sin()) * 100.0;
+        assert!(!test.surely(on, on.norm()));
+        let past = Pt::new(31f64.to_radians().cos(), 31f64.to_radians().sin()) * 100.0;
+        assert!(test.surely(past, past.norm()));
+        // Too wide to be tested so: nothing is passed over.
+        let wide = WedgeTest::new(0.0, 3.2);
+        assert!(!wide.surely(Pt::new(-1.0, -1.0), 2f64.sqrt()));
+    }
 
     /// A 320x240 frame `index` of a 25 frames/s video.
     fn frame(index: u64, data: Vec<u8>) -> crate::video::Frame {

@@ -81,19 +81,42 @@ impl Brightness {
     /// Returns the gain (1 when unknown or within the dead band, and the frame is left
     /// as it was).
     pub(super) fn normalise(&mut self, frame: &mut [u8]) -> f64 {
+        let (g, divide) = self.plan(frame);
+        if divide {
+            for v in frame.iter_mut() {
+                *v = self.lut[*v as usize];
+            }
+        }
+        g
+    }
+
+    /// [`Brightness::normalise`] of `frame` written into `out` (of the same size): the
+    /// bytes of a copy normalised in place, in one pass over the frame.
+    pub(super) fn normalise_into(&mut self, frame: &[u8], out: &mut [u8]) -> f64 {
+        let (g, divide) = self.plan(frame);
+        if divide {
+            for (o, v) in out.iter_mut().zip(frame) {
+                *o = self.lut[*v as usize];
+            }
+        } else {
+            out.copy_from_slice(frame);
+        }
+        g
+    }
+
+    /// The frame's gain (1 when unknown), and whether the frame is to be divided by it
+    /// (outside the dead band: `lut` then divides a grey level).
+    fn plan(&mut self, frame: &[u8]) -> (f64, bool) {
         let Some(g) = self.gain(frame).filter(|g| *g > 0.05) else {
-            return 1.0;
+            return (1.0, false);
         };
         if (g - 1.0).abs() < DEAD_BAND {
-            return g;
+            return (g, false);
         }
         for (v, out) in self.lut.iter_mut().enumerate() {
             *out = (v as f64 / g).round().min(255.0) as u8;
         }
-        for v in frame.iter_mut() {
-            *v = self.lut[*v as usize];
-        }
-        g
+        (g, true)
     }
 }
 
@@ -145,6 +168,20 @@ mod tests {
         let mut same = reference.clone();
         b.normalise(&mut same);
         assert_eq!(same, reference);
+    }
+
+    #[test]
+    fn normalising_into_another_buffer_gives_the_bytes_normalised_in_place() {
+        let mut b = Brightness::new(&scene(1.0, 0.0));
+        for g in [0.88, 1.001, 1.12] {
+            let frame = scene(g, 0.2);
+            let mut in_place = frame.clone();
+            let g1 = b.normalise(&mut in_place);
+            let mut out = vec![7u8; frame.len()];
+            let g2 = b.normalise_into(&frame, &mut out);
+            assert_eq!(g1, g2);
+            assert_eq!(out, in_place, "gain {g}");
+        }
     }
 
     #[test]

@@ -102,6 +102,7 @@ fn step<F: Extreme>(src: &[u8], by: usize, out: &mut Vec<u8>) {
     }
     // One pass, written once: the first `by` elements have no neighbour before them,
     // the last `by` none after, the rest both.
+    out.reserve(n);
     out.extend(
         src[..by]
             .iter()

@@ -209,9 +209,17 @@ impl Tracker {
     }
 
     pub(super) fn step(&mut self, f: &Frame, hint: Option<f64>) -> Result<AngleRow> {
-        let full = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
         let (w, h) = (self.bg.cols(), self.bg.rows());
+        // Global brightness: a flash or a dropout is kept out of the background.
+        let level = sampled_mean(&f.data, 7);
+        let flash = self
+            .mean_level
+            .is_some_and(|m| (level - m).abs() > 0.2 * m.max(20.0));
+        // Flicker and slow lighting changes: the frame brought to the first look's
+        // brightness before the background, the noise and the gate see it (at full
+        // size, normalised as it is copied).
         if self.scale > 1.0 {
+            let full = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
             imgproc::resize(
                 &full,
                 &mut self.small,
@@ -220,26 +228,28 @@ impl Tracker {
                 0.0,
                 imgproc::INTER_AREA,
             )?;
+            if !flash {
+                self.light.normalise(self.small.data_bytes_mut()?);
+            }
         } else {
-            if full.cols() != w || full.rows() != h {
+            if f.width as i32 != w || f.height as i32 != h || f.data.len() != f.width * f.height {
                 bail!(
                     "frame {} is {}x{} px, expected {w}x{h}",
                     f.index,
-                    full.cols(),
-                    full.rows()
+                    f.width,
+                    f.height
                 );
             }
-            full.copy_to(&mut self.small)?;
-        }
-        // Global brightness: a flash or a dropout is kept out of the background.
-        let level = sampled_mean(&f.data, 7);
-        let flash = self
-            .mean_level
-            .is_some_and(|m| (level - m).abs() > 0.2 * m.max(20.0));
-        // Flicker and slow lighting changes: the frame brought to the first look's
-        // brightness before the background, the noise and the gate see it.
-        if !flash {
-            self.light.normalise(self.small.data_bytes_mut()?);
+            if self.small.cols() != w || self.small.rows() != h {
+                self.small =
+                    Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
+            }
+            let out = self.small.data_bytes_mut()?;
+            if flash {
+                out.copy_from_slice(&f.data);
+            } else {
+                self.light.normalise_into(&f.data, out);
+            }
         }
         // A repeated frame (the camera dropped one and the recorder repeated the last)
         // differs from its predecessor far less than the sensor noise makes any two

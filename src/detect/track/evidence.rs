@@ -55,14 +55,16 @@ impl Tracker {
     /// the rectangle of the wedge around `pred`; zero elsewhere.
     pub(super) fn evidence(&mut self, pred: Option<f64>) -> Result<()> {
         let (w, h) = (self.small.cols(), self.small.rows());
-        if self.ev.cols() != w || self.ev.rows() != h {
-            self.ev = Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
-        } else if self.rect.width > 0 && self.rect.height > 0 {
-            Mat::roi_mut(&mut self.ev, self.rect)?.set_to_def(&Scalar::all(0.0))?;
-        }
         self.wedge = self.search_wedge(pred);
         let radii = (self.r_lo, self.r_hi);
         let r = sector_rect(self.piv, radii, self.wedge, EVIDENCE_MARGIN, w, h);
+        if self.ev.cols() != w || self.ev.rows() != h {
+            self.ev = Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
+        } else {
+            // The last frame's rectangle back to zero where this frame's does not
+            // overwrite it.
+            clear_outside(self.ev.data_bytes_mut()?, w as usize, self.rect, r);
+        }
         self.rect = r;
         if r.width == 0 || r.height == 0 {
             return Ok(());
@@ -152,6 +154,32 @@ pub(super) fn sector_rect(
     Rect::new(left, top, (right - left).max(0), (bottom - top).max(0))
 }
 
+/// Zero the pixels of rectangle `old` that lie outside rectangle `new` in an image of
+/// `cols` bytes a row (both rectangles within it): the rows of `old` above and below
+/// `new`, and on the rows they share, the parts left and right of it.
+fn clear_outside(img: &mut [u8], cols: usize, old: Rect, new: Rect) {
+    if old.width <= 0 || old.height <= 0 {
+        return;
+    }
+    let (ox0, ox1) = (old.x as usize, (old.x + old.width) as usize);
+    let empty = new.width <= 0 || new.height <= 0;
+    let (ny0, ny1) = if empty {
+        (i32::MAX, i32::MAX)
+    } else {
+        (new.y, new.y + new.height)
+    };
+    for y in old.y..old.y + old.height {
+        let row = &mut img[y as usize * cols..][..cols];
+        if y < ny0 || y >= ny1 {
+            row[ox0..ox1].fill(0);
+        } else {
+            let (nx0, nx1) = (new.x as usize, (new.x + new.width) as usize);
+            row[ox0..nx0.clamp(ox0, ox1)].fill(0);
+            row[nx1.clamp(ox0, ox1)..ox1].fill(0);
+        }
+    }
+}
+
 /// `r` grown by `by` px on every side, cut to a `cols` x `rows` image.
 fn grow(r: Rect, by: i32, cols: i32, rows: i32) -> Rect {
     let (left, top) = ((r.x - by).max(0), (r.y - by).max(0));
@@ -210,6 +238,37 @@ mod tests {
             rows,
         );
         assert_eq!(r.height, 0, "{r:?}");
+    }
+
+    #[test]
+    fn clearing_outside_leaves_zero_where_only_the_old_rectangle_was() {
+        let (cols, rows) = (30, 20);
+        let cases = [
+            (Rect::new(5, 4, 10, 8), Rect::new(8, 2, 6, 14)),
+            (Rect::new(5, 4, 10, 8), Rect::new(0, 6, 30, 2)),
+            (Rect::new(5, 4, 10, 8), Rect::new(20, 0, 5, 5)),
+            (Rect::new(5, 4, 10, 8), Rect::new(0, 0, 0, 0)),
+            (Rect::new(0, 0, 30, 20), Rect::new(3, 3, 4, 4)),
+            (Rect::new(0, 0, 0, 0), Rect::new(3, 3, 4, 4)),
+        ];
+        for (old, new) in cases {
+            let mut img = vec![9u8; cols * rows];
+            clear_outside(&mut img, cols, old, new);
+            for y in 0..rows as i32 {
+                for x in 0..cols as i32 {
+                    let want = if inside(old, x, y) && !inside(new, x, y) {
+                        0
+                    } else {
+                        9
+                    };
+                    assert_eq!(
+                        img[y as usize * cols + x as usize],
+                        want,
+                        "({x}, {y}) for {old:?} then {new:?}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

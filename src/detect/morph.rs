@@ -89,15 +89,13 @@ fn extreme<F: Extreme>(src: &[u8], wp: usize, out: &mut Vec<u8>, a: &mut Vec<u8>
 fn step<F: Extreme>(src: &[u8], by: usize, out: &mut Vec<u8>) {
     let n = src.len();
     out.clear();
-    if by >= n {
-        out.extend_from_slice(src);
-        return;
-    }
     if n < 2 * by {
         // Too short for an element with neighbours on both sides.
         out.extend_from_slice(src);
-        combine::<F>(&mut out[..n - by], &src[by..]);
-        combine::<F>(&mut out[by..], &src[..n - by]);
+        if by < n {
+            combine::<F>(&mut out[..n - by], &src[by..]);
+            combine::<F>(&mut out[by..], &src[..n - by]);
+        }
         return;
     }
     // One pass, written once: the first `by` elements have no neighbour before them,

@@ -162,20 +162,15 @@ fn clear_outside(img: &mut [u8], cols: usize, old: Rect, new: Rect) {
         return;
     }
     let (ox0, ox1) = (old.x as usize, (old.x + old.width) as usize);
-    let empty = new.width <= 0 || new.height <= 0;
-    let (ny0, ny1) = if empty {
-        (i32::MAX, i32::MAX)
-    } else {
-        (new.y, new.y + new.height)
-    };
+    let (nx0, nx1) = (new.x as usize, (new.x + new.width) as usize);
+    let shared = |y: i32| new.width > 0 && (new.y..new.y + new.height).contains(&y);
     for y in old.y..old.y + old.height {
         let row = &mut img[y as usize * cols..][..cols];
-        if y < ny0 || y >= ny1 {
-            row[ox0..ox1].fill(0);
-        } else {
-            let (nx0, nx1) = (new.x as usize, (new.x + new.width) as usize);
+        if shared(y) {
             row[ox0..nx0.clamp(ox0, ox1)].fill(0);
             row[nx1.clamp(ox0, ox1)..ox1].fill(0);
+        } else {
+            row[ox0..ox1].fill(0);
         }
     }
 }

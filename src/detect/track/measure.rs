@@ -254,21 +254,17 @@ impl Tracker {
         // `v` within `(half + STRIP_EDGE) / |d_u|` of the line: a step of `v` is `|d_u|`
         // px across it.
         let steep = d.y.abs() >= d.x.abs();
-        let (pu, pv, du, dv, nu, nv) = if steep {
-            (foot.y, foot.x, d.y, d.x, rows, cols)
+        // The line's foot, its direction and the pivot along `u` and `v`.
+        let (pu, pv, du, dv, piv_u, piv_v, nu, nv) = if steep {
+            (foot.y, foot.x, d.y, d.x, piv.y, piv.x, rows, cols)
         } else {
-            (foot.x, foot.y, d.x, d.y, cols, rows)
+            (foot.x, foot.y, d.x, d.y, piv.x, piv.y, cols, rows)
         };
         let (au, bu) = if steep { (a.y, b.y) } else { (a.x, b.x) };
         let across = du.abs();
         let span = (half + STRIP_EDGE) / across;
         let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
         let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
-        let (piv_u, piv_v) = if steep {
-            (piv.y, piv.x)
-        } else {
-            (piv.x, piv.y)
-        };
         let walk = StripWalk {
             ev,
             cols,
@@ -405,9 +401,9 @@ fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
         }
     };
     // Whole blocks, each tested at once; then the row's last bytes one by one.
-    let (blocks, rest) = (e.chunks_exact(SCAN_BLOCK), t.chunks_exact(SCAN_BLOCK));
-    let (e_rest, t_rest) = (blocks.remainder(), rest.remainder());
-    for (k, (eb, tb)) in blocks.zip(rest).enumerate() {
+    let (e_blocks, t_blocks) = (e.chunks_exact(SCAN_BLOCK), t.chunks_exact(SCAN_BLOCK));
+    let (e_rest, t_rest) = (e_blocks.remainder(), t_blocks.remainder());
+    for (k, (eb, tb)) in e_blocks.zip(t_blocks).enumerate() {
         let (eb, tb): (&[u8; SCAN_BLOCK], &[u8; SCAN_BLOCK]) = (
             eb.try_into().expect("a block"),
             tb.try_into().expect("a block"),

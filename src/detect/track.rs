@@ -1,6 +1,7 @@
 //! The streaming pass: per frame, the evidence against a background that follows the
 //! scene, the wire's angle in a wedge around the prediction, and the gate.
 
+mod contrast;
 mod diag;
 mod evidence;
 mod measure;
@@ -31,6 +32,9 @@ pub(super) struct Tracker {
     r_hi: f64,
     small: Mat,
     bg: Mat,
+    /// What the line fits divide each pixel's evidence by, and the static marks they
+    /// leave out (from the first look's background).
+    contrast: contrast::Contrast,
     /// Each frame's brightness against the first look's first frame.
     light: Brightness,
     tmp: Mat,
@@ -115,6 +119,13 @@ impl Tracker {
             Ok(out)
         };
         let bg = to_roi(&init_bg)?;
+        let contrast = contrast::Contrast::new(&bg, geo.dark)?;
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "track: static marks cover {:.1} % of the region",
+                100.0 * contrast.marked_share()
+            );
+        }
         let tmap = to_roi(&init_tmap)?;
         let reference = to_roi(&init_reference)?;
         if let Some(d) = &opts.diag_dir {
@@ -131,6 +142,7 @@ impl Tracker {
             r_hi: geo.r_hi / shrink,
             small: Mat::default(),
             bg,
+            contrast,
             light: Brightness::new(reference.data_bytes()?),
             tmp: Mat::default(),
             diff: Vec::new(),
@@ -630,6 +642,13 @@ fn mean_abs_diff_sampled(a: &[u8], sampled: &[u8], step: usize) -> f64 {
 /// between `theta` rad: for tests that step it through frames drawn in memory.
 #[cfg(test)]
 pub(super) fn test_tracker(theta: (f64, f64)) -> Tracker {
+    let flat = Mat::new_rows_cols_with_default(240, 320, core::CV_8UC1, Scalar::all(200.0));
+    test_tracker_over(flat.unwrap(), theta)
+}
+
+/// [`test_tracker`] with the first look's background `bg` (320x240).
+#[cfg(test)]
+pub(super) fn test_tracker_over(bg: Mat, theta: (f64, f64)) -> Tracker {
     use opencv::core::CV_8UC1;
     let roi = Roi {
         x: 0,
@@ -655,7 +674,7 @@ pub(super) fn test_tracker(theta: (f64, f64)) -> Tracker {
     Tracker::new(
         &geo,
         &DetectOptions::default(),
-        flat(200.0).unwrap(),
+        bg,
         flat(4.0).unwrap(),
         flat(200.0).unwrap(),
         1.0,

@@ -120,7 +120,8 @@ impl Tracker {
         };
         let bg = to_roi(&init_bg)?;
         let contrast = contrast::Contrast::new(&bg, geo.dark)?;
-        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        let debug = std::env::var("ROLLFRIC_DEBUG").ok();
+        if debug.is_some() {
             eprintln!(
                 "track: static marks cover {:.1} % of the region",
                 100.0 * contrast.marked_share()
@@ -167,7 +168,7 @@ impl Tracker {
             decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
-            debug: std::env::var("ROLLFRIC_DEBUG").ok(),
+            debug,
             last_pred: None,
         })
     }

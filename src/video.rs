@@ -263,12 +263,22 @@ impl Decoder {
         // one pixel off the region the caller maps coordinates with.
         let mut filters = format!("crop={}:{}:{}:{}:exact=1", roi.w, roi.h, roi.x, roi.y);
         let (mut width, mut height) = (roi.w as usize, roi.h as usize);
+        // The luma plane as stored, whatever its range: the streaming pass reads it so
+        // (unshrunk), and a look shrunk here must see the same grey levels.
+        filters.push_str(",extractplanes=y");
         if shrink > 1 {
             width /= shrink as usize;
             height /= shrink as usize;
-            filters.push_str(&format!(",scale={width}:{height}:flags=area,format=gray"));
-        } else {
-            filters.push_str(",extractplanes=y");
+            // Each pixel the mean of a `shrink` x `shrink` block, rounded, as OpenCV's
+            // `INTER_AREA` shrinks the streaming pass's frames (exactly at 2x; at 3x the
+            // scaler's fixed point rounds a block now and then the other way, by one
+            // grey level, without bias). A range of `full` in and out: the scaler would
+            // otherwise stretch a limited-range (TV) luma, as H.264 usually stores it, to
+            // full range (x 255/219, less 18.6 grey levels), and the look's background,
+            // thresholds and brightness reference would not match the pass's frames.
+            filters.push_str(&format!(
+                ",scale={width}:{height}:flags=area:in_range=full:out_range=full"
+            ));
         }
         filters.push_str(",showinfo=checksum=0");
         // After the times are read, the raw output is numbered 0, 1, 2, ...: a variable
@@ -616,6 +626,111 @@ pub fn info() -> Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use opencv::prelude::MatTraitConstManual;
+
+    /// Every frame of the video at `path`, decoded cropped to `roi` and shrunk `shrink`
+    /// times.
+    fn frames_of(path: &Path, roi: Roi, shrink: u32) -> Vec<Frame> {
+        let mut src = FfmpegSource::open(path, Some(roi), shrink).unwrap();
+        let mut out = Vec::new();
+        let mut f = Frame::default();
+        while src.next_frame(&mut f).unwrap() {
+            out.push(f.clone());
+        }
+        out
+    }
+
+    #[test]
+    fn a_shrunk_look_sees_the_luma_as_stored_averaged_in_blocks() {
+        if !crate::require::require("ffmpeg", crate::require::MAKE_DEPS, have_ffmpeg()) {
+            return;
+        }
+        // Limited-range (TV) luma, as H.264 stores it, and full-range (PC) luma, as MJPG
+        // does: both must come shrunk as the means of the stored bytes.
+        let dir = tempfile::tempdir().unwrap();
+        for (name, codec) in [
+            ("tv.mp4", ["-c:v", "libx264", "-pix_fmt", "yuv420p"]),
+            ("pc.avi", ["-c:v", "mjpeg", "-pix_fmt", "yuvj420p"]),
+        ] {
+            let path = dir.path().join(name);
+            let st = Command::new("ffmpeg")
+                .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
+                .arg("testsrc2=size=400x240:rate=10:duration=0.5")
+                .args(codec)
+                .arg(&path)
+                .status()
+                .unwrap();
+            assert!(st.success());
+            // A region at odd offsets, a whole number of blocks wide and high.
+            let roi = Roi {
+                x: 7,
+                y: 5,
+                w: 384,
+                h: 216,
+            };
+            let full = frames_of(&path, roi, 1);
+            assert_eq!(full.len(), 5, "{name}");
+            for shrink in [2u32, 3] {
+                let small = frames_of(&path, roi, shrink);
+                assert_eq!(small.len(), full.len(), "{name}");
+                let (w, h) = (384 / shrink as usize, 216 / shrink as usize);
+                let n = shrink * shrink;
+                for (f, s) in full.iter().zip(&small) {
+                    assert_eq!((s.width, s.height), (w, h), "{name}");
+                    // The rounded mean of each block of the stored luma, by hand.
+                    let mean: Vec<u8> = (0..w * h)
+                        .map(|i| {
+                            let (bx, by) = (i % w * shrink as usize, i / w * shrink as usize);
+                            let sum: u32 = (0..shrink as usize)
+                                .flat_map(|dy| (0..shrink as usize).map(move |dx| (dx, dy)))
+                                .map(|(dx, dy)| f.data[(by + dy) * f.width + bx + dx] as u32)
+                                .sum();
+                            ((sum + n / 2) / n) as u8
+                        })
+                        .collect();
+                    let worst = mean
+                        .iter()
+                        .zip(&s.data)
+                        .map(|(a, b)| a.abs_diff(*b))
+                        .max()
+                        .unwrap();
+                    let bias = mean
+                        .iter()
+                        .zip(&s.data)
+                        .map(|(a, b)| *b as f64 - *a as f64)
+                        .sum::<f64>()
+                        / mean.len() as f64;
+                    // Exactly at 2x; at 3x the scaler's fixed point rounds a block now and
+                    // then the other way. A stretched range is 9 levels brighter at the
+                    // mean and up to 20 apart.
+                    assert!(
+                        worst <= 1 && bias.abs() < 0.01,
+                        "{name}, shrunk {shrink}x, frame {}: {worst} levels apart at worst, \
+                         {bias:.3} on average",
+                        s.index
+                    );
+                    // The same as the streaming pass's own shrink (OpenCV's area average).
+                    let m = opencv::core::Mat::new_rows_cols_with_data(
+                        f.height as i32,
+                        f.width as i32,
+                        &f.data,
+                    )
+                    .unwrap();
+                    let mut r = opencv::core::Mat::default();
+                    opencv::imgproc::resize(
+                        &m,
+                        &mut r,
+                        opencv::core::Size::new(w as i32, h as i32),
+                        0.0,
+                        0.0,
+                        opencv::imgproc::INTER_AREA,
+                    )
+                    .unwrap();
+                    assert_eq!(r.data_bytes().unwrap(), &mean[..], "{name}, {shrink}x");
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_video_stream_is_known_by_its_description() {

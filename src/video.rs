@@ -280,6 +280,11 @@ impl Decoder {
                 ",scale={width}:{height}:flags=area:in_range=full:out_range=full"
             ));
         }
+        // One byte a pixel, as the frames are read: a deeper luma (10-bit HEVC, as a
+        // phone records HDR) is brought to 8 bits (8-bit luma passes untouched). Two
+        // bytes a pixel would read as two frames per frame and wait forever for the
+        // second one's time.
+        filters.push_str(",format=gray");
         filters.push_str(",showinfo=checksum=0");
         // After the times are read, the raw output is numbered 0, 1, 2, ...: a variable
         // frame rate's frames (millisecond times from a phone) could otherwise land on
@@ -638,6 +643,66 @@ mod tests {
             out.push(f.clone());
         }
         out
+    }
+
+    #[test]
+    fn a_ten_bit_video_comes_as_one_byte_a_pixel_and_does_not_hang() {
+        if !crate::require::require("ffmpeg", crate::require::MAKE_DEPS, have_ffmpeg()) {
+            return;
+        }
+        // The same scene stored losslessly at 8 and at 10 bits a sample.
+        let dir = tempfile::tempdir().unwrap();
+        let clip = |name: &str, pix_fmt: &str| {
+            let path = dir.path().join(name);
+            let st = Command::new("ffmpeg")
+                .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
+                .arg("testsrc2=size=320x240:rate=10:duration=0.5")
+                .args(["-c:v", "ffv1", "-pix_fmt", pix_fmt])
+                .arg(&path)
+                .status()
+                .unwrap();
+            assert!(st.success());
+            path
+        };
+        let eight = clip("8.mkv", "yuv420p");
+        let ten = clip("10.mkv", "yuv420p10le");
+        let roi = Roi {
+            x: 0,
+            y: 0,
+            w: 320,
+            h: 240,
+        };
+        for shrink in [1u32, 2] {
+            // Two bytes a pixel once read as two frames a frame, then waited forever for
+            // a time the decoder never sent: decoded on a thread, with a deadline.
+            let (tx, rx) = mpsc::channel();
+            let path = ten.clone();
+            std::thread::spawn(move || {
+                let _ = tx.send(frames_of(&path, roi, shrink));
+            });
+            let deep = rx
+                .recv_timeout(std::time::Duration::from_secs(60))
+                .expect("decoding a 10-bit video hung");
+            let plain = frames_of(&eight, roi, shrink);
+            assert_eq!(deep.len(), 5, "shrunk {shrink}x");
+            assert_eq!(deep.len(), plain.len(), "shrunk {shrink}x");
+            for (d, p) in deep.iter().zip(&plain) {
+                assert_eq!((d.width, d.height), (p.width, p.height));
+                assert_eq!(d.data.len(), d.width * d.height);
+                let worst = d
+                    .data
+                    .iter()
+                    .zip(&p.data)
+                    .map(|(a, b)| a.abs_diff(*b))
+                    .max()
+                    .unwrap();
+                assert!(
+                    worst <= 1,
+                    "shrunk {shrink}x, frame {}: {worst} levels apart",
+                    d.index
+                );
+            }
+        }
     }
 
     #[test]

@@ -645,6 +645,19 @@ mod tests {
         out
     }
 
+    /// Five frames of ffmpeg's `testsrc2` at `size` (`WxH`), encoded with `codec` (its
+    /// flags) to `path`.
+    fn test_clip(path: &Path, size: &str, codec: &[&str]) {
+        let st = Command::new("ffmpeg")
+            .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
+            .arg(format!("testsrc2=size={size}:rate=10:duration=0.5"))
+            .args(codec)
+            .arg(path)
+            .status()
+            .unwrap();
+        assert!(st.success(), "{}", path.display());
+    }
+
     #[test]
     fn a_ten_bit_video_comes_as_one_byte_a_pixel_and_does_not_hang() {
         if !crate::require::require("ffmpeg", crate::require::MAKE_DEPS, have_ffmpeg()) {
@@ -654,14 +667,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let clip = |name: &str, pix_fmt: &str| {
             let path = dir.path().join(name);
-            let st = Command::new("ffmpeg")
-                .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
-                .arg("testsrc2=size=320x240:rate=10:duration=0.5")
-                .args(["-c:v", "ffv1", "-pix_fmt", pix_fmt])
-                .arg(&path)
-                .status()
-                .unwrap();
-            assert!(st.success());
+            test_clip(&path, "320x240", &["-c:v", "ffv1", "-pix_fmt", pix_fmt]);
             path
         };
         let eight = clip("8.mkv", "yuv420p");
@@ -718,14 +724,7 @@ mod tests {
             ("pc.avi", ["-c:v", "mjpeg", "-pix_fmt", "yuvj420p"]),
         ] {
             let path = dir.path().join(name);
-            let st = Command::new("ffmpeg")
-                .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
-                .arg("testsrc2=size=400x240:rate=10:duration=0.5")
-                .args(codec)
-                .arg(&path)
-                .status()
-                .unwrap();
-            assert!(st.success());
+            test_clip(&path, "400x240", &codec);
             // A region at odd offsets, a whole number of blocks wide and high.
             let roi = Roi {
                 x: 7,

@@ -12,6 +12,7 @@
 
 pub mod build;
 pub mod cli;
+pub mod clobber;
 pub mod config;
 pub mod detect;
 pub mod fit;

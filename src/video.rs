@@ -286,11 +286,13 @@ impl Decoder {
         // second one's time.
         filters.push_str(",format=gray");
         filters.push_str(",showinfo=checksum=0");
-        // After the times are read, the raw output is numbered 0, 1, 2, ...: a variable
-        // frame rate's frames (millisecond times from a phone) could otherwise land on
-        // one tick of the output's coarser time base, which the muxer refuses as out of
-        // order (and that refusal would read as a damaged video).
-        filters.push_str(",settb=1/1000000,setpts=N");
+        // After the times are read, the raw output is numbered 0, 1, 2, ... seconds: the
+        // muxer's time base (1/fps, or a variable rate's millisecond) is finer than a
+        // second, so every frame lands on a tick of its own for any length and rate. A
+        // finer numbering (N microseconds) put frames on one tick once the frame rate
+        // times N passed half a million (past 2.3 minutes at 60 fps), and the muxer
+        // dropped them.
+        filters.push_str(",settb=1,setpts=N");
         // The script, then the end of the input: ffmpeg reads it to its end.
         if let Some(mut stdin) = self.stdin.take() {
             use std::io::Write;
@@ -500,24 +502,25 @@ impl FfmpegSource {
     }
 
     fn fail_message(&self) -> String {
-        // The decoder's first complaint, without its "[h264 @ 0x...]" prefix.
-        let why = self
-            .errors
-            .lock()
-            .ok()
-            .and_then(|e| e.first().cloned())
-            .map(|l| l.rsplit("] ").next().unwrap_or(&l).trim().to_string());
+        let errors = self.errors.lock().map(|e| e.clone()).unwrap_or_default();
+        // The first complaint about the video, else the first about our own side of the
+        // decoder, each without its "[h264 @ 0x...]" prefix.
+        let bare = |l: &String| l.rsplit("] ").next().unwrap_or(l).trim().to_string();
+        let damage = errors.iter().find(|l| !own_side(l)).map(bare);
+        let ours = errors.iter().find(|l| own_side(l)).map(bare);
         let last = if self.next_index == 0 {
             "no frame decoded".to_string()
         } else {
             format!("last good frame {}", self.next_index - 1)
         };
-        match why {
-            Some(w) => format!(
-                "{}: truncated or damaged video ({last}): {w}",
-                self.path.display()
+        let path = self.path.display();
+        match (damage, ours) {
+            (Some(w), _) => format!("{path}: truncated or damaged video ({last}): {w}"),
+            (None, Some(w)) => format!(
+                "{path}: the decoded frames could not be passed on ({last}): {w}; the video \
+                 itself decoded without complaint: this is a fault of rollfric, please report it"
             ),
-            None => format!("{}: decoding failed ({last})", self.path.display()),
+            (None, None) => format!("{path}: decoding failed ({last})"),
         }
     }
 }
@@ -529,6 +532,24 @@ fn decoder_complaint(line: &str) -> bool {
     ["[error] ", "[fatal] ", "[panic] "]
         .iter()
         .any(|tag| line.starts_with(tag) || line.contains(&format!("] {tag}")))
+}
+
+/// Whether a complaint comes from our side of the decoder (the filters we asked for,
+/// the raw output's muxer), not from reading the video: it says nothing of the video,
+/// and is told as the tool's own fault. A complaint is judged by who makes it, not only
+/// by its level.
+fn own_side(line: &str) -> bool {
+    let who = line.trim_start();
+    [
+        "[rawvideo @ ",
+        "[Parsed_",
+        "[AVFilterGraph @ ",
+        "[graph ",
+        "[out#",
+        "[vost#",
+    ]
+    .iter()
+    .any(|p| who.starts_with(p))
 }
 
 /// What the reader thread hands over.
@@ -648,14 +669,54 @@ mod tests {
     /// Five frames of ffmpeg's `testsrc2` at `size` (`WxH`), encoded with `codec` (its
     /// flags) to `path`.
     fn test_clip(path: &Path, size: &str, codec: &[&str]) {
+        clip_at(path, size, (10, 0.5), codec);
+    }
+
+    /// A test pattern of `rate` frames/s for `duration` s.
+    fn clip_at(path: &Path, size: &str, (rate, duration): (u32, f64), codec: &[&str]) {
         let st = Command::new("ffmpeg")
             .args(["-v", "error", "-y", "-f", "lavfi", "-i"])
-            .arg(format!("testsrc2=size={size}:rate=10:duration=0.5"))
+            .arg(format!(
+                "testsrc2=size={size}:rate={rate}:duration={duration}"
+            ))
             .args(codec)
             .arg(path)
             .status()
             .unwrap();
         assert!(st.success(), "{}", path.display());
+    }
+
+    #[test]
+    fn every_frame_of_a_long_or_fast_video_keeps_its_own_time() {
+        if !crate::require::require("ffmpeg", crate::require::MAKE_DEPS, have_ffmpeg()) {
+            return;
+        }
+        // 240 frames/s for 9 s: frame 2084 on is past 500 000 / fps, where the raw
+        // output's frames once fell on one tick of the muxer's time base, were dropped
+        // by it, and the video was refused as damaged after the last frame. Both
+        // containers, each with its own time base (1/15360 in MP4, 1/240 in AVI).
+        let dir = tempfile::tempdir().unwrap();
+        for (name, codec) in [
+            ("fast.mp4", &["-c:v", "libx264", "-preset", "ultrafast"][..]),
+            ("fast.avi", &["-c:v", "mjpeg"][..]),
+        ] {
+            let path = dir.path().join(name);
+            clip_at(&path, "32x24", (240, 9.0), codec);
+            let mut src = FfmpegSource::open(&path, None, 1).unwrap();
+            let mut frame = Frame::default();
+            let mut n = 0u64;
+            while src.next_frame(&mut frame).unwrap() {
+                assert_eq!(frame.index, n);
+                let want = n as f64 / 240.0;
+                assert!(
+                    (frame.t_s - want).abs() < 1e-9,
+                    "{name} frame {n}: {} s",
+                    frame.t_s
+                );
+                n += 1;
+            }
+            assert_eq!(n, 2160, "{name}");
+        }
     }
 
     #[test]
@@ -833,5 +894,21 @@ mod tests {
             "[info] Input #0, mov,mp4,m4a,3gp,3g2,mj2, from 'mirror_error_invalid_truncated.mp4':"
         ));
         assert!(!decoder_complaint("[warning] deprecated pixel format used"));
+    }
+
+    #[test]
+    fn the_muxers_complaints_are_not_the_videos() {
+        let muxer = "[rawvideo @ 0x561e4064d5c0] [error] Application provided invalid, non \
+                     monotonically increasing dts to muxer in stream 0: 1 >= 1";
+        assert!(decoder_complaint(muxer) && own_side(muxer));
+        assert!(own_side(
+            "[Parsed_crop_0 @ 0x55] [error] Invalid too big or non positive size"
+        ));
+        assert!(!own_side(
+            "[h264 @ 0x55] [error] Invalid NAL unit size (1210 > 415)."
+        ));
+        assert!(!own_side(
+            "[error] cut.mp4: Invalid data found when processing input"
+        ));
     }
 }

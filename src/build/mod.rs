@@ -141,7 +141,8 @@ pub fn stage(opts: &StageOptions) -> Result<String> {
     let _exp_lock = lock::Lock::acquire(&opts.cache.join(&name), !opts.no_wait)?;
     let failure = stages::failure_file(&opts.cache, &name);
     let ran = (|| -> Result<String> {
-        if let Some(why) = &name_collisions(&root, &files, &loaded)[i] {
+        let folders = [(&opts.out, "reports"), (&opts.cache, "cache")];
+        if let Some(why) = &name_collisions(&root, &files, &loaded, &folders)[i] {
             bail!("{why}");
         }
         let (exp, yaml) = match &loaded[i] {
@@ -252,7 +253,12 @@ fn run(opts: &BuildOptions, runs: Runs) -> Result<BuildOutcome> {
         .iter()
         .map(|f| Experiment::load_with_bytes(f))
         .collect();
-    let collisions = name_collisions(&root, &files, &loaded);
+    let collisions = name_collisions(
+        &root,
+        &files,
+        &loaded,
+        &[(&opts.out, "reports"), (&opts.cache, "cache")],
+    );
     let progress = Arc::new(Progress::new(files.len(), opts.quiet));
     let jobs = opts
         .jobs
@@ -373,18 +379,22 @@ fn run(opts: &BuildOptions, runs: Runs) -> Result<BuildOutcome> {
 /// summary it wrote): a workflow's final output.
 pub const REPORT_KEY: &str = "report.key";
 
-/// Names the reports' index uses for itself: no experiment may take them.
-const RESERVED_NAMES: [&str; 2] = ["index", "summary"];
+/// Names the reports folder uses for itself (its index, summary and the committed
+/// README.md): no experiment may take them, in any case (a page `README.md` would
+/// replace the README on a case-blind file system too).
+const RESERVED_NAMES: [&str; 3] = ["index", "summary", "readme"];
 
-/// For each experiment, why its name cannot be used: reserved, or taken by another
-/// experiment of the manifest (the same file listed twice included). Every experiment
-/// of a colliding group fails, naming the others, so none silently overwrites another's
-/// pages. A file that does not load keeps its file name here and fails later with its
-/// own error.
+/// For each experiment, why its name cannot be used: reserved, taken by another
+/// experiment of the manifest (the same file listed twice included), or its folder in
+/// one of `folders` (the reports, the cache) a symbolic link, through which the build
+/// would write into a folder not its own. Every experiment of a colliding group fails,
+/// naming the others, so none silently overwrites another's pages. A file that does
+/// not load keeps its file name here and fails later with its own error.
 fn name_collisions(
     root: &Path,
     files: &[PathBuf],
     loaded: &[Result<(Experiment, Vec<u8>)>],
+    folders: &[(&PathBuf, &str)],
 ) -> Vec<Option<String>> {
     let names: Vec<String> = files
         .iter()
@@ -399,10 +409,20 @@ fn name_collisions(
         .enumerate()
         .map(|(i, n)| {
             let me = relative(root, &files[i]);
-            if RESERVED_NAMES.contains(&n.as_str()) {
+            if RESERVED_NAMES.contains(&n.to_lowercase().as_str()) {
                 return Some(format!(
-                    "{me}: the experiment name `{n}` is the reports' own (index.html, index.md, summary.json); choose another `name:`"
+                    "{me}: the experiment name `{n}` is the reports' own (index.html, index.md, summary.json, README.md); choose another `name:`"
                 ));
+            }
+            for (dir, what) in folders {
+                let own = dir.join(n);
+                if std::fs::symlink_metadata(&own).is_ok_and(|m| m.file_type().is_symlink()) {
+                    return Some(format!(
+                        "{me}: {} is a symbolic link; the build writes the {what} of `{n}` \
+                         only into a folder of its own: remove the link",
+                        own.display()
+                    ));
+                }
             }
             let others: Vec<String> = (0..files.len())
                 .filter(|&j| j != i && names[j] == *n)

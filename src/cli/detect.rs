@@ -1,5 +1,6 @@
 //! `rollfric detect`: per-frame wire angles of a video, written as CSV.
 
+use crate::clobber;
 use crate::config::{locate, Experiment};
 use crate::detect::{self, DetectOptions, Status};
 use crate::fsutil;
@@ -36,6 +37,9 @@ pub struct DetectArgs {
     /// measures 1280x720 footage at full size, more finely and more slowly.
     #[arg(long, value_name = "PX")]
     work_side: Option<u32>,
+    /// Replace an existing output that is not an angle CSV.
+    #[arg(long)]
+    force: bool,
 }
 
 /// Exactly `N` comma-separated numbers for `--name`.
@@ -88,17 +92,20 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
 }
 
 pub fn detect(a: DetectArgs) -> Result<String> {
-    if let (Ok(v), Ok(o)) = (
-        std::fs::canonicalize(&a.video),
-        std::fs::canonicalize(&a.output),
-    ) {
-        if v == o {
-            bail!(
-                "-o {}: that is the video itself; the CSV would overwrite it",
-                a.output.display()
-            );
-        }
+    let experiment = a.experiment.as_deref().map(locate);
+    let mut inputs = vec![("the video", a.video.as_path())];
+    if let Some(e) = &experiment {
+        inputs.push(("the experiment file", e.as_path()));
     }
+    clobber::check(
+        &[clobber::Output {
+            flag: "-o",
+            path: &a.output,
+            kind: clobber::Kind::Angles,
+        }],
+        &inputs,
+        a.force,
+    )?;
     let opts = options(&a)?;
     let started = std::time::Instant::now();
     let d = detect::detect(&a.video, &opts)?;

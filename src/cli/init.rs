@@ -49,6 +49,19 @@ pub fn init(a: InitArgs) -> Result<String> {
         Some(o) => o.clone(),
         None => a.video.with_extension("yaml"),
     };
+    let mut inputs = vec![("the video", a.video.as_path())];
+    if let Some(m) = &a.manifest {
+        inputs.push(("the manifest", m.as_path()));
+    }
+    for (what, input) in inputs {
+        if crate::clobber::same_file(&out, input) {
+            bail!(
+                "-o {}: that is {what} ({}); the experiment file would replace it",
+                out.display(),
+                input.display()
+            );
+        }
+    }
     if out.exists() && !a.force {
         bail!(
             "{}: already exists; give another `-o`, or `--force` to replace it",

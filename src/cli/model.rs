@@ -1,5 +1,6 @@
 //! The digital twin's verbs (`simulate`, `synth`) and the torsion table (`torsion`).
 
+use crate::clobber;
 use crate::config::{locate, Experiment};
 use crate::fsutil;
 use crate::physics::torsion::torsion_check;
@@ -28,11 +29,24 @@ pub struct SimulateArgs {
     /// Recording length, s (default: until the ball stops plus 2 s, at most 120 s).
     #[arg(long)]
     duration: Option<f64>,
+    /// Replace an existing output that is not an angle CSV.
+    #[arg(long)]
+    force: bool,
 }
 
 /// `rollfric simulate`: write the camera's angle series of the experiment's twin.
 pub fn simulate(a: SimulateArgs) -> Result<String> {
-    let exp = Experiment::load(&locate(&a.experiment))?;
+    let path = locate(&a.experiment);
+    clobber::check(
+        &[clobber::Output {
+            flag: "-o",
+            path: &a.output,
+            kind: clobber::Kind::Angles,
+        }],
+        &[("the experiment file", &path)],
+        a.force,
+    )?;
+    let exp = Experiment::load(&path)?;
     let mut cam = simulate::camera_of(&exp)?;
     if let Some(f) = a.fps {
         if !(f.is_finite() && f > 0.0) {
@@ -91,6 +105,9 @@ pub struct SynthArgs {
     /// the fulcrum, the untilted view's axes): for a twin filmed at a tilt.
     #[arg(long, conflicts_with_all = ["output", "truth", "duration"])]
     calibration: bool,
+    /// Replace existing outputs that are not a twin's video or truth CSV.
+    #[arg(long)]
+    force: bool,
 }
 
 /// The `video.calibration` block of the twin's protractor marks.
@@ -121,10 +138,24 @@ fn calibration_block(exp: &Experiment) -> Result<String> {
 
 /// `rollfric synth`: render the experiment's digital-twin video (and its truth CSV).
 pub fn synth(a: SynthArgs) -> Result<String> {
-    let exp = Experiment::load(&locate(&a.experiment))?;
+    let path = locate(&a.experiment);
+    let exp = Experiment::load(&path)?;
     let Some(output) = a.output.filter(|_| !a.calibration) else {
         return calibration_block(&exp);
     };
+    let mut outputs = vec![clobber::Output {
+        flag: "-o",
+        path: &output,
+        kind: clobber::Kind::Twin,
+    }];
+    if let Some(t) = &a.truth {
+        outputs.push(clobber::Output {
+            flag: "--truth",
+            path: t,
+            kind: clobber::Kind::Truth,
+        });
+    }
+    clobber::check(&outputs, &[("the experiment file", &path)], a.force)?;
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let started = std::time::Instant::now();
     let mut progress = |done: usize, total: usize| {

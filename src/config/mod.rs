@@ -44,6 +44,7 @@ impl Manifest {
         if m.experiments.is_empty() {
             bail!("{}: `experiments` lists no experiment", path.display());
         }
+        text_limit("title", &m.title, MAX_TITLE_CHARS).context(path.display().to_string())?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let files = m.experiments.iter().map(|e| dir.join(e)).collect();
         Ok((m, files))
@@ -101,6 +102,27 @@ pub(crate) fn excerpt(s: &str, max: usize) -> String {
 /// Quoted input on one short line: control characters escaped, at most `max` characters.
 pub(crate) fn quoted(s: &str, max: usize) -> String {
     excerpt(&s.escape_debug().to_string(), max)
+}
+
+/// The longest experiment name, characters (it names files and folders).
+pub const MAX_NAME_CHARS: usize = 64;
+/// The longest one-line text shown on pages (`material`, the manifest's `title`,
+/// `reference.source`), characters.
+pub const MAX_TITLE_CHARS: usize = 120;
+/// The longest paragraph shown on pages (`notes`, an accepted warning's reason).
+pub const MAX_NOTES_CHARS: usize = 4000;
+
+/// Refuse a text key longer than `max` characters: every value echoed into a page, the
+/// summary or an error is bounded.
+fn text_limit(key: &str, value: &str, max: usize) -> Result<()> {
+    let n = value.chars().count();
+    if n > max {
+        bail!(
+            "`{key}` = `{}`: {n} characters; at most {max} (it is shown on the pages)",
+            quoted(value, 40)
+        );
+    }
+    Ok(())
 }
 
 /// Fewest and most draws of the budget's Monte Carlo check (`monte_carlo_draws`).
@@ -209,7 +231,16 @@ impl Experiment {
                 quoted(&name, 60)
             );
         }
+        text_limit("name", &name, MAX_NAME_CHARS)?;
         let material = file.material.clone().unwrap_or_else(|| name.clone());
+        text_limit("material", &material, MAX_TITLE_CHARS)?;
+        text_limit("notes", &file.notes, MAX_NOTES_CHARS)?;
+        if let Some(r) = &file.reference {
+            text_limit("reference.source", &r.source, MAX_TITLE_CHARS)?;
+        }
+        for (i, a) in file.accept.iter().enumerate() {
+            text_limit(&format!("accept[{i}].reason"), &a.reason, MAX_NOTES_CHARS)?;
+        }
         let pendulum = pendulum_of(&file.geometry)?;
         let beta = parse_beta(&file.model.beta, "model.beta")?;
         let u = &file.geometry.uncertainty;

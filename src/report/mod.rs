@@ -62,6 +62,8 @@ const TEMPLATES: &[(&str, &str)] = &[
     ),
 ];
 
+/// The templates, every value escaped for its page: HTML's escape for the HTML pages,
+/// [`escape_markdown`] for the Markdown ones.
 fn templates() -> Result<tera::Tera> {
     let mut t = tera::Tera::default();
     t.add_raw_templates(TEMPLATES.iter().copied())
@@ -70,18 +72,43 @@ fn templates() -> Result<tera::Tera> {
     Ok(t)
 }
 
+fn markdown_templates() -> Result<tera::Tera> {
+    let mut t = templates()?;
+    t.autoescape_on(vec![".md"]);
+    t.set_escape_fn(escape_markdown);
+    Ok(t)
+}
+
+/// A value as plain text in a Markdown page: `<` as an entity (no tag, comment or script
+/// of a value's survives a renderer), `|` escaped (a value cannot add cells to a table
+/// row, or forge one) and line ends as spaces (nor end a row or a paragraph).
+pub fn escape_markdown(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '<' => out.push_str("&lt;"),
+            '|' => out.push_str("\\|"),
+            '\r' | '\n' => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 /// Render `view` with the HTML and the Markdown template `name` into `<stem>.html` and
 /// `<stem>.md`.
 fn render_pair<T: Serialize>(name: &str, stem: &str, view: &T) -> Result<[OutputFile; 2]> {
-    let tera = templates()?;
     let ctx = tera::Context::from_serialize(view)?;
-    let page = |ext: &str| -> Result<OutputFile> {
+    let page = |tera: tera::Tera, ext: &str| -> Result<OutputFile> {
         let bytes = tera
             .render(&format!("{name}.{ext}"), &ctx)
             .with_context(|| format!("template `{name}.{ext}`"))?;
         Ok(OutputFile::new(format!("{stem}.{ext}"), bytes))
     };
-    Ok([page("html")?, page("md")?])
+    Ok([
+        page(templates()?, "html")?,
+        page(markdown_templates()?, "md")?,
+    ])
 }
 
 /// Key-value rows of a page's tables (already formatted).
@@ -107,4 +134,54 @@ fn fmt_pct(v: f64) -> String {
         return "-".into();
     }
     format!("{:+.2} %", 100.0 * v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells of a Markdown table row: split at the `|` not escaped by a backslash.
+    fn cells(row: &str) -> usize {
+        let b = row.as_bytes();
+        (0..b.len())
+            .filter(|&i| b[i] == b'|' && (i == 0 || b[i - 1] != b'\\'))
+            .count()
+            - 1
+    }
+
+    #[test]
+    fn a_value_cannot_forge_a_row_or_bring_a_tag_into_a_markdown_page() {
+        let forged = "Glass | 9.999e-6 ± 1e-9 | 3.714e-6 | +0.00 %";
+        let row = format!("| {} | 3.7156e-6 |", escape_markdown(forged));
+        assert_eq!(cells(&row), 2, "{row}");
+        for evil in [
+            "<script>alert(1)</script>",
+            "<img src=x onerror=alert(1)>",
+            "Steel <!--",
+        ] {
+            let e = escape_markdown(evil);
+            assert!(!e.contains('<'), "{e}");
+        }
+        assert_eq!(escape_markdown("a\nb\r\nc"), "a b  c");
+        // Ordinary text passes as it is.
+        assert_eq!(
+            escape_markdown("Steel -> 4.5e-6 m, > 1000"),
+            "Steel -> 4.5e-6 m, > 1000"
+        );
+    }
+
+    #[test]
+    fn the_markdown_pages_escape_every_value_and_the_html_pages_theirs() {
+        let mut t = tera::Tera::default();
+        t.add_raw_template("x.md", "| {{ v }} |").unwrap();
+        t.add_raw_template("x.html", "<p>{{ v }}</p>").unwrap();
+        let mut ctx = tera::Context::new();
+        ctx.insert("v", "a | <b>");
+        let mut md = markdown_templates().unwrap();
+        md.extend(&t).unwrap();
+        assert_eq!(md.render("x.md", &ctx).unwrap(), "| a \\| &lt;b> |");
+        let mut html = templates().unwrap();
+        html.extend(&t).unwrap();
+        assert_eq!(html.render("x.html", &ctx).unwrap(), "<p>a | &lt;b&gt;</p>");
+    }
 }

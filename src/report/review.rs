@@ -134,8 +134,11 @@ pub(super) fn review_files(
             side: review::MAX_SIDE,
         },
     };
-    // JSON inside <script>: `</` would end the element.
-    let json = serde_json::to_string(&data)?.replace("</", "<\\/");
+    // JSON inside <script>: `</` would end the element, and `<!--` would turn the
+    // script's parsing state (the page would lose its script).
+    let json = serde_json::to_string(&data)?
+        .replace("</", "<\\/")
+        .replace("<!--", "\\u003c!--");
     let mut ctx = tera::Context::new();
     ctx.insert("name", &exp.name);
     ctx.insert("material", &exp.material);

@@ -161,7 +161,12 @@ impl FfmpegPipe {
                 .args(["-color_range", "tv", "-colorspace", "smpte170m"]),
         };
         cmd.args(["-fflags", "+bitexact", "-flags:v", "+bitexact"])
-            .args(["-map_metadata", "-1", "-y"])
+            .args(["-map_metadata", "-1"])
+            .args([
+                "-metadata",
+                &format!("comment={}", crate::clobber::TWIN_MARK),
+                "-y",
+            ])
             .arg(path)
             .stdin(Stdio::piped())
             .stdout(Stdio::null())

@@ -51,8 +51,9 @@ fn first_line(path: &Path) -> Option<String> {
 }
 
 /// Whether a video holds [`TWIN_MARK`] where a container keeps its metadata: the
-/// header of an AVI (its first 64 KiB), or the `moov` box of an MP4 (found by walking
-/// the top-level boxes, so a long video is not read through).
+/// header of an AVI (its first 64 KiB), the `moov` box of an MP4 or MOV (found by
+/// walking the top-level boxes, so a long video is not read through), or the first 64
+/// KiB or last MiB of a Matroska file.
 fn carries_mark(path: &Path) -> bool {
     let Ok(mut f) = std::fs::File::open(path) else {
         return false;
@@ -67,9 +68,17 @@ fn carries_mark(path: &Path) -> bool {
     if head.starts_with(b"RIFF") {
         return holds(&head);
     }
+    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
+    if head.starts_with(&[0x1a, 0x45, 0xdf, 0xa3]) {
+        // Matroska: its tags come at the start or, written last, near the end.
+        let mut tail = vec![0u8; (1u64 << 20).min(len) as usize];
+        return holds(&head)
+            || (f.seek(SeekFrom::Start(len - tail.len() as u64)).is_ok()
+                && read_full(&mut f, &mut tail).is_ok()
+                && holds(&tail));
+    }
     // MP4: boxes of (32-bit size, type), a size of 1 followed by a 64-bit size.
     let mut at = 0u64;
-    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
     for _ in 0..64 {
         let mut hdr = [0u8; 16];
         if f.seek(SeekFrom::Start(at)).is_err() || read_full(&mut f, &mut hdr).ok() != Some(16) {

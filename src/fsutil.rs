@@ -7,7 +7,30 @@ use std::path::{Path, PathBuf};
 
 /// Read a whole text file; the error names the file.
 pub fn read_to_string(path: &Path) -> Result<String> {
+    regular_file(path)?;
     std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))
+}
+
+/// Refuse what is not a regular file, in words: a folder, a FIFO or a device (which
+/// may never end, as `/dev/zero`), or nothing at all. Returns the file's size.
+pub fn regular_file(path: &Path) -> Result<u64> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            anyhow::bail!("{}: no such file", path.display())
+        }
+        Err(e) => return Err(e).with_context(|| format!("{}: cannot read", path.display())),
+    };
+    if meta.is_dir() {
+        anyhow::bail!("{}: is a folder, not a file", path.display());
+    }
+    if !meta.is_file() {
+        anyhow::bail!(
+            "{}: is not a regular file (a FIFO, socket or device); give a file",
+            path.display()
+        );
+    }
+    Ok(meta.len())
 }
 
 /// The largest experiment or manifest file read, bytes.
@@ -18,9 +41,7 @@ pub const MAX_CSV_BYTES: u64 = 256 << 20;
 /// Read a whole file of at most `max` bytes (checked before it is read, so a huge input
 /// is refused instead of exhausting memory); the error names the file and the limit.
 pub fn read_limited(path: &Path, max: u64) -> Result<Vec<u8>> {
-    let len = std::fs::metadata(path)
-        .with_context(|| format!("{}: cannot read", path.display()))?
-        .len();
+    let len = regular_file(path)?;
     if len > max {
         anyhow::bail!(
             "{}: {len} bytes; at most {max} bytes are read from such a file",

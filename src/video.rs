@@ -119,9 +119,7 @@ impl Decoder {
     /// Start `ffmpeg` on `path` without waiting for it: it loads, opens the video and
     /// describes it while the caller goes on ([`Decoder::describe`] reads that).
     pub fn spawn(path: &Path) -> Result<Self> {
-        let meta =
-            std::fs::metadata(path).with_context(|| format!("{}: cannot read", path.display()))?;
-        if meta.len() == 0 {
+        if crate::fsutil::regular_file(path)? == 0 {
             bail!(
                 "{}: the file is empty (0 bytes); no frame to read",
                 path.display()

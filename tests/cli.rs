@@ -256,7 +256,7 @@ fn fails_on_missing_empty_or_nan_csv() {
         &["fit", "glass", "--angles", missing.to_str().unwrap()],
         &root(),
     );
-    assert_fails_with(&out, "nothing.csv", "cannot read");
+    assert_fails_with(&out, "nothing.csv", "no such file");
 
     let empty = dir.path().join("empty.csv");
     std::fs::write(&empty, "").unwrap();
@@ -301,7 +301,7 @@ fn fails_with_too_few_turning_points() {
 #[test]
 fn fails_on_a_missing_experiment_file() {
     let out = rollfric(&["fit", "experiments/nonexistent.yaml"], &root());
-    assert_fails_with(&out, "nonexistent.yaml", "cannot read");
+    assert_fails_with(&out, "nonexistent.yaml", "no such file");
 }
 
 /// `docs/experiment.md` is what `rollfric schema` prints: a key added to (or documented

@@ -460,7 +460,7 @@ fn a_missing_angles_file_names_the_experiment_that_points_at_it() {
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("a.yaml: `angles` = angles.csv: the file does not exist"),
+        err.contains("a.yaml: `angles` = angles.csv: ") && err.contains("angles.csv: no such file"),
         "{err}"
     );
 }

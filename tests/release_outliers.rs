@@ -179,7 +179,12 @@ fn one_bad_turning_point_is_dropped_and_said() {
     );
 
     // An allowance in `tolerances:` lets one pass without a warning.
-    experiment(d.path(), "allowed", &rows, "tolerances: { outliers: 1 }\n");
+    experiment(
+        d.path(),
+        "allowed",
+        &rows,
+        "tolerances: { outliers: 1, reason: \"one spoiled swing\" }\n",
+    );
     let j = fit(d.path(), "allowed");
     assert_eq!(j["verdict"], "ok", "{j}");
     assert_eq!(j["outliers"].as_array().unwrap().len(), 1, "still named");
@@ -194,7 +199,12 @@ fn more_bad_turning_points_than_a_tenth_are_not_all_dropped() {
     spoil(&mut rows, 6.5);
     spoil(&mut rows, 13.0);
     // Even an allowance of 5 does not let more than the cap through.
-    experiment(d.path(), "spoiled", &rows, "tolerances: { outliers: 5 }\n");
+    experiment(
+        d.path(),
+        "spoiled",
+        &rows,
+        "tolerances: { outliers: 5, reason: \"a spoiled stretch\" }\n",
+    );
     let j = fit(d.path(), "spoiled");
     let o = j["outliers"].as_array().unwrap();
     let dropped: Vec<bool> = o.iter().map(|x| x["dropped"].as_bool().unwrap()).collect();

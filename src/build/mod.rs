@@ -346,6 +346,18 @@ fn run(opts: &BuildOptions, runs: Runs) -> Result<BuildOutcome> {
         .collect();
     let (summary, index) = report::index_pages(&manifest, outcomes)?;
     writer.write(&index)?;
+    let current: Vec<&str> = index
+        .iter()
+        .map(|f| f.path.as_str())
+        .chain(
+            summary
+                .experiments
+                .iter()
+                .filter_map(|e| e.result.as_ref())
+                .flat_map(|r| r.pages.iter().map(|p| p.path.as_str())),
+        )
+        .collect();
+    writer.prune(&current)?;
     if runs == Runs::Cached {
         // For a workflow engine: the report's own key file, written on every report
         // (the index files keep their time when unchanged).
@@ -404,6 +416,10 @@ fn name_collisions(
                 .map_or_else(|_| display_name(f), |(e, _)| e.name.clone())
         })
         .collect();
+    let mut by_name: std::collections::HashMap<&str, Vec<usize>> = Default::default();
+    for (i, n) in names.iter().enumerate() {
+        by_name.entry(n.as_str()).or_default().push(i);
+    }
     names
         .iter()
         .enumerate()
@@ -424,19 +440,30 @@ fn name_collisions(
                     ));
                 }
             }
-            let others: Vec<String> = (0..files.len())
-                .filter(|&j| j != i && names[j] == *n)
-                .map(|j| relative(root, &files[j]))
+            let group = &by_name[n.as_str()];
+            let others: Vec<String> = group
+                .iter()
+                .filter(|&&j| j != i)
+                .take(SHOWN_OTHERS)
+                .map(|&j| relative(root, &files[j]))
                 .collect();
+            let more = match group.len() - 1 {
+                k if k > SHOWN_OTHERS => format!(" and {} more", k - SHOWN_OTHERS),
+                _ => String::new(),
+            };
             (!others.is_empty()).then(|| {
                 format!(
-                    "{me}: the experiment name `{n}` is also that of {} in the manifest (each experiment needs its own name: its pages are <name>.html and <name>.md)",
+                    "{me}: the experiment name `{n}` is also that of {}{more} in the manifest (each experiment needs its own name: its pages are <name>.html and <name>.md)",
                     others.join(", ")
                 )
             })
         })
         .collect()
 }
+
+/// The most experiments of a colliding group one error names (a file listed 20 000
+/// times gives 20 000 short errors, not 20 000 lists of every other entry).
+const SHOWN_OTHERS: usize = 3;
 
 /// The manifest's folder, `.` when it is the current one.
 fn root_or_here(root: &Path) -> PathBuf {

@@ -50,7 +50,54 @@ impl Writer {
     pub fn written(&self) -> usize {
         self.written.load(Ordering::Relaxed)
     }
+
+    /// Remove the files an earlier build wrote that this one did not (`current`, paths
+    /// under the folder): the pages of an experiment dropped from the manifest, the
+    /// review pictures of a video since replaced. Only files listed in the folder's
+    /// record of what rollfric wrote ([`WRITTEN`]) are removed, with the folders they
+    /// leave empty; the record is then replaced by `current`. Returns how many went.
+    pub fn prune(&self, current: &[&str]) -> Result<usize> {
+        let record = self.out.join(WRITTEN);
+        let before = std::fs::read_to_string(&record).unwrap_or_default();
+        let keep: std::collections::HashSet<&str> = current.iter().copied().collect();
+        let mut removed = 0;
+        for old in before.lines().filter(|l| !keep.contains(l)) {
+            // Only plain relative paths, as this writer records them.
+            let rel = Path::new(old);
+            if old.is_empty()
+                || rel.is_absolute()
+                || rel
+                    .components()
+                    .any(|c| !matches!(c, std::path::Component::Normal(_)))
+            {
+                continue;
+            }
+            let path = self.out.join(rel);
+            if std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
+                std::fs::remove_file(&path)
+                    .map_err(anyhow::Error::new)
+                    .map_err(|e| e.context(format!("{}: cannot remove", path.display())))?;
+                removed += 1;
+                let mut dir = path.parent();
+                while let Some(d) = dir.filter(|d| *d != self.out) {
+                    if std::fs::remove_dir(d).is_err() {
+                        break;
+                    }
+                    dir = d.parent();
+                }
+            }
+        }
+        let mut list: Vec<&str> = current.to_vec();
+        list.sort_unstable();
+        list.dedup();
+        fsutil::write_if_changed(&record, (list.join("\n") + "\n").as_bytes())?;
+        Ok(removed)
+    }
 }
+
+/// The file in the reports folder listing every file the last build wrote there (one
+/// path a line), so that the next build can remove what it no longer writes.
+pub const WRITTEN: &str = ".rollfric-written";
 
 /// Remove the temporary files that builds killed before renaming them left behind
 /// ([`fsutil::temp_path`]: `.rollfric-<pid>-...tmp`, of a process no longer running),
@@ -197,5 +244,38 @@ mod tests {
         w.write(std::slice::from_ref(&f)).unwrap();
         assert_eq!(w.written(), 1, "same bytes: not rewritten");
         assert_eq!(pages[0].sha256, hash::sha256(b"x"));
+    }
+
+    #[test]
+    fn a_build_removes_only_what_it_wrote_before_and_writes_no_more() {
+        let top = tempfile::tempdir().unwrap();
+        let d = top.path().join("reports");
+        std::fs::create_dir(&d).unwrap();
+        let d = tempfile::TempDir::new_in(&d).unwrap();
+        let w = Writer::new(d.path());
+        let files = [
+            OutputFile::new("old.html", "o"),
+            OutputFile::new("old/review/frame-000001.png", "p"),
+            OutputFile::new("keep.html", "k"),
+        ];
+        w.write(&files).unwrap();
+        std::fs::write(d.path().join("mine.txt"), "the user's").unwrap();
+        // The first build with a record removes nothing it did not record.
+        assert_eq!(
+            w.prune(&["old.html", "old/review/frame-000001.png", "keep.html"])
+                .unwrap(),
+            0
+        );
+        assert_eq!(w.prune(&["keep.html"]).unwrap(), 2);
+        assert!(!d.path().join("old.html").exists());
+        assert!(!d.path().join("old").exists(), "emptied folders go too");
+        assert!(d.path().join("keep.html").exists());
+        assert!(d.path().join("mine.txt").exists());
+        // A record naming a path outside the folder is not followed.
+        let outside = d.path().parent().unwrap().join("outside.txt");
+        std::fs::write(&outside, "x").unwrap();
+        std::fs::write(d.path().join(WRITTEN), "../outside.txt\n").unwrap();
+        assert_eq!(w.prune(&["keep.html"]).unwrap(), 0);
+        assert!(outside.exists());
     }
 }

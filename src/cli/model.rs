@@ -55,9 +55,7 @@ pub fn simulate(a: SimulateArgs) -> Result<String> {
         cam.fps = f;
     }
     if let Some(n) = a.noise_deg {
-        if !(n.is_finite() && n >= 0.0) {
-            bail!("--noise-deg {n}: expected zero or a positive angle");
-        }
+        crate::config::noise_deg("--noise-deg", n)?;
         cam.noise_rad = n.to_radians();
     }
     if let Some(d) = a.duration {
@@ -222,6 +220,9 @@ pub fn torsion(a: TorsionArgs) -> Result<String> {
         (None, None, Some(v)) => (v, "reference value"),
         _ => bail!("{}: no s_r to compare with: pass --s-r", exp.path.display()),
     };
+    if a.s_r.is_some() {
+        crate::config::s_r("--s-r", s_r)?;
+    }
     let beta = match exp.beta {
         BetaChoice::Fixed(b) => b,
         BetaChoice::Free => 1.0,

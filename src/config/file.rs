@@ -144,7 +144,31 @@ pub struct Ball {
     pub mass_kg: Option<f64>,
     /// Density, kg/m^3: `m = 4/3 pi r^3 rho` (instead of `mass_kg`).
     pub density_kg_m3: Option<f64>,
+    /// What the ball is made of, for a check of the density its mass and radius give (a
+    /// diameter entered as the radius gives an eighth of it): `steel` (the default),
+    /// `stainless-steel`, `glass`, `aluminium`, `brass`, `tungsten-carbide`,
+    /// `silicon-nitride`, `zirconia`, `alumina`, `pom`, `nylon`, `ptfe`, or `other`
+    /// (not checked; the page says so).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
 }
+
+/// The densities of ball materials, kg/m^3 (handbook ranges of the grades balls are made
+/// of), for `geometry.ball.material`.
+pub const BALL_DENSITIES: [(&str, f64, f64); 12] = [
+    ("steel", 7750.0, 7900.0),
+    ("stainless-steel", 7700.0, 8000.0),
+    ("glass", 2400.0, 2800.0),
+    ("aluminium", 2640.0, 2850.0),
+    ("brass", 8400.0, 8750.0),
+    ("tungsten-carbide", 14500.0, 15700.0),
+    ("silicon-nitride", 3150.0, 3300.0),
+    ("zirconia", 5700.0, 6100.0),
+    ("alumina", 3600.0, 3990.0),
+    ("pom", 1390.0, 1430.0),
+    ("nylon", 1120.0, 1160.0),
+    ("ptfe", 2100.0, 2250.0),
+];
 
 /// The rolling-resistance law `M_r = s_r N^beta` (Eq. 28).
 #[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
@@ -267,6 +291,33 @@ pub struct Tolerances {
     /// 0.01).
     #[serde(default = "default_pivot_rel")]
     pub pivot_rel: f64,
+    /// Why a tolerance is wider than its default: required when one is (a wider
+    /// tolerance lets a result through that the default would stop, so it is said, on
+    /// the page and in the summary, as an accepted warning is). Written out only when
+    /// set.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub reason: String,
+}
+
+impl Tolerances {
+    /// The tolerances wider than their defaults: `(key, value, default)`.
+    pub fn widened(&self) -> Vec<(&'static str, f64, f64)> {
+        let d = Self::default();
+        [
+            ("reference_rel", self.reference_rel, d.reference_rel),
+            ("truth_rel", self.truth_rel, d.truth_rel),
+            ("period_rel", self.period_rel, d.period_rel),
+            ("residual_factor", self.residual_factor, d.residual_factor),
+            ("envelope_aicc", self.envelope_aicc, d.envelope_aicc),
+            ("halves_rel", self.halves_rel, d.halves_rel),
+            ("interval_rel", self.interval_rel, d.interval_rel),
+            ("outliers", self.outliers as f64, d.outliers as f64),
+            ("pivot_rel", self.pivot_rel, d.pivot_rel),
+        ]
+        .into_iter()
+        .filter(|(_, v, d)| v > d)
+        .collect()
+    }
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -285,6 +336,7 @@ impl Default for Tolerances {
             interval_rel: default_interval_rel(),
             outliers: 0,
             pivot_rel: default_pivot_rel(),
+            reason: String::new(),
         }
     }
 }

@@ -39,8 +39,9 @@ impl Manifest {
     /// Load a manifest and check that each listed file exists.
     pub fn load(path: &Path) -> Result<(Self, Vec<PathBuf>)> {
         let text = fsutil::read_text_limited(path, fsutil::MAX_YAML_BYTES)?;
-        let m: Manifest = serde_saphyr::from_str(&text)
-            .map_err(|e| yaml_error(&e, &text).context(path.display().to_string()))?;
+        let m: Manifest = serde_saphyr::from_str(&text).map_err(|e| {
+            yaml_error(&e, &text, MANIFEST_KEYS, "a manifest").context(path.display().to_string())
+        })?;
         if m.experiments.is_empty() {
             bail!("{}: `experiments` lists no experiment", path.display());
         }
@@ -64,8 +65,40 @@ pub struct Experiment {
     pub calibration: Option<crate::plane::Calibration>,
 }
 
+/// Top-level keys by which a file is known for an experiment file (or a manifest): one
+/// of them at the start of a line.
+const EXPERIMENT_KEYS: &[&str] = &[
+    "name",
+    "material",
+    "geometry",
+    "video",
+    "angles",
+    "synthetic",
+];
+const MANIFEST_KEYS: &[&str] = &["title", "experiments"];
+
+/// Whether `text` has one of `keys` at the start of a line (`key:`).
+fn has_top_key(text: &str, keys: &[&str]) -> bool {
+    text.lines().any(|l| {
+        l.split_once(':')
+            .is_some_and(|(k, _)| keys.contains(&k.trim_end()))
+    })
+}
+
 /// The parser's message on one line: its first line, plus the offending source line.
-fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
+/// A file with none of the top-level `keys` of `what` it should be is not quoted: it is
+/// refused as not such a file (a manifest listing `/etc/passwd` must not copy its lines
+/// into the reports).
+fn yaml_error(e: &serde_saphyr::Error, text: &str, keys: &[&str], what: &str) -> anyhow::Error {
+    if !has_top_key(text, keys) {
+        return anyhow::anyhow!(
+            "not {what}: none of its keys ({}) is in it",
+            keys.iter()
+                .map(|k| format!("`{k}:`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let msg = e.to_string();
     let first = msg.lines().next().unwrap_or("").trim();
     let first = first.strip_prefix("error: ").unwrap_or(first);
@@ -77,6 +110,18 @@ fn yaml_error(e: &serde_saphyr::Error, text: &str) -> anyhow::Error {
         .map(|l| format!(" (in `{}`)", excerpt(l.trim(), 120)))
         .unwrap_or_default();
     // The parser's advice on its own options is not ours to give.
+    if first.contains("multiple YAML documents") {
+        return anyhow::anyhow!(
+            "{}: a second YAML document (after `---`); {what} is one document",
+            first.split(':').next().unwrap_or("")
+        );
+    }
+    if first.contains("budget breached") {
+        return anyhow::anyhow!(
+            "too many YAML nodes or aliases (nested or repeated anchors); {what} is a short, \
+             flat file"
+        );
+    }
     let first = match first.split_once("duplicate mapping key: ") {
         Some((at, rest)) => {
             let key = rest
@@ -185,7 +230,10 @@ pub fn parse_beta(b: &BetaSpec, key: &str) -> Result<BetaChoice> {
         }
     };
     if !(v.is_finite() && v > 0.0 && v <= 3.0) {
-        bail!("`{key}` = {v}: expected an exponent between 0 and 3");
+        bail!(
+            "`{key}` = {}: expected an exponent greater than 0 and at most 3",
+            shown(v)
+        );
     }
     Ok(BetaChoice::Fixed(v))
 }
@@ -214,8 +262,8 @@ impl Experiment {
     /// Parse and validate experiment YAML; errors name the key, its value and what was
     /// expected (the caller adds the file name).
     pub fn parse(path: &Path, text: &str) -> Result<Self> {
-        let file: ExperimentFile =
-            serde_saphyr::from_str(text).map_err(|e| yaml_error(&e, text))?;
+        let file: ExperimentFile = serde_saphyr::from_str(text)
+            .map_err(|e| yaml_error(&e, text, EXPERIMENT_KEYS, "an experiment file"))?;
         let name = file.name.clone().unwrap_or_else(|| {
             path.file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
@@ -241,7 +289,20 @@ impl Experiment {
         for (i, a) in file.accept.iter().enumerate() {
             text_limit(&format!("accept[{i}].reason"), &a.reason, MAX_NOTES_CHARS)?;
         }
+        let tol = &file.tolerances;
+        text_limit("tolerances.reason", &tol.reason, MAX_NOTES_CHARS)?;
+        if let Some((key, v, d)) = tol.widened().first() {
+            if tol.reason.trim().is_empty() {
+                bail!(
+                    "`tolerances.{key}` = {}: wider than its default {}; a wider tolerance \
+                     needs a written reason (`tolerances.reason`), shown with the result",
+                    shown(*v),
+                    shown(*d)
+                );
+            }
+        }
         let pendulum = pendulum_of(&file.geometry)?;
+        ball_density(&file.geometry.ball, pendulum.m, pendulum.r)?;
         let beta = parse_beta(&file.model.beta, "model.beta")?;
         let u = &file.geometry.uncertainty;
         for (k, v) in [
@@ -320,12 +381,12 @@ impl Experiment {
             .map(plate_calibration)
             .transpose()?;
         if let Some(s) = &file.synthetic {
-            non_negative("synthetic.s_r_m", s.s_r_m, "m")?;
+            self::s_r("synthetic.s_r_m", s.s_r_m)?;
             if parse_beta(&s.beta, "synthetic.beta")? == BetaChoice::Free {
                 bail!("`synthetic.beta` = free: the simulated truth needs a number");
             }
             in_range("synthetic.psi0_deg", s.psi0_deg, 0.0, 60.0, "deg")?;
-            non_negative("synthetic.angle_noise_deg", s.angle_noise_deg, "deg")?;
+            noise_deg("synthetic.angle_noise_deg", s.angle_noise_deg)?;
             frame_budget(
                 ("synthetic.fps", s.fps),
                 ("synthetic.duration_s", s.duration_s),
@@ -470,16 +531,45 @@ pub fn work_side(key: &str, side: u32) -> Result<()> {
     Ok(())
 }
 
+/// A number as a message quotes it: `1e300` as written, not as 301 digits.
+pub fn shown(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e6).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// The largest rolling-friction coefficient taken, m (`synthetic.s_r_m`, `--s-r`): a
+/// lever arm of a centimetre is far beyond any rolling contact.
+pub const MAX_S_R_M: f64 = 0.01;
+/// The largest angle noise a twin may be given, deg.
+pub const MAX_NOISE_DEG: f64 = 10.0;
+
+/// A rolling-friction coefficient `s_r` given by `key`: zero to [`MAX_S_R_M`].
+pub fn s_r(key: &str, v: f64) -> Result<()> {
+    within(key, v, 0.0, MAX_S_R_M, "m")
+}
+
+/// A twin's per-frame angle noise given by `key`: zero to [`MAX_NOISE_DEG`].
+pub fn noise_deg(key: &str, v: f64) -> Result<()> {
+    within(key, v, 0.0, MAX_NOISE_DEG, "deg")
+}
+
 fn positive(key: &str, v: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v > 0.0) {
-        bail!("`{key}` = {v} {unit}: expected a positive number");
+        bail!("`{key}` = {} {unit}: expected a positive number", shown(v));
     }
     Ok(())
 }
 
 fn non_negative(key: &str, v: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v >= 0.0) {
-        bail!("`{key}` = {v} {unit}: expected zero or a positive number");
+        bail!(
+            "`{key}` = {} {unit}: expected zero or a positive number",
+            shown(v)
+        );
     }
     Ok(())
 }
@@ -496,7 +586,10 @@ fn bounded(key: &str, v: f64, hi: f64, unit: &str) -> Result<()> {
 
 fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v > lo && v < hi) {
-        bail!("`{key}` = {v} {unit}: expected a value between {lo} and {hi} {unit}");
+        bail!(
+            "`{key}` = {} {unit}: expected a value between {lo} and {hi} {unit}",
+            shown(v)
+        );
     }
     Ok(())
 }
@@ -504,7 +597,10 @@ fn in_range(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
 /// A value from `lo` to `hi`, both included.
 fn within(key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     if !(v.is_finite() && v >= lo && v <= hi) {
-        bail!("`{key}` = {v} {unit}: expected a value from {lo} to {hi} {unit}");
+        bail!(
+            "`{key}` = {} {unit}: expected a value from {lo} to {hi} {unit}",
+            shown(v)
+        );
     }
     Ok(())
 }
@@ -559,6 +655,52 @@ pub fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
         _ => bail!("`geometry.pendulum`: expected either `d_m` or `contact_length_m` (Eq. 37), not both or neither"),
     };
     Pendulum::solid_ball(r, m, d, alpha, g.g_m_s2)
+}
+
+/// How far a ball's density may stray outside its material's range: a mass and a
+/// radius each measured to a percent move it by 3 %.
+const DENSITY_SLACK: f64 = 0.05;
+
+/// Refuse a ball whose mass and radius give a density its material (`steel` unless
+/// said) cannot have: a diameter entered as the radius gives an eighth of it, a mass in
+/// grams a thousand times it. `other` is not checked.
+fn ball_density(ball: &Ball, m: f64, r: f64) -> Result<()> {
+    let rho = m / (4.0 / 3.0 * std::f64::consts::PI * r.powi(3));
+    let given = ball.material.as_deref();
+    let name = match given {
+        Some("other") => return Ok(()),
+        Some("aluminum") => "aluminium",
+        Some(n) => n,
+        None => "steel",
+    };
+    let Some(&(_, lo, hi)) = BALL_DENSITIES.iter().find(|(n, _, _)| *n == name) else {
+        bail!(
+            "`geometry.ball.material` = `{}`: expected one of {}, or `other`",
+            quoted(name, 40),
+            BALL_DENSITIES.map(|b| b.0).join(", ")
+        );
+    };
+    if rho < lo * (1.0 - DENSITY_SLACK) || rho > hi * (1.0 + DENSITY_SLACK) {
+        let what = match given {
+            Some(_) => format!("a {name} ball"),
+            None => format!("a {name} ball (the default; say `geometry.ball.material`)"),
+        };
+        let hint = if rho < lo / 4.0 && rho > lo / 16.0 {
+            ": is `radius_m` the diameter?"
+        } else if rho > hi * 4.0 {
+            ": is `mass_kg` in grams, or `radius_m` in mm?"
+        } else {
+            ""
+        };
+        bail!(
+            "`geometry.ball`: a mass of {} kg and a radius of {} m give a density of {:.0} \
+             kg/m^3; {what} has {lo:.0} to {hi:.0} kg/m^3{hint}",
+            shown(m),
+            shown(r),
+            rho
+        );
+    }
+    Ok(())
 }
 
 /// Find an experiment by path, or by name: `NAME.yaml` in the working folder first,
@@ -716,6 +858,39 @@ synthetic: { s_r_m: 3.2e-6 }
             "{e}"
         );
         assert!(!e.contains('\n'), "{e}");
+    }
+
+    #[test]
+    fn a_wider_tolerance_needs_a_reason_and_text_is_bounded() {
+        let wide = format!("{GOOD}tolerances: {{ period_rel: 100, halves_rel: 100 }}\n");
+        let e = err(&wide);
+        assert!(
+            e.contains("`tolerances.period_rel` = 100: wider than its default 0.1"),
+            "{e}"
+        );
+        let given = wide.replace("100 }", "100, reason: \"d measured by eye\" }");
+        let exp = Experiment::parse(Path::new("x.yaml"), &given).unwrap();
+        let keys: Vec<&str> = exp.file.tolerances.widened().iter().map(|w| w.0).collect();
+        assert_eq!(keys, ["period_rel", "halves_rel"]);
+        // Narrower than the defaults needs no reason.
+        let narrow = format!("{GOOD}tolerances: {{ period_rel: 0.05 }}\n");
+        assert!(Experiment::parse(Path::new("x.yaml"), &narrow).is_ok());
+        let huge = format!("{GOOD}material: \"{}\"\n", "x".repeat(10_000));
+        let e = err(&huge);
+        assert!(
+            e.contains("`material`") && e.contains("10000 characters"),
+            "{e}"
+        );
+        assert!(e.len() < 200, "{e}");
+    }
+
+    #[test]
+    fn a_file_of_another_kind_is_not_quoted() {
+        let e = err("root:x:0:0:root:/root:/bin/bash\nsecret: 1\n");
+        assert!(
+            e.contains("not an experiment file") && !e.contains("root"),
+            "{e}"
+        );
     }
 
     #[test]

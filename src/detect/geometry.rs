@@ -828,7 +828,19 @@ fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
         .collect();
     let good: Vec<&FrameLine> = per_frame.iter().flatten().copied().collect();
     if good.len() < 3 {
-        bail!("the moving lines do not share a pivot; give `video.pivot` (and `video.roi`)");
+        match pivot_given {
+            Some(p) => bail!(
+                "no moving line passes through the given pivot ({:.1}, {:.1}) px ({} frames \
+                 with lines); check `video.pivot` (or --pivot): the point the wire turns about, \
+                 in the video's full-size pixels",
+                p.x,
+                p.y,
+                with_lines
+            ),
+            None => {
+                bail!("the moving lines do not share a pivot; give `video.pivot` (and `video.roi`)")
+            }
+        }
     }
     // Too few lines to tell a swinging wire from a few stray edges that happen to meet.
     if good.len() < MIN_WIRE_LINES && pivot_given.is_none() {

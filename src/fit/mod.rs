@@ -457,8 +457,11 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
     if span.is_nan() || span > MAX_MODEL_PERIODS * period {
         bail!(
             "the turning points span {:.6e} s, over {MAX_MODEL_PERIODS} periods of the pendulum \
-             ({period:.3} s), the most the model integrates (check the times' units)",
-            span
+             ({period:.4} s for d = {:.4} m, r = {:.4} m): check `geometry.pendulum` and \
+             `geometry.ball`, and the times' units",
+            span,
+            p.d,
+            p.r
         );
     }
     let model = integrate(

@@ -43,24 +43,14 @@ impl Source {
         }
         if let Some(a) = &exp.file.angles {
             let path = exp.resolve(a);
-            if !path.is_file() {
-                bail!(
-                    "{}: `angles` = {a}: the file does not exist ({})",
-                    exp.path.display(),
-                    path.display()
-                );
-            }
+            crate::fsutil::regular_file(&path)
+                .with_context(|| format!("{}: `angles` = {a}", exp.path.display()))?;
             return Ok(Source::Csv(path));
         }
         if let Some(p) = exp.file.video.as_ref().and_then(|v| v.path.as_deref()) {
             let path = exp.resolve(p);
-            if !path.is_file() {
-                bail!(
-                    "{}: `video.path` = {p}: the video does not exist ({})",
-                    exp.path.display(),
-                    path.display()
-                );
-            }
+            crate::fsutil::regular_file(&path)
+                .with_context(|| format!("{}: `video.path` = {p}", exp.path.display()))?;
             return Ok(Source::LabVideo(path));
         }
         if exp.file.synthetic.is_none() {

@@ -265,6 +265,9 @@ struct ExperimentView {
     /// `ok`, `suspect`, or `accepted` (suspect, every warning accepted): the banner's class.
     verdict_class: &'static str,
     warnings: Vec<WarningView>,
+    /// The tolerances wider than their defaults (`key value (default d)`), and why.
+    widened: String,
+    widened_reason: String,
     budget: Vec<BudgetRow>,
     budget_total: Vec<Kv>,
     /// The budget's Monte Carlo check (`<name>/mc.svg` and its rows), when run.
@@ -697,6 +700,14 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                 accepted: w.accepted.clone().unwrap_or_default(),
             })
             .collect(),
+        widened: r
+            .tolerances
+            .widened()
+            .iter()
+            .map(|(k, v, d)| format!("{k} {v} (default {d})"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        widened_reason: r.tolerances.reason.clone(),
         budget: budget_rows(&r.budget),
         budget_total: budget_total(&r.budget),
         has_monte_carlo: r.monte_carlo.is_some(),

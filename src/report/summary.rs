@@ -1,6 +1,7 @@
 //! `summary.json` (every result, check and input hash of a build) and `rollfric check`.
 
 use super::{fmt_pct, fmt_sci};
+use crate::config::CHECKS;
 use crate::fsutil;
 use crate::pipeline::ExperimentResult;
 use anyhow::{bail, Context, Result};
@@ -80,16 +81,144 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// Read a build's summary; errors name the file.
+    /// Read a build's summary and check its invariants ([`Summary::validate`]); errors
+    /// name the file.
     pub fn read(path: &Path) -> Result<Self> {
         let text = fsutil::read_to_string(path)?;
-        let s: Summary = serde_json::from_str(&text)
+        let raw: serde_json::Value = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a rollfric summary", path.display()))?;
+        let s: Summary = serde_json::from_value(raw.clone())
             .with_context(|| format!("{}: not a rollfric summary", path.display()))?;
         if s.experiments.is_empty() {
             bail!("{}: the summary lists no experiment", path.display());
         }
+        s.validate(&raw).map_err(|e| {
+            anyhow::anyhow!(
+                "{}: {e}: the summary is not as a build writes it (edited or damaged); \
+                 build it again",
+                path.display()
+            )
+        })?;
         Ok(s)
     }
+
+    /// What a build's summary always holds, checked before `check` trusts it: a
+    /// failed entry has an error and no result, a built one a result and no error; each
+    /// result says its verdict, `suspect` exactly when it has warnings of known checks;
+    /// its comparisons are exactly those its reference and synthetic truth call for, at
+    /// its tolerances and with its own fitted values; a tolerance wider than its
+    /// default carries its reason. `raw` is the JSON as read (a missing `verdict` would
+    /// otherwise read as `ok`).
+    pub fn validate(&self, raw: &serde_json::Value) -> Result<()> {
+        use crate::verdict::{Against, Quantity, Status};
+        for (i, e) in self.experiments.iter().enumerate() {
+            let at = format!("experiments[{i}] (`{}`)", excerpt(&e.name));
+            match (e.status, &e.result, &e.error) {
+                (EntryStatus::Ok, Some(_), None) | (EntryStatus::Failed, None, Some(_)) => {}
+                (s, r, err) => bail!(
+                    "{at}: status `{}` with {} and {}",
+                    if s == EntryStatus::Ok { "ok" } else { "failed" },
+                    if r.is_some() { "a result" } else { "no result" },
+                    if err.is_some() {
+                        "an error"
+                    } else {
+                        "no error"
+                    }
+                ),
+            }
+            let Some(r) = &e.result else { continue };
+            if r.name != e.name {
+                bail!("{at}: its result is named `{}`", excerpt(&r.name));
+            }
+            if raw["experiments"][i]["result"].get("verdict").is_none() {
+                bail!("{at}: its result has no `verdict`");
+            }
+            let v = &r.verdict;
+            if (v.verdict == Status::Suspect) == v.warnings.is_empty() {
+                bail!(
+                    "{at}: verdict `{}` with {} warning(s)",
+                    v.verdict.as_str(),
+                    v.warnings.len()
+                );
+            }
+            if let Some(w) = v
+                .warnings
+                .iter()
+                .find(|w| !CHECKS.contains(&w.check.as_str()))
+            {
+                bail!(
+                    "{at}: a warning of no known check (`{}`)",
+                    excerpt(&w.check)
+                );
+            }
+            let tol = &r.tolerances;
+            if let Some((key, _, _)) = tol.widened().first() {
+                if tol.reason.trim().is_empty() {
+                    bail!("{at}: `tolerances.{key}` is wider than its default, with no reason");
+                }
+            }
+            // The comparisons the result calls for: (quantity, against, value, expected,
+            // tolerance).
+            let f = &r.results;
+            let mut wanted = Vec::new();
+            if let Some(rf) = &r.reference {
+                let src = if rf.source.is_empty() {
+                    "reference"
+                } else {
+                    &rf.source
+                };
+                for (q, value, expected) in [
+                    (Quantity::SR, f.s_r_m, rf.s_r_m),
+                    (Quantity::MuR, f.mu_r, rf.mu_r),
+                    (Quantity::A, f.a_rad_s, rf.a_rad_s),
+                ] {
+                    if let Some(x) = expected {
+                        let against = Against::Reference(src.to_string());
+                        wanted.push((q, against, value, x, tol.reference_rel));
+                    }
+                }
+            }
+            if let Some(x) = r.truth_s_r_m {
+                let against = Against::SyntheticTruth;
+                wanted.push((Quantity::SR, against, f.s_r_m, x, tol.truth_rel));
+            }
+            let got: Vec<_> = r
+                .checks
+                .iter()
+                .map(|c| {
+                    let (q, a) = (c.quantity, c.against.clone());
+                    (q, a, c.value, c.expected, c.tolerance_rel)
+                })
+                .collect();
+            if got.len() != wanted.len() {
+                bail!(
+                    "{at}: {} comparison(s) where its reference and synthetic truth call for {}",
+                    got.len(),
+                    wanted.len()
+                );
+            }
+            if let Some((g, w)) = got.iter().zip(&wanted).find(|(g, w)| g != w) {
+                bail!(
+                    "{at}: its comparison of {} against {} is not the result's own (value {}, \
+                     expected {}, tolerance {}; the result's: {}, {}, {})",
+                    g.0.as_str(),
+                    g.1.as_str(),
+                    g.2,
+                    g.3,
+                    g.4,
+                    w.2,
+                    w.3,
+                    w.4
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// At most 60 characters of a name read from a summary.
+fn excerpt(s: &str) -> String {
+    crate::config::quoted(s, 60)
 }
 
 /// `rollfric check`: the reproduced values of a summary against their expected values

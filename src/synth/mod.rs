@@ -108,6 +108,9 @@ pub struct SynthReport {
     pub truth: Vec<TruthRow>,
 }
 
+/// The containers a twin may be written in, by file extension.
+pub const CONTAINERS: [&str; 5] = ["mp4", "mkv", "mov", "m4v", "avi"];
+
 /// Render the experiment's `synthetic:` twin to `out`.
 ///
 /// The extension decides the container: `.avi` is MJPG; anything else (`.mp4`) is
@@ -130,6 +133,15 @@ pub fn render(
             out.display()
         );
     }
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    ensure!(
+        ext.as_deref().is_some_and(|e| CONTAINERS.contains(&e)),
+        "{}: expected a video file name ending in .{} (.avi is MJPG, the others H.264)",
+        out.display(),
+        CONTAINERS.join(", .")
+    );
     ensure!(
         crate::video::have_ffmpeg(),
         "{}: rendering needs the ffmpeg program, which is not on PATH (Debian: apt-get install ffmpeg)",

@@ -56,6 +56,10 @@ impl Status {
     }
 }
 
+/// The first time from which a series' times are taken for clock times, s (eleven
+/// days: no recording of a pendulum starts that long after its clock's zero).
+pub const CLOCK_TIME_S: f64 = 1e6;
+
 /// One row of an angle CSV.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AngleRow {
@@ -195,6 +199,21 @@ impl AngleSeries {
     /// Parse CSV text (see [`AngleTable::parse_csv`]); `missing` rows are skipped.
     pub fn parse_csv(text: &str) -> Result<Self> {
         Ok(AngleTable::parse_csv(text)?.series())
+    }
+
+    /// The series with its times counted from its first frame when they are clock
+    /// times (a first time of [`CLOCK_TIME_S`] or more: seconds since 1970, say); other
+    /// series are returned as they are. A fit of clock times would lose their digits
+    /// (and its turning points their order) to the offset.
+    pub fn from_clock_start(mut self) -> Self {
+        if let Some(&t0) = self.t.first() {
+            if t0 >= CLOCK_TIME_S {
+                for t in &mut self.t {
+                    *t -= t0;
+                }
+            }
+        }
+        self
     }
 
     /// CSV text with the header `t_s,angle_rad`.

@@ -45,7 +45,7 @@ use crate::fit::{self, FitResult, Measurement};
 use crate::physics::Pendulum;
 use crate::rng::Rng;
 use crate::stats::student_t_quantile;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 
 /// Draws of the block bootstrap of the angles' statistical uncertainty.
@@ -384,11 +384,21 @@ fn inputs(exp: &Experiment) -> Vec<Input> {
     v
 }
 
-/// The pendulum with input `i` set to `x`.
-fn pendulum_with(exp: &Experiment, i: &Input, x: f64) -> Result<Pendulum> {
+/// The pendulum with input `i` set to `x`, a step of `u` from its value: an error
+/// quotes the value given and the step, not the stepped value alone.
+fn pendulum_with(exp: &Experiment, i: &Input, x: f64, u: f64) -> Result<Pendulum> {
     let mut g = exp.file.geometry.clone();
     (i.set)(&mut g, x);
-    pendulum_of(&g).with_context(|| format!("`{}` = {x} {}", i.key, i.unit))
+    pendulum_of(&g).map_err(|e| {
+        anyhow::anyhow!(
+            "`{}` = {} {unit}: a step of its standard uncertainty ({:.3e} {unit}) leaves the \
+             geometry a pendulum can have ({e:#}); check the value and its uncertainty",
+            i.key,
+            crate::config::shown(i.value),
+            u,
+            unit = i.unit
+        )
+    })
 }
 
 /// The uncertainty budget of the fitted `s_r` (result `f` of the turning points `m`),
@@ -411,9 +421,19 @@ pub fn budget(
                 format!("default: {}", i.default_why),
             ),
         };
+        if u >= i.value.abs() {
+            bail!(
+                "`{}` = {} {unit}: its standard uncertainty ({:.3e} {unit}, {source}) is as \
+                 large as the value itself; check the value's units, or give its uncertainty",
+                i.key,
+                crate::config::shown(i.value),
+                u,
+                unit = i.unit
+            );
+        }
         let sensitivity = if u > 0.0 {
             let s_at = |x: f64| -> Result<f64> {
-                let p = pendulum_with(exp, &i, x)?;
+                let p = pendulum_with(exp, &i, x, u)?;
                 Ok(fit::refit(&p, m, f.beta, start, RTOL)
                     .with_context(|| format!("re-fitting with `{}` = {x}", i.key))?[0])
             };

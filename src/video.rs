@@ -42,6 +42,9 @@ pub struct VideoInfo {
     pub frames_header: Option<u64>,
     pub duration_s: Option<f64>,
     pub codec: String,
+    /// Whether the luma is stored as a plane of its own (YUV or grey pixels), to be
+    /// taken as it is; an RGB video's (a PNG or QuickTime Animation stream) is computed.
+    pub luma_plane: bool,
 }
 
 /// One decoded grey frame (row-major, `width` bytes per row). `Frame::default()` is an
@@ -216,7 +219,8 @@ impl Decoder {
                     .early
                     .first()
                     .map(|l| l.rsplit("] ").next().unwrap_or(l).trim().to_string())
-                    .unwrap_or_else(|| "no video stream".to_string());
+                    .filter(|w| !w.contains("matches no streams"))
+                    .unwrap_or_else(|| "it holds no video stream".to_string());
                 bail!(
                     "{}: cannot open as a video ({why}); no frame decoded",
                     self.path.display()
@@ -262,8 +266,13 @@ impl Decoder {
         let mut filters = format!("crop={}:{}:{}:{}:exact=1", roi.w, roi.h, roi.x, roi.y);
         let (mut width, mut height) = (roi.w as usize, roi.h as usize);
         // The luma plane as stored, whatever its range: the streaming pass reads it so
-        // (unshrunk), and a look shrunk here must see the same grey levels.
-        filters.push_str(",extractplanes=y");
+        // (unshrunk), and a look shrunk here must see the same grey levels. RGB pixels
+        // have no such plane: their grey is computed from the three colours.
+        filters.push_str(if info.luma_plane {
+            ",extractplanes=y"
+        } else {
+            ",format=gray"
+        });
         if shrink > 1 {
             width /= shrink as usize;
             height /= shrink as usize;
@@ -466,6 +475,12 @@ fn parse_video_stream(line: &str, duration_s: Option<f64>) -> Option<VideoInfo> 
     }
     items.push(desc[from..].trim());
     let codec = items.first()?.split_whitespace().next()?.to_string();
+    // The pixel format, `yuv420p(tv, ...)` or `rgb24`: planar YUV and grey keep a luma
+    // plane.
+    let pix = items
+        .get(1)
+        .map_or("", |p| p.split('(').next().unwrap_or("").trim());
+    let luma_plane = pix.starts_with("yuv") || pix.starts_with("gray") || pix.is_empty();
     let (width, height) = items.iter().skip(1).find_map(|item| {
         let (w, h) = item.split_whitespace().next()?.split_once('x')?;
         let (w, h) = (w.parse::<u32>().ok()?, h.parse::<u32>().ok()?);
@@ -489,6 +504,7 @@ fn parse_video_stream(line: &str, duration_s: Option<f64>) -> Option<VideoInfo> 
         frames_header,
         duration_s,
         codec,
+        luma_plane,
     })
 }
 

@@ -180,14 +180,32 @@ fn build_caches_reproduces_and_reruns_only_what_changed() {
     );
     let mut s: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&summary).unwrap()).unwrap();
-    let checks = &mut s["experiments"][0]["result"]["checks"][0];
-    let v = checks["value"].as_f64().unwrap();
-    checks["value"] = serde_json::json!(v * 1.5);
+    // The fitted s_r off by half, in the result and in every comparison of it (a
+    // summary's comparisons must be its result's own, or `check` refuses the summary).
+    let result = &mut s["experiments"][0]["result"];
+    let v = result["results"]["s_r_m"].as_f64().unwrap();
+    result["results"]["s_r_m"] = serde_json::json!(v * 1.5);
+    for c in result["checks"].as_array_mut().unwrap() {
+        if c["quantity"] == "s_r" {
+            c["value"] = serde_json::json!(v * 1.5);
+        }
+    }
     let bad = d.path().join("bad.json");
     std::fs::write(&bad, serde_json::to_vec(&s).unwrap()).unwrap();
     let miss = check(&bad);
     assert_eq!(miss.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&miss.stdout).contains("MISS"));
+    assert!(
+        String::from_utf8_lossy(&miss.stdout).contains("MISS"),
+        "{}",
+        String::from_utf8_lossy(&miss.stderr)
+    );
+    // Only the comparison's value changed: the summary is refused as edited.
+    s["experiments"][0]["result"]["results"]["s_r_m"] = serde_json::json!(v);
+    std::fs::write(&bad, serde_json::to_vec(&s).unwrap()).unwrap();
+    let edited = check(&bad);
+    assert_eq!(edited.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&edited.stderr);
+    assert!(err.contains("is not the result's own"), "{err}");
 }
 
 #[test]

@@ -204,7 +204,7 @@ fn detect_refuses_to_write_over_its_video() {
     let o = rollfric(&["detect", "v.mp4", "-o", "./v.mp4"], d.path());
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("is the video itself"), "{err}");
+    assert!(err.contains("that is the video (v.mp4), an input"), "{err}");
     assert_eq!(std::fs::read(&video).unwrap(), b"not really a video");
 }
 

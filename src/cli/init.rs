@@ -92,8 +92,11 @@ pub fn init(a: InitArgs) -> Result<String> {
         out.display()
     );
     if let Some(m) = &a.manifest {
-        add_to_manifest(m, &out)?;
-        let _ = writeln!(msg, "{}: lists {} now", m.display(), out.display());
+        if add_to_manifest(m, &out)? {
+            let _ = writeln!(msg, "{}: lists {} now", m.display(), out.display());
+        } else {
+            let _ = writeln!(msg, "{}: lists {} already", m.display(), out.display());
+        }
     }
     Ok(msg)
 }
@@ -243,9 +246,23 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
 }
 
 /// Append `exp` to the manifest's `experiments:` list, keeping the file's text (and
-/// comments); refuse when the list is not a block list at the end of the file.
-fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<()> {
-    let (_, listed) = Manifest::load(manifest)?;
+/// comments); an empty `experiments: []` becomes a block list. Refuse when the list is
+/// not a block list at the end of the file. Returns whether it added `exp` (a manifest
+/// that lists it already is left as it is).
+fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<bool> {
+    let text = fsutil::read_text_limited(manifest, fsutil::MAX_YAML_BYTES)?;
+    let lines: Vec<&str> = text.lines().collect();
+    // `experiments: []`, the list of a manifest not yet listing anything.
+    let empty = lines.iter().position(|l| {
+        let l = l.split('#').next().unwrap_or("").trim_end();
+        l.strip_prefix("experiments:")
+            .is_some_and(|v| v.trim().replace(' ', "") == "[]")
+    });
+    let listed = match Manifest::load(manifest) {
+        Ok((_, listed)) => listed,
+        Err(_) if empty.is_some() => Vec::new(),
+        Err(e) => return Err(e),
+    };
     let dir = manifest.parent().filter(|p| !p.as_os_str().is_empty());
     let rel = relative_to(exp, dir.unwrap_or(Path::new(".")))?;
     let canon = std::fs::canonicalize(exp)?;
@@ -253,10 +270,16 @@ fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<()> {
         .iter()
         .any(|p| std::fs::canonicalize(p).is_ok_and(|p| p == canon))
     {
-        bail!("{}: already lists {rel}", manifest.display());
+        return Ok(false);
     }
-    let text = fsutil::read_text_limited(manifest, fsutil::MAX_YAML_BYTES)?;
-    let lines: Vec<&str> = text.lines().collect();
+    if let (Some(i), true) = (empty, listed.is_empty()) {
+        let mut new: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        new[i] = format!("experiments:\n  - {}", quoted(&rel));
+        let new = new.join("\n") + "\n";
+        Manifest::load_text(manifest, &new)?;
+        fsutil::write_atomic(manifest, new.as_bytes())?;
+        return Ok(true);
+    }
     let last = lines
         .iter()
         .rposition(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
@@ -288,7 +311,7 @@ fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<()> {
         );
     }
     fsutil::write_atomic(manifest, new.as_bytes())?;
-    Ok(())
+    Ok(true)
 }
 
 #[cfg(test)]
@@ -337,20 +360,25 @@ mod tests {
     }
 
     #[test]
-    fn appends_to_a_block_list_and_refuses_a_second_time() {
+    fn appends_to_a_block_list_once_and_fills_an_empty_one() {
         let d = tempfile::tempdir().unwrap();
         let m = d.path().join("manifest.yaml");
         std::fs::write(&m, "# the set\ntitle: t\nexperiments:\n  - a.yaml\n# end\n").unwrap();
         std::fs::write(d.path().join("a.yaml"), "").unwrap();
         std::fs::write(d.path().join("b.yaml"), "").unwrap();
-        add_to_manifest(&m, &d.path().join("b.yaml")).unwrap();
+        assert!(add_to_manifest(&m, &d.path().join("b.yaml")).unwrap());
         let text = std::fs::read_to_string(&m).unwrap();
         assert_eq!(
             text,
             "# the set\ntitle: t\nexperiments:\n  - a.yaml\n  - \"b.yaml\"\n# end\n"
         );
-        let e = add_to_manifest(&m, &d.path().join("b.yaml")).unwrap_err();
-        assert!(e.to_string().contains("already lists"), "{e}");
+        // A second time (`init --force` again): listed already, the file as it was.
+        assert!(!add_to_manifest(&m, &d.path().join("b.yaml")).unwrap());
+        assert_eq!(std::fs::read_to_string(&m).unwrap(), text);
+        std::fs::write(&m, "title: t\nexperiments: [ ]  # none yet\n").unwrap();
+        assert!(add_to_manifest(&m, &d.path().join("b.yaml")).unwrap());
+        let text = std::fs::read_to_string(&m).unwrap();
+        assert_eq!(text, "title: t\nexperiments:\n  - \"b.yaml\"\n");
         std::fs::write(&m, "experiments: [a.yaml]\ntitle: t\n").unwrap();
         let e = add_to_manifest(&m, &d.path().join("b.yaml")).unwrap_err();
         assert!(format!("{e:#}").contains("by hand"), "{e:#}");

@@ -39,6 +39,12 @@ impl Manifest {
     /// Load a manifest and check that each listed file exists.
     pub fn load(path: &Path) -> Result<(Self, Vec<PathBuf>)> {
         let text = fsutil::read_text_limited(path, fsutil::MAX_YAML_BYTES)?;
+        Self::load_text(path, &text)
+    }
+
+    /// [`Manifest::load`] of `text`, the content of (or for) the file `path`.
+    pub fn load_text(path: &Path, text: &str) -> Result<(Self, Vec<PathBuf>)> {
+        let text = text.to_string();
         let m: Manifest = serde_saphyr::from_str(&text).map_err(|e| {
             yaml_error(&e, &text, MANIFEST_KEYS, "a manifest").context(path.display().to_string())
         })?;
@@ -687,17 +693,19 @@ fn ball_density(ball: &Ball, m: f64, r: f64) -> Result<()> {
         };
         let hint = if rho < lo / 4.0 && rho > lo / 16.0 {
             ": is `radius_m` the diameter?"
-        } else if rho > hi * 4.0 {
-            ": is `mass_kg` in grams, or `radius_m` in mm?"
+        } else if rho < lo / 100.0 {
+            ": is `radius_m` in mm?"
+        } else if rho > hi * 100.0 {
+            ": is `mass_kg` in grams, or `radius_m` too small?"
         } else {
             ""
         };
         bail!(
-            "`geometry.ball`: a mass of {} kg and a radius of {} m give a density of {:.0} \
+            "`geometry.ball`: a mass of {} kg and a radius of {} m give a density of {} \
              kg/m^3; {what} has {lo:.0} to {hi:.0} kg/m^3{hint}",
             shown(m),
             shown(r),
-            rho
+            shown(rho.round())
         );
     }
     Ok(())

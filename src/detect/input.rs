@@ -153,6 +153,7 @@ impl MemoryVideo {
                 frames_header: Some(frames.len() as u64),
                 duration_s: Some(frames.len() as f64 / fps),
                 codec: "grey frames in memory".to_string(),
+                luma_plane: true,
             },
             fps,
             frames,

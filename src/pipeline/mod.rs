@@ -222,7 +222,7 @@ impl Analysis {
 
 /// Extremes, equilibrium, fit, checks and torsion of an experiment's angles.
 pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analysis> {
-    let series = angles.table.series();
+    let series = angles.table.series().from_clock_start();
     let p = &exp.pendulum;
     let beta = o.beta.unwrap_or(exp.beta);
     let what = || match &angles.source {

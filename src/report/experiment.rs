@@ -662,14 +662,19 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         torsion,
         rolling,
         pass: r.passed(),
+        // A suspect verdict heads the page too: "within tolerances" above a suspect
+        // banner would read as a pass.
         standing_class: if !r.compared() {
             "measured"
-        } else if r.passed() {
+        } else if r.passed() && !r.verdict.blocks() {
             "pass"
         } else {
             "fail"
         },
-        standing: r.standing(),
+        standing: match (r.standing(), r.verdict.blocks()) {
+            ("within tolerances", true) => "within tolerances, but SUSPECT (see the verdict)",
+            (s, _) => s,
+        },
         measured: if r.compared() {
             Vec::new()
         } else {

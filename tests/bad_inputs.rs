@@ -10,6 +10,8 @@
 //! file, key or flag.
 
 mod common;
+#[path = "bad_inputs/edges.rs"]
+mod edges;
 
 use common::{have_ffmpeg, need_ffmpeg, rollfric, root, simulate_csv};
 use rollfric::rng::Rng;
@@ -29,8 +31,16 @@ struct Case {
     name: String,
     args: Vec<String>,
     code: i32,
-    /// Words the standard error must contain (the file, key or flag it names).
+    /// Words the standard error must contain (the file, key or flag it names); for a
+    /// case that succeeds, its standard output or error.
     needles: Vec<String>,
+    /// Words the standard error must not contain (a quoted secret, a library's advice).
+    never: Vec<String>,
+    /// Files (relative to the case folder) whose bytes the command must leave as they
+    /// were.
+    unchanged: Vec<String>,
+    /// A line of standard error for each of many experiments is expected.
+    loud: bool,
 }
 
 fn case(name: impl Into<String>, args: &[&str], code: i32, needles: &[&str]) -> Case {
@@ -39,6 +49,26 @@ fn case(name: impl Into<String>, args: &[&str], code: i32, needles: &[&str]) -> 
         args: args.iter().map(|s| s.to_string()).collect(),
         code,
         needles: needles.iter().map(|s| s.to_string()).collect(),
+        never: Vec::new(),
+        unchanged: Vec::new(),
+        loud: false,
+    }
+}
+
+impl Case {
+    fn never(mut self, words: &[&str]) -> Self {
+        self.never.extend(words.iter().map(|s| s.to_string()));
+        self
+    }
+
+    fn loud(mut self) -> Self {
+        self.loud = true;
+        self
+    }
+
+    fn keeping(mut self, files: &[&str]) -> Self {
+        self.unchanged.extend(files.iter().map(|s| s.to_string()));
+        self
     }
 }
 
@@ -746,17 +776,21 @@ fn bad_inputs_fail_cleanly_naming_what_is_wrong() {
         video_cases(dir, &mut cases);
     }
     flag_cases(&mut cases, video);
+    edges::cases(dir, &mut cases, video);
     println!("{} cases generated in {:?}", cases.len(), start.elapsed());
-    assert!(cases.len() >= 150, "{} cases", cases.len());
+    assert!(cases.len() >= 250, "{} cases", cases.len());
 
-    let results: Vec<(String, Option<String>)> = std::thread::scope(|s| {
+    let results: Vec<(String, Option<String>, String)> = std::thread::scope(|s| {
         let (a, b) = cases.split_at(cases.len() / 2);
         let h: Vec<_> = [a, b]
             .into_iter()
             .map(|half| {
                 s.spawn(move || {
                     half.iter()
-                        .map(|c| (c.name.clone(), run(c, dir)))
+                        .map(|c| {
+                            let (why, said) = run(c, dir);
+                            (c.name.clone(), why, said)
+                        })
                         .collect::<Vec<_>>()
                 })
             })
@@ -765,7 +799,12 @@ fn bad_inputs_fail_cleanly_naming_what_is_wrong() {
     });
     let mut failed = Vec::new();
     let mut known = Vec::new();
-    for (name, res) in results {
+    let said: Vec<(String, String)> = results
+        .iter()
+        .map(|(name, _, said)| (name.clone(), redact(said, dir)))
+        .collect();
+    failed.extend(edges::messages_as_recorded(&said, video));
+    for (name, res, _) in results {
         match (res, KNOWN_FAILURES.contains(&name.as_str())) {
             (Some(why), false) => failed.push(format!("{name}: {why}")),
             (Some(why), true) => known.push(format!("{name}: {why}")),
@@ -792,8 +831,27 @@ fn bad_inputs_fail_cleanly_naming_what_is_wrong() {
     );
 }
 
-/// One case's run; `None` when every check holds, else what did not.
-fn run(c: &Case, dir: &Path) -> Option<String> {
+/// A message as recorded: the case folder's path and the process ids of temporary
+/// names taken out.
+fn redact(said: &str, dir: &Path) -> String {
+    let mut s = said.to_string();
+    for d in [std::fs::canonicalize(dir).ok(), Some(dir.to_path_buf())]
+        .into_iter()
+        .flatten()
+    {
+        s = s.replace(&d.display().to_string(), "$DIR");
+    }
+    s
+}
+
+/// One case's run: `None` when every check holds, else what did not; and the first
+/// line of its standard error (for a case that fails: its message).
+fn run(c: &Case, dir: &Path) -> (Option<String>, String) {
+    let before: Vec<Option<Vec<u8>>> = c
+        .unchanged
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).ok())
+        .collect();
     let t = Instant::now();
     let out = rollfric(&c.args, dir);
     let took = t.elapsed();
@@ -814,21 +872,43 @@ fn run(c: &Case, dir: &Path) -> Option<String> {
         "build" => 3,
         _ => 1,
     };
-    if lines == 0 || lines > max_lines {
+    if (lines == 0 && c.code != 0) || (lines > max_lines && !c.loud) {
         why.push(format!(
             "{lines} lines of standard error (at most {max_lines})"
         ));
     }
-    if err.len() > 2048 {
+    if err.len() > 2048 && !c.loud {
         why.push(format!("{} bytes of standard error", err.len()));
     }
+    let said = if c.code == 0 {
+        format!("{err}{}", String::from_utf8_lossy(&out.stdout))
+    } else {
+        err.to_string()
+    };
     for n in &c.needles {
-        if !err.contains(n.as_str()) {
+        if !said.contains(n.as_str()) {
             why.push(format!("does not say `{n}`"));
+        }
+    }
+    for n in &c.never {
+        if err.contains(n.as_str()) {
+            why.push(format!("says `{n}`"));
+        }
+    }
+    for (f, old) in c.unchanged.iter().zip(before) {
+        if std::fs::read(dir.join(f)).ok() != old {
+            why.push(format!("changed {f}"));
         }
     }
     if took.as_secs() > 60 {
         why.push(format!("took {took:?}"));
     }
-    (!why.is_empty()).then(|| format!("{} ({}): {shown}", why.join(", "), c.args.join(" ")))
+    let first = if c.code == 0 {
+        "(succeeds)".to_string()
+    } else {
+        err.lines().next().unwrap_or("").to_string()
+    };
+    let why =
+        (!why.is_empty()).then(|| format!("{} ({}): {shown}", why.join(", "), c.args.join(" ")));
+    (why, first)
 }

@@ -475,3 +475,90 @@ fn lavfi_clip(dir: &Path, name: &str, src: &str, args: &[&str]) {
         .unwrap();
     assert!(st.success(), "ffmpeg could not make {name}");
 }
+
+/// The cells of a Markdown table row: `|` not escaped by a backslash, less one.
+fn cells(row: &str) -> usize {
+    let b = row.as_bytes();
+    (0..b.len())
+        .filter(|&i| b[i] == b'|' && (i == 0 || b[i - 1] != b'\\'))
+        .count()
+        .saturating_sub(1)
+}
+
+#[test]
+fn text_in_an_experiment_file_cannot_forge_or_break_a_page() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "evil")]);
+    let file = d.path().join("a.yaml");
+    let forged = "Glass | 9.999e-6 ± 1e-9 | 3.714e-6 | +0.00 %";
+    let script = "<script>alert(1)</script><img src=x onerror=alert(2)>";
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace(
+            "material: Glass fiber fabric over glass plate",
+            &format!("material: \"{forged}\""),
+        )
+        .replace("source: Table 1", &format!("source: \"{script}\""))
+        .replace("notes: >-\n", &format!("notes: >-\n  {script} | a | b |\n"));
+    std::fs::write(&file, text).unwrap();
+    let manifest = d.path().join("manifest.yaml");
+    let m = std::fs::read_to_string(&manifest)
+        .unwrap()
+        .replace("title: edges", "title: \"Steel <!-- | x\"");
+    std::fs::write(&manifest, m).unwrap();
+    let o = build(d.path(), &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for page in ["out/index.md", "out/evil.md"] {
+        let md = std::fs::read_to_string(d.path().join(page)).unwrap();
+        assert!(
+            !md.contains("<script") && !md.contains("<img") && !md.contains("<!--"),
+            "{page}"
+        );
+        // Every row of every table keeps the cells of its header.
+        let mut header = None;
+        for line in md.lines() {
+            if !line.starts_with('|') {
+                header = None;
+                continue;
+            }
+            match header {
+                None => header = Some(cells(line)),
+                Some(n) => assert_eq!(cells(line), n, "{page}: {line}"),
+            }
+        }
+    }
+    // Table 1's row holds the measured value, not the forged one.
+    let index = std::fs::read_to_string(d.path().join("out/index.md")).unwrap();
+    let row = index.lines().find(|l| l.contains("](evil.md)")).unwrap();
+    assert!(row.contains("Glass \\| 9.999e-6"), "{row}");
+    assert!(row.contains("5.3"), "{row}");
+    for page in ["out/index.html", "out/evil.html"] {
+        let html = std::fs::read_to_string(d.path().join(page)).unwrap();
+        assert!(
+            !html.contains("<script>alert") && !html.contains("<img src=x"),
+            "{page}"
+        );
+    }
+}
+
+#[test]
+fn a_wider_tolerance_is_said_on_its_page_and_in_the_summary() {
+    let d = tempfile::tempdir().unwrap();
+    setup(d.path(), &[("a.yaml", "wide")]);
+    let file = d.path().join("a.yaml");
+    let text = std::fs::read_to_string(&file).unwrap()
+        + "tolerances: { period_rel: 100, reason: \"d was not measured yet\" }\n";
+    std::fs::write(&file, text).unwrap();
+    let o = build(d.path(), &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(d.path().join("out/wide.md")).unwrap();
+    assert!(
+        md.contains("**Tolerances wider than their defaults:** period_rel 100 (default 0.1). Reason given: d was not measured yet"),
+        "{md}"
+    );
+    let s = summary(d.path());
+    assert_eq!(
+        s["experiments"][0]["result"]["tolerances"]["reason"],
+        "d was not measured yet"
+    );
+}

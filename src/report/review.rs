@@ -134,11 +134,7 @@ pub(super) fn review_files(
             side: review::MAX_SIDE,
         },
     };
-    // JSON inside <script>: `</` would end the element, and `<!--` would turn the
-    // script's parsing state (the page would lose its script).
-    let json = serde_json::to_string(&data)?
-        .replace("</", "<\\/")
-        .replace("<!--", "\\u003c!--");
+    let json = script_json(&data)?;
     let mut ctx = tera::Context::new();
     ctx.insert("name", &exp.name);
     ctx.insert("material", &exp.material);
@@ -155,4 +151,27 @@ pub(super) fn review_files(
         .collect();
     files.push(OutputFile::new(format!("{}/review.html", exp.name), html));
     Ok(files)
+}
+
+/// `data` as JSON to embed in a `<script>` element: `</` would end the element, and
+/// `<!--` would turn the script's parsing state (the page would lose its script), so
+/// both are escaped (JSON reads `<\/` as `</` and `\u003c` as `<`).
+fn script_json<T: Serialize>(data: &T) -> Result<String> {
+    Ok(serde_json::to_string(data)?
+        .replace("</", "<\\/")
+        .replace("<!--", "\\u003c!--"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embedded_json_cannot_end_its_script_or_open_a_comment() {
+        let evil = "Steel <!--<script></script>";
+        let json = script_json(&serde_json::json!({ "material": evil })).unwrap();
+        assert!(!json.contains("<!--") && !json.contains("</"), "{json}");
+        let back: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(back["material"], evil);
+    }
 }

@@ -568,8 +568,9 @@ pub fn degrees_suspected(angles: &[f64], center: f64) -> Option<String> {
         ))
     } else if center.abs() > tau {
         Some(format!(
-            "the equilibrium angle is {center:.3} rad, beyond a full turn: are these \
-             degrees? (`angle_rad` is in radians)"
+            "the equilibrium angle is {} rad, beyond a full turn: are these degrees? \
+             (`angle_rad` is in radians)",
+            crate::config::shown((center * 1e3).round() / 1e3)
         ))
     } else {
         None

@@ -107,6 +107,23 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         a.force,
     )?;
     let opts = options(&a)?;
+    if a.work_side.is_some_and(|s| s > 640) {
+        // A larger working side costs memory: say how much, before it is spent.
+        let mut dec = crate::video::Decoder::spawn(&a.video)?;
+        let info = dec.describe()?;
+        let mib = detect::peak_memory_estimate_mib(info, opts.work_side_px);
+        if mib > LARGE_MIB {
+            eprintln!(
+                "{}: --work-side {}: a {}x{} video at this side needs about {:.1} GiB of \
+                 memory (a smaller --work-side needs less)",
+                a.video.display(),
+                opts.work_side_px,
+                info.width,
+                info.height,
+                mib / 1024.0
+            );
+        }
+    }
     let started = std::time::Instant::now();
     let d = detect::detect(&a.video, &opts)?;
     let secs = started.elapsed().as_secs_f64();
@@ -138,6 +155,9 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     );
     Ok(String::new())
 }
+
+/// The estimated peak memory above which `detect` says what a working side costs, MiB.
+const LARGE_MIB: f64 = 600.0;
 
 /// This process's CPU time so far (user and system, every thread; not the decoder's,
 /// which runs as a child process), s, from Linux `/proc/self/stat`.

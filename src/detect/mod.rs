@@ -92,6 +92,25 @@ const INIT_SECONDS: f64 = 2.5;
 /// The most frames a first look keeps (a high frame rate's [`INIT_SECONDS`]).
 const LOOK_MAX_FRAMES: usize = 300;
 
+/// The detector's peak memory at a working side, estimated before it starts, MiB: a
+/// base of 40 MiB and 2.3 copies of the first look's frames at the scale the working
+/// side gives (the look's frames, its background and the frames held for the streaming
+/// pass), as measured at 1280 px on a 1280x720 video (184 MiB) and at 4096 px on a
+/// 3840x2160 one (1.5 GiB). For `--work-side`: a larger side costs memory, and the
+/// command says how much before it is spent.
+pub fn peak_memory_estimate_mib(info: &crate::video::VideoInfo, work_side_px: f64) -> f64 {
+    let side = f64::from(info.width.max(info.height));
+    let shrink = (side / work_side_px.max(WORK_SIDE_PX)).ceil().max(1.0);
+    let fps = match (info.frames_header, info.duration_s) {
+        (Some(n), Some(d)) if d > 0.0 => n as f64 / d,
+        _ => 30.0,
+    };
+    let frames = (INIT_SECONDS * fps).ceil().min(LOOK_MAX_FRAMES as f64);
+    let frame =
+        (f64::from(info.width) / shrink).floor() * (f64::from(info.height) / shrink).floor();
+    40.0 + 2.3 * frames * frame / f64::from(1u32 << 20)
+}
+
 /// Of a still start (a held ball, see [`still`]), the first look keeps the last this
 /// many frames and starts its clock at the first of them. A release from an extreme
 /// without a hold moves the wire visibly within a few frames at any frame rate.
@@ -766,6 +785,28 @@ impl<'a> FirstLook<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_larger_working_side_is_priced_before_it_is_spent() {
+        let video = |width, height, fps: u64| crate::video::VideoInfo {
+            width,
+            height,
+            frames_header: Some(60 * fps),
+            duration_s: Some(60.0),
+            codec: "h264".into(),
+            luma_plane: true,
+        };
+        // 4K at 4096 px: full size, 75 frames of 8 294 400 px, 2.3 copies, 40 MiB.
+        let uhd = peak_memory_estimate_mib(&video(3840, 2160, 30), 4096.0);
+        assert!((uhd - (40.0 + 2.3 * 75.0 * 8_294_400.0 / 1_048_576.0)).abs() < 1e-9);
+        assert!((1300.0..1500.0).contains(&uhd), "{uhd}");
+        // The default side shrinks it three times: 640x360.
+        let small = peak_memory_estimate_mib(&video(3840, 2160, 30), 640.0);
+        assert!((small - (40.0 + 2.3 * 75.0 * 230_400.0 / 1_048_576.0)).abs() < 1e-9);
+        // At most LOOK_MAX_FRAMES frames, however fast the video.
+        let fast = peak_memory_estimate_mib(&video(1280, 720, 1000), 1280.0);
+        assert!((fast - (40.0 + 2.3 * 300.0 * 921_600.0 / 1_048_576.0)).abs() < 1e-9);
+    }
 
     #[test]
     fn shrunk_pixel_centres_map_to_the_centres_of_the_pixels_they_average() {

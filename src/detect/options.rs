@@ -79,3 +79,17 @@ impl DetectOptions {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_working_side_comes_from_the_video_block_or_is_the_default() {
+        let v: Video = serde_saphyr::from_str("work_side_px: 1280\n").unwrap();
+        assert_eq!(DetectOptions::from_video(&v).work_side_px, 1280.0);
+        let v: Video = serde_saphyr::from_str("polarity: dark\n").unwrap();
+        assert_eq!(DetectOptions::from_video(&v).work_side_px, 640.0);
+        assert_eq!(DetectOptions::default().work_side_px, 640.0);
+    }
+}

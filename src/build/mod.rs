@@ -34,6 +34,7 @@ pub mod workflow;
 mod writer;
 
 pub use stages::{cached_angles, Stage};
+pub(crate) use writer::pathdiff;
 pub use writer::relative;
 
 use crate::config::{Experiment, Manifest};

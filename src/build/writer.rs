@@ -162,7 +162,7 @@ pub fn unrooted(root: &Path, text: &str) -> String {
 }
 
 /// `a` relative to `base` with `..` steps, when they share a first component.
-fn pathdiff(base: &Path, a: &Path) -> Option<String> {
+pub(crate) fn pathdiff(base: &Path, a: &Path) -> Option<String> {
     let b: Vec<_> = base.components().collect();
     let t: Vec<_> = a.components().collect();
     let common = b.iter().zip(&t).take_while(|(x, y)| x == y).count();

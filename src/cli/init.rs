@@ -20,7 +20,8 @@ pub struct InitArgs {
     /// Where to write the experiment file. Default: beside the video, `<video stem>.yaml`.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Also list the new file in this manifest (appended to its `experiments:` list).
+    /// Also list the new file in this manifest (appended to its `experiments:` list; a
+    /// manifest that does not exist yet is made).
     #[arg(long)]
     manifest: Option<PathBuf>,
     /// Replace an existing experiment file.
@@ -144,7 +145,12 @@ fn relative_to(path: &Path, dir: &Path) -> Result<String> {
         std::fs::canonicalize(path).with_context(|| format!("{}: cannot read", path.display()))?;
     let d =
         std::fs::canonicalize(dir).with_context(|| format!("{}: no such folder", dir.display()))?;
-    let rel = p.strip_prefix(&d).map(Path::to_path_buf).unwrap_or(p);
+    // Inside the folder, or beside it with `..` steps (a manifest in `experiments/`
+    // listing `../my-video.yaml`), so that the files move together; else absolute.
+    let rel = match p.strip_prefix(&d) {
+        Ok(r) => r.to_path_buf(),
+        Err(_) => crate::build::pathdiff(&d, &p).map_or(p, PathBuf::from),
+    };
     rel.to_str()
         .map(str::to_string)
         .with_context(|| format!("{}: the path is not UTF-8", rel.display()))
@@ -250,6 +256,24 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
 /// not a block list at the end of the file. Returns whether it added `exp` (a manifest
 /// that lists it already is left as it is).
 fn add_to_manifest(manifest: &Path, exp: &Path) -> Result<bool> {
+    if !manifest.exists() {
+        // A first manifest: made, listing the new file.
+        let dir = manifest.parent().filter(|p| !p.as_os_str().is_empty());
+        if let Some(d) = dir {
+            std::fs::create_dir_all(d)
+                .with_context(|| format!("{}: cannot create folder", d.display()))?;
+        }
+        let rel = relative_to(exp, dir.unwrap_or(Path::new(".")))?;
+        let text = format!(
+            "# The experiments of the report set (`rollfric build --manifest {}`).\n\
+             title: Rolling friction\nexperiments:\n  - {}\n",
+            manifest.display(),
+            quoted(&rel)
+        );
+        Manifest::load_text(manifest, &text)?;
+        fsutil::write_atomic(manifest, text.as_bytes())?;
+        return Ok(true);
+    }
     let text = fsutil::read_text_limited(manifest, fsutil::MAX_YAML_BYTES)?;
     let lines: Vec<&str> = text.lines().collect();
     // `experiments: []`, the list of a manifest not yet listing anything.
@@ -375,6 +399,11 @@ mod tests {
         // A second time (`init --force` again): listed already, the file as it was.
         assert!(!add_to_manifest(&m, &d.path().join("b.yaml")).unwrap());
         assert_eq!(std::fs::read_to_string(&m).unwrap(), text);
+        // No manifest yet: one is made, listing the file from its own folder.
+        let first = d.path().join("experiments/manifest.yaml");
+        assert!(add_to_manifest(&first, &d.path().join("b.yaml")).unwrap());
+        let (_, listed) = Manifest::load(&first).unwrap();
+        assert_eq!(listed, [d.path().join("experiments/../b.yaml")]);
         std::fs::write(&m, "title: t\nexperiments: [ ]  # none yet\n").unwrap();
         assert!(add_to_manifest(&m, &d.path().join("b.yaml")).unwrap());
         let text = std::fs::read_to_string(&m).unwrap();

@@ -104,6 +104,14 @@ mod tests {
         let mods = scan::modules(&src).unwrap();
         let c: Vec<_> = scan::closure(&mods, "a").into_iter().collect();
         assert_eq!(c, ["a", "b", "c", "d"]);
+        // A module's unit tests in a `tests.rs` of their own name no dependency (but
+        // are hashed with it); the same words in code do.
+        std::fs::write(src.join("b/tests.rs"), "use crate::e;\n").unwrap();
+        let mods = scan::modules(&src).unwrap();
+        assert!(mods["b"].files.contains(&src.join("b/tests.rs")));
+        assert!(!mods["b"].uses.contains("e"));
+        std::fs::write(src.join("b/other.rs"), "use crate::e;\n").unwrap();
+        assert!(scan::modules(&src).unwrap()["b"].uses.contains("e"));
     }
 
     /// The module graph of the live tree, as `build.rs` reads it.

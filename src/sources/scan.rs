@@ -3,7 +3,7 @@
 //! A top-level module is `src/<m>.rs` or the folder `src/<m>/`. Its files depend on the
 //! modules they name as `crate::<m>` (also inside `use crate::{a, b::c}`), and on the
 //! files they embed with `include_str!` / `include_bytes!` (the templates); unit tests
-//! (after a file's `#[cfg(test)]`) name no dependency. A module's closure is itself
+//! (after a file's `#[cfg(test)]`, or a `tests.rs` file) name no dependency. A module's closure is itself
 //! plus, transitively, every module it names; its hash covers every file of the
 //! closure (path and bytes, in path order) and `Cargo.lock` (dependency versions). The
 //! build script hashes each module this way, so a stage's cache key covers every
@@ -49,9 +49,14 @@ pub fn modules(src: &Path) -> std::io::Result<BTreeMap<String, Module>> {
     for m in out.values_mut() {
         for f in m.files.clone() {
             let text = std::fs::read_to_string(&f)?;
-            // The unit tests (this code base keeps them last, after `#[cfg(test)]`)
-            // change no output: what they name is not a dependency.
-            let text = text.split("\n#[cfg(test)]").next().unwrap_or("");
+            // The unit tests (this code base keeps them last, after `#[cfg(test)]`, or
+            // in a `tests.rs` of their own, declared `#[cfg(test)] mod tests;`) change
+            // no output: what they name is not a dependency.
+            let text = if f.file_name().is_some_and(|n| n == "tests.rs") {
+                ""
+            } else {
+                text.split("\n#[cfg(test)]").next().unwrap_or("")
+            };
             let code = strip_comments(text);
             m.uses.extend(crate_paths(&code));
             for rel in embeds(&code) {

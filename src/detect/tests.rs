@@ -1,0 +1,46 @@
+//! The unit tests of `detect/mod.rs`.
+
+use super::*;
+
+#[test]
+fn a_larger_working_side_is_priced_before_it_is_spent() {
+    let video = |width, height, fps: u64| crate::video::VideoInfo {
+        width,
+        height,
+        frames_header: Some(60 * fps),
+        duration_s: Some(60.0),
+        codec: "h264".into(),
+        luma_plane: true,
+    };
+    // 4K at 4096 px: full size, 75 frames of 8 294 400 px, 2.3 copies, 40 MiB.
+    let uhd = peak_memory_estimate_mib(&video(3840, 2160, 30), 4096.0);
+    assert!((uhd - (40.0 + 2.3 * 75.0 * 8_294_400.0 / 1_048_576.0)).abs() < 1e-9);
+    assert!((1300.0..1500.0).contains(&uhd), "{uhd}");
+    // The default side shrinks it three times: 640x360.
+    let small = peak_memory_estimate_mib(&video(3840, 2160, 30), 640.0);
+    assert!((small - (40.0 + 2.3 * 75.0 * 230_400.0 / 1_048_576.0)).abs() < 1e-9);
+    // At most LOOK_MAX_FRAMES frames, however fast the video.
+    let fast = peak_memory_estimate_mib(&video(1280, 720, 1000), 1280.0);
+    assert!((fast - (40.0 + 2.3 * 300.0 * 921_600.0 / 1_048_576.0)).abs() < 1e-9);
+}
+
+#[test]
+fn shrunk_pixel_centres_map_to_the_centres_of_the_pixels_they_average() {
+    let origin = Pt::new(10.0, 3.0);
+    // Shrunk 2x: pixel 0 averages full pixels 10 and 11 (centre 10.5).
+    assert_eq!(
+        shrunk_to_full(Pt::new(0.0, 0.0), origin, 2.0),
+        Pt::new(10.5, 3.5)
+    );
+    // 3x: pixel 1 averages 13, 14 and 15.
+    assert_eq!(
+        shrunk_to_full(Pt::new(1.0, 1.0), origin, 3.0),
+        Pt::new(14.0, 7.0)
+    );
+    assert_eq!(
+        shrunk_to_full(Pt::new(4.0, 5.0), origin, 1.0),
+        Pt::new(14.0, 8.0)
+    );
+    let p = Pt::new(123.25, -640.5);
+    assert!((shrunk_to_full(full_to_shrunk(p, origin, 3.0), origin, 3.0) - p).norm() < 1e-12);
+}

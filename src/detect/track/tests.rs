@@ -1,0 +1,100 @@
+//! The unit tests of `detect/track.rs`.
+
+use super::*;
+
+/// A line through `p` at `deg` (from +x towards +y), moved `off` px across itself.
+fn line(p: Pt, deg: f64, off: f64) -> Line {
+    let dir = Pt::new(deg.to_radians().cos(), deg.to_radians().sin());
+    Line {
+        point: p + Pt::new(-dir.y, dir.x) * off,
+        dir,
+    }
+}
+
+/// Deterministic noise in [-1, 1), and another sequence unrelated to it.
+fn noise(k: usize) -> f64 {
+    ((k * 7919 + 13) % 1000) as f64 / 500.0 - 1.0
+}
+fn noise2(k: usize) -> f64 {
+    ((k * 104_729 + 7) % 997) as f64 / 498.5 - 1.0
+}
+
+#[test]
+fn nearly_parallel_lines_do_not_move_the_pivot_whatever_a_few_others_say() {
+    let piv = Pt::new(100.0, 50.0);
+    // A track on a fixed mark: 200 lines within 0.25 deg of 90 deg, through a point
+    // 8.5 px from the pivot, each 0.3 px off at most; and 12 frames of the wire
+    // through the pivot, 3 deg either side. Their robust intersection lies 9.9 px
+    // from the pivot, within the bound, and anywhere along the mark's direction
+    // that the lines' noise puts it.
+    let mark = Pt::new(103.0, 58.0);
+    let mut lines: Vec<Line> = (0..200)
+        .map(|k| line(mark, 90.0 + 0.25 * noise(k), 0.3 * noise2(k)))
+        .collect();
+    lines.extend((0..12).map(|k| line(piv, if k % 2 == 0 { 87.0 } else { 93.0 }, 0.0)));
+    let extremes = {
+        let a: Vec<f64> = lines
+            .iter()
+            .map(|l| l.dir.y.atan2(l.dir.x).rem_euclid(std::f64::consts::PI))
+            .collect();
+        a.iter().fold(f64::MIN, |m, &b| m.max(b)) - a.iter().fold(f64::MAX, |m, &b| m.min(b))
+    };
+    assert!(extremes.to_degrees() > 5.9, "{}", extremes.to_degrees());
+    let central = central_spread(&lines).to_degrees();
+    assert!(central < 0.6, "central spread {central} deg");
+    assert_eq!(refined_pivot(&lines, piv, 12.0), None);
+}
+
+#[test]
+fn a_fan_of_lines_refines_the_pivot_and_a_far_one_is_refused() {
+    let piv = Pt::new(100.0, 50.0);
+    let truth = Pt::new(101.5, 47.0);
+    // 200 lines from 80 to 100 deg, 0.2 px of noise across each.
+    let fan = |at: Pt| -> Vec<Line> {
+        (0..200)
+            .map(|k| line(at, 80.0 + 0.1 * k as f64, 0.2 * noise(k)))
+            .collect()
+    };
+    let p = refined_pivot(&fan(truth), piv, 12.0).expect("a refinement");
+    assert!((p - truth).norm() < 0.1, "{p:?}");
+    // The same fan 20 px away is a jump, not a refinement.
+    assert_eq!(
+        refined_pivot(&fan(piv + Pt::new(0.0, 20.0)), piv, 12.0),
+        None
+    );
+    // Too few lines.
+    assert_eq!(refined_pivot(&fan(truth)[..19], piv, 12.0), None);
+}
+
+#[test]
+fn after_a_refused_frame_the_prediction_is_the_longer_fit_not_three_noisy_angles() {
+    let mut t = test_tracker((1.3, 1.9));
+    // A wire turning 1 deg a frame at 25 frames/s, slowing by 0.02 deg a frame each
+    // frame, measured with 0.15 deg of noise, alternately either side.
+    let truth = |k: f64| (80.0 + k - 0.01 * k * k).to_radians();
+    for k in 0..8 {
+        let e = if k % 2 == 0 { 0.15 } else { -0.15 };
+        t.hist
+            .push((k as f64 / 25.0, truth(k as f64) + f64::to_radians(e)));
+    }
+    // One frame refused; the next is two frames ahead of the last accepted.
+    t.since_good = 1;
+    let p = t.predict_raw(9.0 / 25.0).expect("a prediction");
+    let err = (p - truth(9.0)).to_degrees();
+    assert!(err.abs() < 0.3, "predicted {err:.2} deg off");
+    // The three last angles alone put it off by 1.8 deg (their second difference
+    // is 0.6 deg of noise against 0.02 of motion): the track's own.
+    t.since_good = 0;
+    let three = (t.predict_raw(9.0 / 25.0).unwrap() - truth(9.0)).to_degrees();
+    assert!(three.abs() > 1.0, "three angles: {three:.2} deg off");
+}
+
+#[test]
+fn the_spread_of_lines_either_side_of_horizontal_is_their_own() {
+    // Directions from -5 to +5 deg: 175 to 185 deg as lines.
+    let lines: Vec<Line> = (0..101)
+        .map(|k| line(Pt::zeros(), 175.0 + 0.1 * k as f64, 0.0))
+        .collect();
+    let s = central_spread(&lines).to_degrees();
+    assert!((s - 8.0).abs() < 0.05, "{s} deg");
+}

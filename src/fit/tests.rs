@@ -1,0 +1,184 @@
+//! The unit tests of `fit/mod.rs`.
+
+use super::*;
+use crate::physics::incline_from_h_l;
+use crate::series::AngleSeries;
+
+fn pendulum(d: f64) -> Pendulum {
+    Pendulum::solid_ball(0.03175, 1.0458, d, incline_from_h_l(0.142, 1.5), 9.81).unwrap()
+}
+
+fn sampled(p: &Pendulum, law: &FrictionLaw, fps: f64, dur: f64) -> AngleSeries {
+    let opts = OdeOptions {
+        t_end: dur,
+        ..OdeOptions::default()
+    };
+    let tr = integrate(p, law, 0.0, [10f64.to_radians(), 0.0], &opts);
+    let t: Vec<f64> = (0..(dur * fps) as usize).map(|i| i as f64 / fps).collect();
+    let a = t.iter().map(|&x| 1.3 - tr.state(x)[0]).collect();
+    AngleSeries::new(t, a)
+}
+
+#[test]
+fn recovers_s_r_from_its_own_model() {
+    let p = pendulum(0.1774);
+    let law = FrictionLaw::new(3.714e-6, 1.0);
+    let m = measure(&sampled(&p, &law, 60.0, 60.0)).unwrap();
+    let r = fit(&p, &m, &FitOptions::default()).unwrap();
+    assert!(
+        ((r.s_r_m - law.s_r) / law.s_r).abs() < 1e-3,
+        "{} vs {}",
+        r.s_r_m,
+        law.s_r
+    );
+    assert!(r.s_r_ci95_m[0] <= r.s_r_m && r.s_r_m <= r.s_r_ci95_m[1]);
+    assert!(
+        (r.d_from_period_m - p.d).abs() < 1e-3 * p.d,
+        "{}",
+        r.d_from_period_m
+    );
+    assert!((r.psi_eq_rad - 1.3).abs() < 1e-5);
+    assert!(r.max_t_over_n > 0.0 && r.max_t_over_n < 0.01);
+    assert!(r.reactions.n_variation_pct < 0.2);
+}
+
+#[test]
+fn any_beta_recovers_its_own_s_r_and_compares_exponents() {
+    let p = pendulum(0.195);
+    // Same torque at rest as s_r = 5e-6 m with beta = 1.
+    let n0 = p.rest_normal_force();
+    let law = FrictionLaw::new(5e-6 / n0.sqrt(), 1.5);
+    let series = sampled(&p, &law, 60.0, 60.0);
+    let m = analyze(&p, &series, BetaChoice::Fixed(1.5)).unwrap();
+    let opts = FitOptions {
+        beta: BetaChoice::Fixed(1.5),
+        compare_betas: true,
+        ..FitOptions::default()
+    };
+    let r = fit(&p, &m, &opts).unwrap();
+    assert!(
+        ((r.s_r_m - law.s_r) / law.s_r).abs() < 1e-3,
+        "{:e}",
+        r.s_r_m
+    );
+    // N hardly varies, so every exponent fits with the same torque s_r N_0^beta:
+    // the comparison reports them, and mu_r (the torque's lever arm) agrees.
+    assert_eq!(r.beta_comparison.len(), 3);
+    for c in &r.beta_comparison {
+        let torque = c.s_r * n0.powf(c.beta);
+        assert!((torque / (5e-6 * n0) - 1.0).abs() < 2e-3, "{c:?}");
+    }
+    assert!((r.mu_r - 5e-6 / p.r).abs() < 2e-3 * r.mu_r);
+}
+
+/// Released from rest at 10 deg at `t_rel` (held there before), sampled from 0.
+fn held(p: &Pendulum, law: &FrictionLaw, fps: f64, dur: f64, t_rel: f64) -> AngleSeries {
+    let opts = OdeOptions {
+        t_end: dur,
+        ..OdeOptions::default()
+    };
+    let tr = integrate(p, law, t_rel, [10f64.to_radians(), 0.0], &opts);
+    let t: Vec<f64> = (0..(dur * fps) as usize).map(|i| i as f64 / fps).collect();
+    let a = t.iter().map(|&x| 1.3 - tr.state(x)[0]).collect();
+    AngleSeries::new(t, a)
+}
+
+/// Moves the samples within 0.15 s of the turning point nearest `near` outwards by
+/// `deg` (a spoiled turning point); returns its time.
+fn spoil(s: &mut AngleSeries, near: f64, deg: f64) -> f64 {
+    let k = (0..s.len())
+        .filter(|&i| (s.t[i] - near).abs() < 0.8)
+        .max_by(|&i, &j| {
+            (s.angle[i] - 1.3)
+                .abs()
+                .total_cmp(&(s.angle[j] - 1.3).abs())
+        })
+        .unwrap();
+    let (tk, out) = (s.t[k], (s.angle[k] - 1.3).signum());
+    for (t, a) in s.t.iter().zip(s.angle.iter_mut()) {
+        if (t - tk).abs() <= 0.15 {
+            *a += out * deg.to_radians();
+        }
+    }
+    tk
+}
+
+#[test]
+fn a_held_start_is_fitted_from_the_release() {
+    let p = pendulum(0.1774);
+    let law = FrictionLaw::new(3.714e-6, 1.0);
+    let s = held(&p, &law, 60.0, 60.0, 1.0);
+    let m = analyze(&p, &s, BetaChoice::Fixed(1.0)).unwrap();
+    let r = m.release.expect("a held start");
+    assert!((r.t_s - 1.0).abs() < 1e-3, "{r:?}");
+    assert!(s.t[r.frame - 1] <= r.t_s && r.t_s < s.t[r.frame], "{r:?}");
+    assert!(m.extremes[0].release && m.extremes.iter().skip(1).all(|e| !e.release));
+    assert!((m.amplitudes[0] - 10f64.to_radians()).abs() < 1e-4);
+    let f = fit(&p, &m, &FitOptions::default()).unwrap();
+    assert!(
+        ((f.s_r_m - law.s_r) / law.s_r).abs() < 1e-3,
+        "{:e}",
+        f.s_r_m
+    );
+    assert!((f.a_start_rad - 10f64.to_radians()).abs() < 1e-4);
+    assert_eq!(f.release, m.release);
+}
+
+#[test]
+fn one_bad_turning_point_is_dropped_and_named() {
+    let p = pendulum(0.1774);
+    let law = FrictionLaw::new(3.714e-6, 1.0);
+    let mut s = sampled(&p, &law, 60.0, 60.0);
+    let tk = spoil(&mut s, 50.0, 1.5);
+    let m = analyze(&p, &s, BetaChoice::Fixed(1.0)).unwrap();
+    let plain = fit(&p, &m, &FitOptions::default()).unwrap();
+    let dev = |f: &FitResult| (f.s_r_m - law.s_r) / law.s_r;
+    assert!(dev(&plain).abs() > 5e-3, "dragged: {:+.4}", dev(&plain));
+    let (kept, f) = fit_robust(&p, &m, &FitOptions::default(), 0.0).unwrap();
+    assert!(dev(&f).abs() < 1e-3, "{:+.5}", dev(&f));
+    assert_eq!(f.outliers.len(), 1, "{:?}", f.outliers);
+    let o = f.outliers[0];
+    assert!(o.dropped && (o.t_s - tk).abs() < 0.05, "{o:?}");
+    assert!(o.robust_z > OUTLIER_ROBUST_Z, "{o:?}");
+    assert_eq!(kept.extremes.len(), m.extremes.len() - 1);
+    assert_eq!(f.n_extremes, kept.extremes.len());
+}
+
+#[test]
+fn a_clean_fit_drops_nothing_and_is_the_plain_fit() {
+    let p = pendulum(0.1774);
+    let law = FrictionLaw::new(3.714e-6, 1.0);
+    let m = measure(&sampled(&p, &law, 60.0, 60.0)).unwrap();
+    let f = fit(&p, &m, &FitOptions::default()).unwrap();
+    let (kept, g) = fit_robust(&p, &m, &FitOptions::default(), 1e-3).unwrap();
+    assert!(g.outliers.is_empty() && g.release.is_none());
+    assert_eq!(kept.extremes, m.extremes);
+    assert_eq!(g.s_r_m.to_bits(), f.s_r_m.to_bits());
+    assert_eq!(g.residuals_rad, f.residuals_rad);
+}
+
+#[test]
+fn more_outliers_than_the_cap_are_kept_and_named() {
+    // About 18 turning points: one may be dropped.
+    let p = pendulum(0.1774);
+    let law = FrictionLaw::new(3.714e-6, 1.0);
+    let mut s = sampled(&p, &law, 60.0, 30.0);
+    for near in [8.0, 14.0, 20.0] {
+        spoil(&mut s, near, 1.5);
+    }
+    let m = analyze(&p, &s, BetaChoice::Fixed(1.0)).unwrap();
+    assert_eq!(outlier_cap(m.extremes.len()), 1, "{}", m.extremes.len());
+    let (kept, f) = fit_robust(&p, &m, &FitOptions::default(), 0.0).unwrap();
+    let dropped = f.outliers.iter().filter(|o| o.dropped).count();
+    assert_eq!((dropped, f.outliers.len()), (1, 3), "{:?}", f.outliers);
+    assert_eq!(kept.extremes.len(), m.extremes.len() - 1);
+    assert!(f.outliers.windows(2).all(|w| w[0].t_s < w[1].t_s));
+}
+
+#[test]
+fn rejects_too_few_turning_points() {
+    let p = pendulum(0.1774);
+    let law = FrictionLaw::new(60e-6, 1.0);
+    let err = measure(&sampled(&p, &law, 30.0, 20.0)).unwrap_err();
+    assert!(format!("{err:#}").contains("turning point"), "{err:#}");
+}

@@ -10,6 +10,7 @@
 //! are relative to the manifest and there are no dates, so the same inputs give the same
 //! bytes.
 
+mod budget;
 mod experiment;
 pub mod figures;
 mod index;
@@ -17,7 +18,8 @@ pub mod plot;
 mod review;
 mod summary;
 
-pub use experiment::{experiment_pages, fmt_expanded, torsion_rows};
+pub use budget::fmt_expanded;
+pub use experiment::{experiment_pages, torsion_rows};
 pub use index::index_pages;
 pub use summary::{check, Entry, EntryStatus, Outcome, Summary};
 

@@ -1,0 +1,375 @@
+//! One first look against one kind of background: each frame's lines, the polarity
+//! whose lines take the most directions (the two raced on the look's threads), the
+//! pivot they meet in, and the band and region of the wire.
+
+use super::faint::faint_frame_lines;
+use super::*;
+
+/// The second polarity's look against the first's directions (`beat`): it is given up
+/// as soon as the directions seen so far, one more for each frame still to look at,
+/// cannot reach `beat` (a frame adds at most one direction, its longest line's), since
+/// it could then not win (the score is directions first). A frame it no longer looks
+/// at cannot fail it either: an error OpenCV would have raised there goes unsaid, as
+/// the polarity's result would have gone unused. Without `beat` (the first polarity)
+/// it is never given up. Shared by the look's threads.
+struct Race {
+    beat: Option<usize>,
+    /// Frames the look searches for lines (every `stride`-th).
+    to_look_at: usize,
+    /// The directions seen so far and the frames looked at.
+    seen: std::sync::Mutex<(std::collections::BTreeSet<i64>, usize)>,
+    lost: std::sync::atomic::AtomicBool,
+}
+
+impl Race {
+    fn new(beat: Option<usize>, to_look_at: usize) -> Self {
+        Self {
+            beat,
+            to_look_at,
+            seen: Default::default(),
+            lost: Default::default(),
+        }
+    }
+
+    /// A frame looked at, with its longest line if any.
+    fn looked(&self, longest: Option<&FrameLine>) {
+        let Some(beat) = self.beat else {
+            return;
+        };
+        let mut seen = self.seen.lock().expect("no thread panics holding it");
+        if let Some(l) = longest {
+            seen.0.insert(direction_bin(l));
+        }
+        seen.1 += 1;
+        if seen.0.len() + (self.to_look_at - seen.1) < beat {
+            self.lost.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// Whether the look is given up.
+    fn lost(&self) -> bool {
+        self.lost.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+/// One first look against `kind` of background.
+pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry> {
+    let Look {
+        init,
+        ref tmap,
+        min_directions,
+        faint,
+        full_w,
+        full_h,
+        polarity,
+        pivot_given,
+        roi_given,
+    } = *look;
+    let (w, h) = (init.w, init.h);
+    let median = match kind {
+        Background::Median => Some(mat_of(w, h, &median_frame(init))?),
+        Background::Extreme => None,
+    };
+    // The wire is long; the bob's edges and a hand's fingers are short.
+    let min_len = 0.2 * (w.min(h) as f64);
+    let candidates: Vec<bool> = match polarity {
+        Polarity::Dark => vec![true],
+        Polarity::Light => vec![false],
+        Polarity::Auto => vec![true, false],
+    };
+    // Per frame (every `stride`-th, at most about 60 looked at closely), the longest
+    // straight thin structures darker (`dark`) or brighter than `bg`.
+    let stride = init.data.len().div_ceil(60).max(1);
+    let frame_lines_against =
+        |bg: &Mat, dark: bool, k: usize, sc: &mut Scratch| -> Result<Vec<FrameLine>> {
+            if !k.is_multiple_of(stride) {
+                return Ok(Vec::new());
+            }
+            let f = Mat::new_rows_cols_with_data(h as i32, w as i32, &init.data[k])?;
+            if dark {
+                core::subtract_def(bg, &f, &mut sc.ev)?;
+            } else {
+                core::subtract_def(&f, bg, &mut sc.ev)?;
+            }
+            sc.morph.tophat(sc.ev.data_bytes()?, w, h, &mut sc.top);
+            let th = Mat::new_rows_cols_with_data(h as i32, w as i32, &sc.top)?;
+            // Keep what exceeds each pixel's own noise threshold (at least one grey level).
+            core::compare(&th, tmap, &mut sc.keep, core::CMP_GT)?;
+            if faint {
+                faint_frame_lines(&th, &sc.keep, min_len)
+            } else {
+                frame_lines(&th, &sc.keep, min_len)
+            }
+        };
+    // The frames' lines, each frame alone: shared among up to [`GEOMETRY_THREADS`]
+    // processors (the look's geometry is most of the detector's fixed cost on a short
+    // video), in the frames' order; `None` when `race` gave the polarity up.
+    let looked_at = (0..init.data.len())
+        .filter(|k| k.is_multiple_of(stride))
+        .count();
+    let lines_against =
+        |bg: &Mat, dark: bool, race: &Race| -> Result<Option<Vec<Vec<FrameLine>>>> {
+            let n = init.data.len();
+            let workers = std::thread::available_parallelism()
+                .map_or(1, |p| p.get())
+                .clamp(1, GEOMETRY_THREADS);
+            let per = n.div_ceil(workers).max(1);
+            let parts: Vec<Result<Vec<Vec<FrameLine>>>> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..n)
+                    .step_by(per)
+                    .map(|from| {
+                        let work = &frame_lines_against;
+                        s.spawn(move || {
+                            let mut scratch = Scratch::default();
+                            (from..(from + per).min(n))
+                                .take_while(|_| !race.lost())
+                                .map(|k| {
+                                    let lines = work(bg, dark, k, &mut scratch)?;
+                                    if k.is_multiple_of(stride) {
+                                        race.looked(lines.first());
+                                    }
+                                    Ok(lines)
+                                })
+                                .collect::<Result<Vec<_>>>()
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .map(|h| h.join().expect("a geometry thread panicked"))
+                    .collect()
+            });
+            let mut lines = Vec::with_capacity(n);
+            for part in parts {
+                lines.extend(part?);
+            }
+            Ok((!race.lost()).then_some(lines))
+        };
+    let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
+    for &dark in &candidates {
+        let race = Race::new(best.as_ref().map(|b| (b.1 / 1e9) as usize), looked_at);
+        let lines = match &median {
+            Some(m) => lines_against(m, dark, &race)?,
+            None => lines_against(&extreme_frame(init, dark)?, dark, &race)?,
+        };
+        let Some(lines) = lines else {
+            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                eprintln!(
+                    "geometry: dark={dark} cannot take {} directions; not looked at further",
+                    race.beat.unwrap_or(0)
+                );
+            }
+            continue;
+        };
+        // The wire moves: its lines take many directions. A ghost (the background's
+        // memory of something of the other polarity lingering at a turning point) keeps
+        // one. Score = directions seen (half-degree bins), then the evidence's weight
+        // (far under 1e9: a frame's longest line holds a few thousand pixels of at most
+        // 255, and a look has at most about 60 frames).
+        let mut bins = std::collections::BTreeSet::new();
+        let mut weight = 0.0;
+        for l in lines.iter().filter_map(|v| v.first()) {
+            bins.insert(direction_bin(l));
+            weight += l.pts.iter().map(|p| p.1).sum::<f64>();
+        }
+        let total = bins.len() as f64 * 1e9 + weight;
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "geometry: dark={dark} lines={} directions={} weight={weight:.0}",
+                lines.iter().filter(|v| !v.is_empty()).count(),
+                bins.len()
+            );
+        }
+        if best.as_ref().is_none_or(|b| total > b.1) {
+            best = Some((dark, total, lines));
+        }
+    }
+    let (dark, total, lines) = best.expect("one polarity tried");
+    let directions = (total / 1e9) as usize;
+    if directions < min_directions {
+        bail!(
+            "{NO_WIRE} in the first {} frames (the lines take only {directions} directions)",
+            init.data.len()
+        );
+    }
+    let found: Vec<Seen> = lines.iter().flatten().map(Seen::of).collect();
+    let with_lines = lines.iter().filter(|v| !v.is_empty()).count();
+    if with_lines < 3 {
+        bail!(
+            "{NO_WIRE} in the first {} frames (lines seen in {with_lines} of them)",
+            init.data.len()
+        );
+    }
+    let origin = Pt::new(init.x0, init.y0);
+    let to_full = |p: Pt| shrunk_to_full(p, origin, init.shrink);
+    // Pivot: the robust intersection of the lines (shrunk coordinates).
+    let center = Pt::new(w as f64 / 2.0, h as f64 / 2.0);
+    let base_tol = 2.0f64.max(0.005 * (w.max(h) as f64));
+    let pivot_s = match pivot_given {
+        Some(p) => full_to_shrunk(p, origin, init.shrink),
+        None => match ransac_pivot(&found, center, base_tol) {
+            Some(p) => p,
+            None => bail!("the moving lines do not meet in a pivot; give `video.pivot`"),
+        },
+    };
+    // Per frame, the line through the pivot (if any).
+    let tol = 2.0 * through_tol(pivot_s, center, base_tol);
+    let per_frame: Vec<Option<&FrameLine>> = lines
+        .iter()
+        .map(|v| {
+            v.iter()
+                .filter(|f| Seen::of(f).points_at(pivot_s, tol))
+                .min_by(|a, b| {
+                    a.line
+                        .distance(pivot_s)
+                        .total_cmp(&b.line.distance(pivot_s))
+                })
+        })
+        .collect();
+    let good: Vec<&FrameLine> = per_frame.iter().flatten().copied().collect();
+    if good.len() < 3 {
+        match pivot_given {
+            Some(p) => bail!(
+                "no moving line passes through the given pivot ({:.1}, {:.1}) px ({} frames \
+                 with lines); check `video.pivot` (or --pivot): the point the wire turns about, \
+                 in the video's full-size pixels",
+                p.x,
+                p.y,
+                with_lines
+            ),
+            None => {
+                bail!("the moving lines do not share a pivot; give `video.pivot` (and `video.roi`)")
+            }
+        }
+    }
+    // Too few lines to tell a swinging wire from a few stray edges that happen to meet.
+    if good.len() < MIN_WIRE_LINES && pivot_given.is_none() {
+        bail!(
+            "{NO_WIRE} in the first {} frames (only {} lines meet in a pivot)",
+            init.data.len(),
+            good.len()
+        );
+    }
+    let mut radii: Vec<f64> = good
+        .iter()
+        .flat_map(|f| f.pts.iter().map(|(q, _)| (*q - pivot_s).norm()))
+        .collect();
+    radii.sort_by(f64::total_cmp);
+    let pct = |p: f64| radii[((radii.len() - 1) as f64 * p) as usize];
+    let (r_lo, r_hi) = (pct(0.08) * 0.97, pct(0.98) * 1.02);
+    let angle_of = |f: &FrameLine| {
+        let c = f.line.point - pivot_s;
+        let d = if c.dot(&f.line.dir) >= 0.0 {
+            f.line.dir
+        } else {
+            -f.line.dir
+        };
+        d.y.atan2(d.x)
+    };
+    // The rest direction: the circular mean of the wire's directions. Every angle is
+    // taken on its branch (within half a turn of it), so a wire that hangs towards -x
+    // (a camera at any roll) sweeps a few degrees about 180, not 359 across +-180.
+    let (sin, cos) = good.iter().fold((0.0, 0.0), |(s, c), f| {
+        let a = angle_of(f);
+        (s + a.sin(), c + a.cos())
+    });
+    let rest = sin.atan2(cos);
+    let initial_angles: Vec<Option<f64>> = per_frame
+        .iter()
+        .map(|l| l.map(|f| unwrap_near(angle_of(f), rest)))
+        .collect();
+    let mut thetas: Vec<f64> = good
+        .iter()
+        .map(|f| unwrap_near(angle_of(f), rest))
+        .collect();
+    thetas.sort_by(f64::total_cmp);
+    let (theta_min, theta_max) = (thetas[0], thetas[thetas.len() - 1]);
+    if theta_max - theta_min < 1f64.to_radians() && pivot_given.is_none() {
+        bail!(
+            "the wire moved by only {:.2} deg in the first frames: too little to locate its pivot; give `video.pivot`",
+            (theta_max - theta_min).to_degrees()
+        );
+    }
+    // ROI: the sector the wire can sweep (its angles so far plus a margin), in the band.
+    let pivot = to_full(pivot_s);
+    let (r_lo_f, r_hi_f) = (r_lo * init.shrink, r_hi * init.shrink);
+    let margin = 10f64.to_radians();
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for i in 0..=40 {
+        let th = theta_min - margin + (theta_max - theta_min + 2.0 * margin) * i as f64 / 40.0;
+        for r in [r_lo_f, r_hi_f] {
+            let p = pivot + Pt::new(th.cos(), th.sin()) * r;
+            x0 = x0.min(p.x);
+            y0 = y0.min(p.y);
+            x1 = x1.max(p.x);
+            y1 = y1.max(p.y);
+        }
+    }
+    let pad = 8.0;
+    let bound = roi_given.unwrap_or(Roi {
+        x: 0,
+        y: 0,
+        w: full_w,
+        h: full_h,
+    });
+    let cx0 = (x0 - pad).floor().max(bound.x as f64) as u32;
+    let cy0 = (y0 - pad).floor().max(bound.y as f64) as u32;
+    let cx1 = ((x1 + pad).ceil() as u32).min(bound.x + bound.w);
+    let cy1 = ((y1 + pad).ceil() as u32).min(bound.y + bound.h);
+    if cx1 <= cx0 + 8 || cy1 <= cy0 + 8 {
+        bail!("the wire's region lies outside the frame");
+    }
+    // Sizes that are multiples of 2 (every decoder crops those exactly) and of the
+    // shrink factor (so that the streaming pass's grid is exactly `shrink` times
+    // coarser along both axes, as its coordinate mapping assumes).
+    let s = init.shrink as u32;
+    let m = if s.is_multiple_of(2) { s } else { 2 * s };
+    let size = |lo: u32, hi: u32, limit: u32| {
+        let n = (hi - lo) / m * m;
+        if n > 0 {
+            n
+        } else if lo + m <= limit {
+            m
+        } else {
+            0
+        }
+    };
+    let roi = Roi {
+        x: cx0,
+        y: cy0,
+        w: size(cx0, cx1, bound.x + bound.w),
+        h: size(cy0, cy1, bound.y + bound.h),
+    };
+    if roi.w == 0 || roi.h == 0 {
+        bail!("the wire's region is too small at the frame's edge");
+    }
+    if std::env::var("ROLLFRIC_DEBUG").is_ok_and(|v| v == "angles") {
+        for (k, a) in initial_angles.iter().enumerate() {
+            if let Some(a) = a {
+                eprintln!("look {k} {:.2}", a.to_degrees());
+            }
+        }
+    }
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        eprintln!(
+            "geometry: pivot {pivot:?} band {r_lo_f:.1}..{r_hi_f:.1} theta {:.1}..{:.1} deg roi {roi:?} good lines {}",
+            theta_min.to_degrees(),
+            theta_max.to_degrees(),
+            good.len()
+        );
+    }
+    Ok(WireGeometry {
+        pivot,
+        dark,
+        r_lo: r_lo_f,
+        r_hi: r_hi_f,
+        theta_min,
+        theta_max,
+        roi,
+        jumps: jumps(&initial_angles, stride, theta_max - theta_min),
+        roughness: roughness(&initial_angles, stride),
+        initial_angles,
+        lines_used: good.len(),
+        stage: 0,
+    })
+}

@@ -58,7 +58,7 @@ pub const BLOCK_BOOTSTRAP_DRAWS: usize = 2000;
 /// smaller than the truth it measures every swing of a video. A Type B value from the
 /// detector's validation: the smallest that lets the 95 % interval hold the truth in
 /// at least 90 % of the randomised robustness sweep's twins (`make coverage`, seed 1;
-/// the README's "Uncertainty of s_r" gives the figures). Its main source is a pivot
+/// docs/uncertainty.md gives the figures). Its main source is a pivot
 /// found a pixel or two off along the wire, which scales every swing alike and which
 /// no residual shows.
 pub const DETECTOR_SCALE_REL: f64 = 0.0013;

@@ -618,7 +618,7 @@ pub struct Video {
     /// the default's scale when the finer one's look is in doubt). Default 640, at
     /// least 640. A larger one measures high-resolution footage more finely, for more of
     /// the detector's time and memory: 1280 measures a 1280x720 video at its full size
-    /// and a 1920x1080 one at half size (README, "Working scale").
+    /// and a 1920x1080 one at half size (docs/detector.md, "Working scale").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub work_side_px: Option<u32>,
 }

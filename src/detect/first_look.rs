@@ -1,0 +1,327 @@
+//! The first look at a video: its first seconds decoded (once, when short enough to go
+//! on into the streaming pass), at the working scale that sees the wire best, and the
+//! wire's geometry found in them.
+
+use super::*;
+
+/// The first look's decoder goes on into the streaming pass when the look is at full
+/// size and the frames asked for, at the look's region, amount to at most this many
+/// bytes (so that no decoder starts again, and the look's frames are not decoded
+/// twice); a longer video starts a decoder that crops to the region of interest, whose
+/// fewer bytes through the pipe then outweigh a second decoder's start. Measured with
+/// `make bench`: see docs/detector.md.
+pub(super) const DECODE_ONCE_MAX_BYTES: u64 = 256 << 20;
+
+/// The first look's frames, as decoded, held for the streaming pass at most to this
+/// many bytes: a look expected to need more (a high frame rate at a large region:
+/// 960x540 at 60 frames/s) is not decoded once, and one that comes to need more (a long
+/// still start) starts a decoder again for the streaming pass.
+pub(super) const HELD_MAX_BYTES: usize = 48 << 20;
+
+/// What the first look's decoder may decode ahead of the look, bytes: the frames after
+/// the look come while its geometry is worked out, so that the decoder does not wait on
+/// the geometry. A 960x540 look's geometry takes 0.2-0.3 s, in which the decoder gives
+/// about 150 frames of 0.5 MB; with 24 MiB it stopped after 48 of them, and the
+/// streaming pass waited 0.2 s for frames. Bounded: a video decoded once is at most
+/// [`DECODE_ONCE_MAX_BYTES`] in all, and its frames go as the streaming pass takes them.
+pub(super) const READ_AHEAD_BYTES: usize = 96 << 20;
+
+/// Whether the first look at `shrink` over `bound` decodes once for the whole detection
+/// ([`DECODE_ONCE_MAX_BYTES`]).
+pub(super) fn decode_once(
+    info: &crate::video::VideoInfo,
+    bound: Roi,
+    shrink: u32,
+    first: u64,
+    last: u64,
+) -> bool {
+    let (Some(n), Some(d)) = (info.frames_header, info.duration_s) else {
+        return false;
+    };
+    let frames = n.min(last.saturating_add(1)).saturating_sub(first);
+    let bytes = u64::from(bound.w) * u64::from(bound.h);
+    // The look's frames at the nominal rate (at most `LOOK_MAX_FRAMES`).
+    let look = (INIT_SECONDS * n as f64 / d.max(1e-3))
+        .ceil()
+        .min(LOOK_MAX_FRAMES as f64) as u64;
+    shrink == 1
+        && frames.saturating_mul(bytes) <= DECODE_ONCE_MAX_BYTES
+        && look.saturating_mul(bytes) <= HELD_MAX_BYTES as u64
+}
+
+/// The first look's findings at one working scale: the geometry, and what the
+/// streaming pass starts from (the background, the threshold map, the reference frame,
+/// all at that scale).
+pub(super) struct Located<'a> {
+    /// The look's decoder, when it goes on into the streaming pass.
+    pub(super) stream: Option<Continued<'a>>,
+    /// The first looks decoded (one per working scale looked at).
+    pub(super) looks: usize,
+    pub(super) geo: geometry::WireGeometry,
+    pub(super) init_bg: opencv::core::Mat,
+    pub(super) init_tmap: opencv::core::Mat,
+    pub(super) init_reference: opencv::core::Mat,
+    /// The shrink factor of the look.
+    pub(super) shrink: u32,
+    /// The look's region (cut to whole multiples of `shrink`).
+    pub(super) bound: Roi,
+    /// Frames of a still start dropped from the front of the look.
+    pub(super) dropped: usize,
+}
+
+/// The working side, px, by default (`video.work_side_px` asks for a larger one): a
+/// frame is shrunk by a whole factor towards this size for the first look, and the
+/// streaming pass works at the look's scale. A 1280x720 video is so measured at half
+/// size, its 2 px wire sampled as 1 px: at full size its angles err less, for about
+/// twice the detector's own processor time (docs/detector.md, "Working scale").
+pub(super) const WORK_SIDE_PX: f64 = 640.0;
+
+/// What every first look at one video shares: the input, the options, the region
+/// asked for, the frames asked for and the detection's start (for the timing lines).
+#[derive(Clone, Copy)]
+pub(super) struct FirstLook<'a> {
+    pub(super) input: &'a dyn VideoInput,
+    pub(super) opts: &'a DetectOptions,
+    pub(super) bound: Roi,
+    pub(super) first: u64,
+    pub(super) last: u64,
+    pub(super) started: std::time::Instant,
+}
+
+impl<'a> FirstLook<'a> {
+    /// The first look at the working scale that sees the wire best. A frame is shrunk by
+    /// whole factors only, so two scales bracket [`WORK_SIDE_PX`]: the coarser (larger side
+    /// at most 640 px) and the finer (at least 640 px). With a larger working side asked
+    /// for (`work_side_px`), the finer is the finest at most that wide instead (for 1280:
+    /// 1280x720 at full size, 1920x1080 at half size). By default they coincide for 640,
+    /// 1280 and 1920 px wide frames; for others (960x540, say) the coarser one may blur a
+    /// 1 px wire into its own shadow while the finer one sees edges too sharply to settle
+    /// on the wire. The finer scale is looked at first and kept when it found, at the strict
+    /// threshold (against either background), a wire that never jumps; otherwise the
+    /// coarser one is looked at too, and the scale whose wire needed fewer of the
+    /// geometry's fallbacks (then fewer jumps) wins, the finer on a tie.
+    ///
+    /// On the sweep's 960x540 twins the finer scale is kept in 11 of 12 (one refuses
+    /// there: a 2 px wire under a blurred shadow); on a real 1920x1080 clip scaled to
+    /// 960x540 and turned by 180 or 270 degrees it needs the lower threshold or refuses,
+    /// and the coarser scale (which measures the clip as filmed) is kept.
+    ///
+    /// With the look kept comes the other scale ([`Other`]), when there is one.
+    pub(super) fn at_best_scale(&self) -> Result<(Located<'a>, Option<Other<'a>>)> {
+        let side = self.bound.w.max(self.bound.h) as f64;
+        let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
+        let fine = if self.opts.work_side_px > WORK_SIDE_PX {
+            (side / self.opts.work_side_px).ceil().max(1.0) as u32
+        } else {
+            (side / WORK_SIDE_PX).floor().max(1.0) as u32
+        };
+        if fine == coarse {
+            return Ok((self.at(coarse)?, None));
+        }
+        let mut at_fine = self.at(fine);
+        let rank = |l: &Located| (l.geo.stage, l.geo.jumps);
+        if let Ok(l) = &mut at_fine {
+            if l.geo.stage <= 1 && l.geo.jumps == 0 {
+                return Ok((at_fine?, Some(Other::Unlooked(coarse))));
+            }
+            // The other scale is looked at: this look's decoder stops (and its frames
+            // go), and the streaming pass decodes anew whichever scale wins. The other
+            // look's decoder starts now.
+            if l.stream.take().is_some() {
+                self.input.prepare();
+            }
+        }
+        let at_coarse = self.at(coarse);
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            let say = |r: &Result<Located>| match r {
+                Ok(l) => format!("stage {} jumps {}", l.geo.stage, l.geo.jumps),
+                Err(e) => format!("{e:#}"),
+            };
+            eprintln!(
+                "geometry: shrunk {fine}x: {}; shrunk {coarse}x: {}",
+                say(&at_fine),
+                say(&at_coarse)
+            );
+        }
+        // The look not kept is kept aside, without its decoder (a look decoded once
+        // would have it go on): its frames' decoding was counted with the kept one.
+        let aside = |mut l: Located<'a>| {
+            l.stream = None;
+            Some(Other::Looked(Box::new(Located { looks: 0, ..l })))
+        };
+        let (best, other) = match (at_fine, at_coarse) {
+            (Ok(f), Ok(c)) if rank(&c) < rank(&f) => (c, aside(f)),
+            (Ok(f), Ok(c)) => (f, aside(c)),
+            (Ok(f), Err(_)) => (f, None),
+            (Err(_), c) => (c?, None),
+        };
+        Ok((Located { looks: 2, ..best }, other))
+    }
+
+    /// The first look (about [`INIT_SECONDS`] of motion) shrunk `use_shrink` times, and the
+    /// geometry found in it.
+    pub(super) fn at(&self, use_shrink: u32) -> Result<Located<'a>> {
+        let FirstLook {
+            input,
+            opts,
+            bound,
+            first,
+            last,
+            started,
+        } = *self;
+        let info = input.info();
+        let name = input.name();
+        // The first look's region, cut to whole multiples of the shrink factor: each of
+        // its pixels averages exactly `use_shrink` x `use_shrink` full pixels.
+        let bound = Roi {
+            w: bound.w - bound.w % use_shrink,
+            h: bound.h - bound.h % use_shrink,
+            ..bound
+        };
+        // Decoded once (see `decode_once`): the look's frames are held as decoded for the
+        // streaming pass, and the decoder reads ahead while the geometry is worked out.
+        let once = opts.decode_once && decode_once(info, bound, use_shrink, first, last);
+        let mut src = if once {
+            input.open_ahead(bound, READ_AHEAD_BYTES)?
+        } else {
+            input.open(bound, use_shrink)?
+        };
+        let mut held = once.then(std::collections::VecDeque::new);
+        let mut held_bytes = 0usize;
+        let mut past_last = false;
+        let mut init = InitFrames {
+            w: 0,
+            h: 0,
+            shrink: use_shrink as f64,
+            x0: bound.x as f64,
+            y0: bound.y as f64,
+            data: Vec::new(),
+        };
+        let mut frame = Frame::default();
+        // Every frame at the first frame's brightness (flicker, drift): see `light`.
+        // Both against the first frame, made when it arrives.
+        let mut against_first: Option<(light::Brightness, still::Stillness)> = None;
+        // The times of the kept frames, and how many frames of a still start were dropped
+        // from the front.
+        let mut times = std::collections::VecDeque::new();
+        let mut dropped = 0usize;
+        let mut t_first = None;
+        let mut decoded = 0u64;
+        while src
+            .next_frame(&mut frame)
+            .with_context(|| "finding the wire".to_string())?
+        {
+            decoded = frame.index + 1;
+            if frame.index < first {
+                continue;
+            }
+            if frame.index > last {
+                // The frames asked for end within the look: the stream has nothing more
+                // for the streaming pass (and the rest of the video is not read).
+                past_last = true;
+                break;
+            }
+            if let Some(h) = &mut held {
+                held_bytes += frame.data.len();
+                if held_bytes <= HELD_MAX_BYTES {
+                    h.push_back(frame.clone());
+                } else {
+                    held = None;
+                }
+            }
+            init.w = frame.width;
+            init.h = frame.height;
+            let t_first = *t_first.get_or_insert(frame.t_s);
+            init.data.push(frame.data.clone());
+            times.push_back(frame.t_s);
+            let newest = init.data.last_mut().expect("just pushed");
+            match &mut against_first {
+                Some((l, s)) => {
+                    l.normalise(newest);
+                    let held = frame.t_s - t_first < STILL_MAX_SECONDS;
+                    if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
+                        init.data.remove(0);
+                        times.pop_front();
+                        dropped += 1;
+                    }
+                }
+                None => {
+                    against_first = Some((
+                        light::Brightness::new(newest),
+                        still::Stillness::new(newest),
+                    ))
+                }
+            }
+            if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= LOOK_MAX_FRAMES {
+                break;
+            }
+        }
+        let mut stream = match held {
+            Some(held) => Some(Continued {
+                held,
+                rest: (!past_last).then_some(src),
+                bound,
+            }),
+            None => {
+                drop(src);
+                // The streaming pass (or a look at another scale) follows: its decoder
+                // starts while the geometry is worked out.
+                input.prepare();
+                None
+            }
+        };
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
+                started.elapsed().as_secs_f64(),
+                init.data.len()
+            );
+        }
+        if init.data.is_empty() {
+            if let (Some([a, b]), true) = (opts.frames, decoded > 0) {
+                bail!(
+                    "{name}: frames {a}..{b} asked for, but the video has only {decoded} (0..{})",
+                    decoded - 1
+                );
+            }
+            bail!("{}: no frame could be decoded", name);
+        }
+        let noise = geometry::noise_map(&init);
+        let geo = geometry::find(
+            &init,
+            &noise,
+            info.width,
+            info.height,
+            opts.polarity,
+            opts.pivot.map(|[x, y]| Pt::new(x, y)),
+            opts.roi,
+        )
+        .with_context(|| format!("{}: no wire found", name))?;
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "timing: geometry done at {:.2} s",
+                started.elapsed().as_secs_f64()
+            );
+        }
+        let init_bg = geometry::extreme_frame(&init, geo.dark)?;
+        let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
+        let init_reference = geometry::frame_mat(&init, 0)?;
+        // The look's frames, done with, go to the decoder going on (see `recycle`).
+        if let Some(rest) = stream.as_mut().and_then(|s| s.rest.as_mut()) {
+            for buf in init.data {
+                rest.recycle(buf);
+            }
+        }
+        Ok(Located {
+            stream,
+            looks: 1,
+            geo,
+            init_bg,
+            init_tmap,
+            init_reference,
+            shrink: use_shrink,
+            bound,
+            dropped,
+        })
+    }
+}

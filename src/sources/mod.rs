@@ -110,6 +110,9 @@ mod tests {
         let mods = scan::modules(&src).unwrap();
         assert!(mods["b"].files.contains(&src.join("b/tests.rs")));
         assert!(!mods["b"].uses.contains("e"));
+        std::fs::create_dir_all(src.join("b/tests")).unwrap();
+        std::fs::write(src.join("b/tests/more.rs"), "use crate::e;\n").unwrap();
+        assert!(!scan::modules(&src).unwrap()["b"].uses.contains("e"));
         std::fs::write(src.join("b/other.rs"), "use crate::e;\n").unwrap();
         assert!(scan::modules(&src).unwrap()["b"].uses.contains("e"));
     }

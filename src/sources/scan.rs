@@ -50,9 +50,12 @@ pub fn modules(src: &Path) -> std::io::Result<BTreeMap<String, Module>> {
         for f in m.files.clone() {
             let text = std::fs::read_to_string(&f)?;
             // The unit tests (this code base keeps them last, after `#[cfg(test)]`, or
-            // in a `tests.rs` of their own, declared `#[cfg(test)] mod tests;`) change
-            // no output: what they name is not a dependency.
-            let text = if f.file_name().is_some_and(|n| n == "tests.rs") {
+            // in a `tests.rs` of their own, declared `#[cfg(test)] mod tests;`, and its
+            // `tests/` folder) change no output: what they name is not a dependency.
+            let in_tests = f
+                .strip_prefix(src)
+                .is_ok_and(|r| r.components().any(|c| c.as_os_str() == "tests"));
+            let text = if in_tests || f.file_name().is_some_and(|n| n == "tests.rs") {
                 ""
             } else {
                 text.split("\n#[cfg(test)]").next().unwrap_or("")

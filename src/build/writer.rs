@@ -154,7 +154,9 @@ pub fn unrooted(root: &Path, text: &str) -> String {
     }
     for p in prefixes {
         let p = p.display().to_string();
-        if !p.is_empty() {
+        // `.` (a manifest in the working folder) is no prefix to take off: every `../`
+        // holds a `./`, and `../../etc` would read `....etc`.
+        if !p.is_empty() && p != "." {
             out = out.replace(&format!("{p}/"), "");
         }
     }
@@ -210,6 +212,10 @@ mod tests {
         );
         assert_eq!(unrooted(&root, &msg), "a.csv: line 4; b.yaml: bad");
         assert_eq!(unrooted(Path::new(""), "x/a.csv"), "x/a.csv");
+        assert_eq!(
+            unrooted(Path::new("."), "../../etc/passwd: not an experiment file"),
+            "../../etc/passwd: not an experiment file"
+        );
     }
 
     #[test]

@@ -145,10 +145,10 @@ pub struct Ball {
     /// Density, kg/m^3: `m = 4/3 pi r^3 rho` (instead of `mass_kg`).
     pub density_kg_m3: Option<f64>,
     /// What the ball is made of, for a check of the density its mass and radius give (a
-    /// diameter entered as the radius gives an eighth of it): `steel` (the default),
+    /// diameter entered as the radius gives an eighth of it): `steel`,
     /// `stainless-steel`, `glass`, `aluminium`, `brass`, `tungsten-carbide`,
     /// `silicon-nitride`, `zirconia`, `alumina`, `pom`, `nylon`, `ptfe`, or `other`
-    /// (not checked; the page says so).
+    /// (not checked). When it is not given, the density must be that of one of them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
 }

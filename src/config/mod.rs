@@ -584,36 +584,48 @@ pub fn pendulum_of(g: &Geometry) -> Result<Pendulum> {
 /// radius each measured to a percent move it by 3 %.
 const DENSITY_SLACK: f64 = 0.05;
 
-/// Refuse a ball whose mass and radius give a density its material (`steel` unless
-/// said) cannot have: a diameter entered as the radius gives an eighth of it, a mass in
-/// grams a thousand times it. `other` is not checked.
+/// Refuse a ball whose mass and radius give a density its material cannot have: a
+/// diameter entered as the radius gives an eighth of it, a mass in grams a thousand
+/// times it. With no `geometry.ball.material` the density must be that of some ball
+/// material (nylon's to tungsten carbide's), and the refusal says the material was not
+/// given; `other` is not checked.
 fn ball_density(ball: &Ball, m: f64, r: f64) -> Result<()> {
     let rho = m / (4.0 / 3.0 * std::f64::consts::PI * r.powi(3));
     let given = ball.material.as_deref();
-    let name = match given {
+    let (what, lo, hi) = match given {
         Some("other") => return Ok(()),
-        Some("aluminum") => "aluminium",
-        Some(n) => n,
-        None => "steel",
+        None => {
+            let lo = BALL_DENSITIES
+                .iter()
+                .map(|b| b.1)
+                .fold(f64::INFINITY, f64::min);
+            let hi = BALL_DENSITIES.iter().map(|b| b.2).fold(0.0, f64::max);
+            (
+                "any ball material (`geometry.ball.material` not given)".to_string(),
+                lo,
+                hi,
+            )
+        }
+        Some(n) => {
+            let name = if n == "aluminum" { "aluminium" } else { n };
+            let Some(&(_, lo, hi)) = BALL_DENSITIES.iter().find(|(b, _, _)| *b == name) else {
+                bail!(
+                    "`geometry.ball.material` = `{}`: expected one of {}, or `other`",
+                    quoted(name, 40),
+                    BALL_DENSITIES.map(|b| b.0).join(", ")
+                );
+            };
+            (format!("a {name} ball"), lo, hi)
+        }
     };
-    let Some(&(_, lo, hi)) = BALL_DENSITIES.iter().find(|(n, _, _)| *n == name) else {
-        bail!(
-            "`geometry.ball.material` = `{}`: expected one of {}, or `other`",
-            quoted(name, 40),
-            BALL_DENSITIES.map(|b| b.0).join(", ")
-        );
-    };
-    if rho < lo * (1.0 - DENSITY_SLACK) || rho > hi * (1.0 + DENSITY_SLACK) {
-        let what = match given {
-            Some(_) => format!("a {name} ball"),
-            None => format!("a {name} ball (the default; say `geometry.ball.material`)"),
-        };
-        let hint = if rho < lo / 4.0 && rho > lo / 16.0 {
+    let fits = |rho: f64| rho >= lo * (1.0 - DENSITY_SLACK) && rho <= hi * (1.0 + DENSITY_SLACK);
+    if !fits(rho) {
+        let hint = if fits(rho * 8.0) {
             ": is `radius_m` the diameter?"
-        } else if rho < lo / 100.0 {
+        } else if fits(rho / 1000.0) {
+            ": is `mass_kg` in grams?"
+        } else if fits(rho * 1e9) {
             ": is `radius_m` in mm?"
-        } else if rho > hi * 100.0 {
-            ": is `mass_kg` in grams, or `radius_m` too small?"
         } else {
             ""
         };

@@ -90,7 +90,7 @@ fn carries_mark(path: &Path) -> bool {
             0 => len - at,
             s => u64::from(s),
         };
-        if size < 8 || at + size > len {
+        if size < 8 || at.checked_add(size).is_none_or(|end| end > len) {
             return false;
         }
         if &hdr[4..8] == b"moov" {

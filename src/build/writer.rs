@@ -73,7 +73,14 @@ impl Writer {
                 continue;
             }
             let path = self.out.join(rel);
-            if std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
+            // Never through a link: a folder of the record turned into a link since
+            // leads out of the reports folder.
+            let linked = rel.ancestors().skip(1).any(|a| {
+                !a.as_os_str().is_empty()
+                    && std::fs::symlink_metadata(self.out.join(a))
+                        .is_ok_and(|m| m.file_type().is_symlink())
+            });
+            if !linked && std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
                 std::fs::remove_file(&path)
                     .map_err(anyhow::Error::new)
                     .map_err(|e| e.context(format!("{}: cannot remove", path.display())))?;

@@ -97,6 +97,15 @@ fn ffmpeg(dir: &Path, args: &[&str]) {
     assert!(st.success(), "ffmpeg {args:?}");
 }
 
+/// `ffmpeg -f lavfi -i SOURCE ARGS...` in `dir`: a test clip from a generated source.
+fn lavfi(dir: &Path, source: &str, args: &[&str]) {
+    let all: Vec<&str> = ["-f", "lavfi", "-i", source]
+        .into_iter()
+        .chain(args.iter().copied())
+        .collect();
+    ffmpeg(dir, &all);
+}
+
 /// YAML cases: each `rollfric fit <file>` fails naming the file and the key.
 fn yaml_cases(dir: &Path, out: &mut Vec<Case>) {
     let base = base_yaml();
@@ -515,71 +524,28 @@ fn video_cases(dir: &Path, out: &mut Vec<Case>) {
     ];
     if have_ffmpeg() {
         // A still image, a clip with nothing to find, audio only, a truncated clip.
-        ffmpeg(
+        lavfi(
             dir,
-            &[
-                "-f",
-                "lavfi",
-                "-i",
-                "testsrc=s=320x240:d=1",
-                "-frames:v",
-                "1",
-                "v-still.png",
-            ],
+            "testsrc=s=320x240:d=1",
+            &["-frames:v", "1", "v-still.png"],
         );
-        ffmpeg(
+        lavfi(
             dir,
-            &[
-                "-f",
-                "lavfi",
-                "-i",
-                "testsrc=s=320x240:d=1",
-                "-frames:v",
-                "1",
-                "v-still.jpg",
-            ],
+            "testsrc=s=320x240:d=1",
+            &["-frames:v", "1", "v-still.jpg"],
         );
-        ffmpeg(
+        lavfi(
             dir,
-            &[
-                "-f",
-                "lavfi",
-                "-i",
-                "color=c=gray:s=320x240:d=2:r=25",
-                "-c:v",
-                "libx264",
-                "-pix_fmt",
-                "yuv420p",
-                "v-gray.mp4",
-            ],
+            "color=c=gray:s=320x240:d=2:r=25",
+            &["-c:v", "libx264", "-pix_fmt", "yuv420p", "v-gray.mp4"],
         );
-        ffmpeg(
+        lavfi(
             dir,
-            &[
-                "-f",
-                "lavfi",
-                "-i",
-                "testsrc=s=320x240:d=2:r=25",
-                "-c:v",
-                "libx264",
-                "-pix_fmt",
-                "yuv420p",
-                "v-pattern.mp4",
-            ],
+            "testsrc=s=320x240:d=2:r=25",
+            &["-c:v", "libx264", "-pix_fmt", "yuv420p", "v-pattern.mp4"],
         );
-        ffmpeg(
-            dir,
-            &[
-                "-f",
-                "lavfi",
-                "-i",
-                "sine=f=440:d=2",
-                "-c:a",
-                "aac",
-                "v-audio.mp4",
-            ],
-        );
-        ffmpeg(dir, &["-f", "lavfi", "-i", "sine=f=440:d=2", "v-audio.wav"]);
+        lavfi(dir, "sine=f=440:d=2", &["-c:a", "aac", "v-audio.mp4"]);
+        lavfi(dir, "sine=f=440:d=2", &["v-audio.wav"]);
         let clip = std::fs::read(dir.join("v-pattern.mp4")).unwrap();
         write(dir, "v-half.mp4", &clip[..clip.len() / 2]);
         write(dir, "v-head.mp4", &clip[..200.min(clip.len())]);

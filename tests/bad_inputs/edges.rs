@@ -3,7 +3,7 @@
 //! in the user's words. And the record of every case's exact message
 //! (`tests/golden/bad-inputs.txt`), which a changed message must change with it.
 
-use super::{base_yaml, case, ffmpeg, write, Case, OURS};
+use super::{base_yaml, case, lavfi, write, Case, OURS};
 use crate::common::{rollfric, root};
 use std::path::Path;
 
@@ -642,17 +642,10 @@ fn message_cases(dir: &Path, out: &mut Vec<Case>, video: bool) {
 /// pivot given far off, `init` into a manifest twice and into an empty one, and a
 /// fast twin (past the frame count where frames were once dropped).
 fn video_message_cases(dir: &Path, out: &mut Vec<Case>) {
-    ffmpeg(
+    lavfi(
         dir,
-        &[
-            "-f",
-            "lavfi",
-            "-i",
-            "testsrc=s=320x240:d=2:r=25",
-            "-c:v",
-            "png",
-            "v-rgb.mov",
-        ],
+        "testsrc=s=320x240:d=2:r=25",
+        &["-c:v", "png", "v-rgb.mov"],
     );
     std::fs::copy(dir.join("v-still.png"), dir.join("v-png.mp4")).unwrap();
     for (name, file, needles) in [

@@ -1,5 +1,6 @@
 //! The randomised robustness sweep (`make robustness`): twins drawn across styles,
-//! sizes, frame rates, codecs, camera conditions and materials, each rendered, detected
+//! sizes, frame rates, codecs, camera conditions (a moving camera among them) and
+//! materials, each rendered, detected
 //! with no options and fitted from its geometry only, as the build measures a video
 //! (`pipeline::detect`, so each verdict is the tool's own: the detector's pivot check
 //! and the swing scale's share of the angle uncertainty included). Prints the share
@@ -113,6 +114,26 @@ impl Scene {
                 (along, if s > 0.0 { out } else { 1.0 - out })
             };
             set("pivot_frac", format!("[{x:.4}, {y:.4}]"));
+        }
+        if rng.uniform() < 0.4 {
+            // The camera moves: a phone in the hand (a few px and tenths of a degree at a
+            // few Hz), a tripod swaying slowly, or a slow drift.
+            let shake = match pick(rng, 3) {
+                0 => format!(
+                    "{{px: {:.2}, deg: {:.3}, hz: {:.1}}}",
+                    1.0 + 3.0 * rng.uniform(),
+                    0.1 + 0.4 * rng.uniform(),
+                    3.0 + 5.0 * rng.uniform()
+                ),
+                1 => format!(
+                    "{{px: {:.2}, deg: {:.3}, hz: {:.2}}}",
+                    0.5 + 1.5 * rng.uniform(),
+                    0.02 + 0.08 * rng.uniform(),
+                    0.2 + 0.6 * rng.uniform()
+                ),
+                _ => format!("{{drift_px: {:.1}}}", 2.0 + 10.0 * rng.uniform()),
+            };
+            set("shake", shake);
         }
         if rng.uniform() < 0.2 {
             // A phone's variable frame rate.

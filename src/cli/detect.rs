@@ -132,7 +132,7 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     eprintln!(
         "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, decoded {}, peak memory {}, CPU \
          besides the decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, \
-         {:.1}) px (swing scale {}), {} wire, ROI {:?} -> {}",
+         {:.1}) px (swing scale {}), {} wire, ROI {:?}{} -> {}",
         a.video.display(),
         n as f64 / secs,
         d.decoder,
@@ -151,6 +151,17 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         d.swing_scale.map_or("-".to_string(), |s| format!("{s:.4}")),
         if d.dark_wire { "dark" } else { "light" },
         d.roi,
+        d.camera.map_or(String::new(), |c| format!(
+            "; the camera moved (RMS {:.2} px and {:.3} deg, at most {:.1} px{}): each \
+             frame was steadied onto the first",
+            c.rms_px,
+            c.rms_deg,
+            c.max_px,
+            match c.unmeasured {
+                0 => String::new(),
+                k => format!(", {k} frames not measurable"),
+            }
+        )),
         a.output.display()
     );
     Ok(String::new())

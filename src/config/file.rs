@@ -504,6 +504,38 @@ pub struct Synthetic {
     /// the plate's horizon. Default 1.2 times the width.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera_focal_px: Option<f64>,
+    /// The camera moves while it films: a phone held in the hand (`{px: 2, deg: 0.3, hz:
+    /// 5}`), a tripod that sways slowly (`{px: 1, deg: 0.05, hz: 0.5}`), a slow drift
+    /// (`{drift_px: 6}`). The whole picture is shifted and turned about its centre by a
+    /// smooth random path from the seed, zero at the first frame (so the first frame is
+    /// the plate's view and the truth is unchanged). Absent: a still camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shake: Option<Shake>,
+}
+
+/// The camera's motion (`synthetic.shake`).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Shake {
+    /// RMS of the picture's shift, px, 0 to 50. Default 0.
+    #[serde(default)]
+    pub px: f64,
+    /// RMS of the picture's turn, degrees, 0 to 5. Default 0.
+    #[serde(default)]
+    pub deg: f64,
+    /// The motion's typical frequency, Hz, 0.05 to 30 (its four sines per axis lie
+    /// from 0.6 to 1.4 times it): 3 to 8 for a hand, below 1 for a swaying tripod.
+    /// Default 5.
+    #[serde(default = "default_shake_hz")]
+    pub hz: f64,
+    /// A slow drift on top: the picture moves this far in a straight line over the
+    /// recording, px, 0 to 500. Default 0.
+    #[serde(default)]
+    pub drift_px: f64,
+}
+
+fn default_shake_hz() -> f64 {
+    5.0
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:

@@ -440,6 +440,12 @@ impl Experiment {
             if let Some(d) = s.drift_depth {
                 within("synthetic.drift_depth", d, 0.0, 0.5, "")?;
             }
+            if let Some(k) = &s.shake {
+                within("synthetic.shake.px", k.px, 0.0, 50.0, "px")?;
+                within("synthetic.shake.deg", k.deg, 0.0, 5.0, "deg")?;
+                within("synthetic.shake.hz", k.hz, 0.05, 30.0, "Hz")?;
+                within("synthetic.shake.drift_px", k.drift_px, 0.0, 500.0, "px")?;
+            }
             if let Some(p) = s.pivot_frac {
                 for (k, v) in ["synthetic.pivot_frac[0]", "synthetic.pivot_frac[1]"]
                     .into_iter()

@@ -67,6 +67,10 @@ pub(super) struct Located<'a> {
     pub(super) bound: Roi,
     /// Frames of a still start dropped from the front of the look.
     pub(super) dropped: usize,
+    /// The camera moved in the look (a frame displaced by more than
+    /// [`steady::MOVING_PX`]): its frames were warped back onto its first, and the
+    /// streaming pass's are too.
+    pub(super) moving: bool,
 }
 
 /// The working side, px, by default (`video.work_side_px` asks for a larger one): a
@@ -207,6 +211,12 @@ impl<'a> FirstLook<'a> {
         let mut dropped = 0usize;
         let mut t_first = None;
         let mut decoded = 0u64;
+        // The camera's motion against the first frame: measured on every
+        // `steady::LOOK_EVERY`th frame; when enough of them moved, on all, and the
+        // look's frames are warped back.
+        let mut steady: Option<steady::Steady> = None;
+        let mut motions = std::collections::VecDeque::new();
+        let (mut measured, mut moved) = (0usize, 0usize);
         while src
             .next_frame(&mut frame)
             .with_context(|| "finding the wire".to_string())?
@@ -231,6 +241,23 @@ impl<'a> FirstLook<'a> {
             }
             init.w = frame.width;
             init.h = frame.height;
+            let st = match &mut steady {
+                Some(st) => st,
+                None => steady.insert(steady::Steady::new(&frame)?),
+            };
+            let m = if decoded % steady::LOOK_EVERY == 1 {
+                measured += 1;
+                let m = st.measure(&frame)?;
+                if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > steady::MOVING_PX)
+                    && st.explains()?
+                {
+                    moved += 1;
+                }
+                Some(m)
+            } else {
+                None
+            };
+            motions.push_back(m);
             let t_first = *t_first.get_or_insert(frame.t_s);
             init.data.push(frame.data.clone());
             times.push_back(frame.t_s);
@@ -242,6 +269,7 @@ impl<'a> FirstLook<'a> {
                     if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
                         init.data.remove(0);
                         times.pop_front();
+                        motions.pop_front();
                         dropped += 1;
                     }
                 }
@@ -254,6 +282,29 @@ impl<'a> FirstLook<'a> {
             }
             if frame.t_s - times[0] >= INIT_SECONDS || init.data.len() >= LOOK_MAX_FRAMES {
                 break;
+            }
+        }
+        // The camera moved when enough frames did (a still camera's single frames may
+        // measure a little off on a plain wall): every frame's motion is measured (the
+        // frames in between too) and the look's frames are warped back.
+        let moving = moved as f64 > steady::MOVING_SHARE * measured as f64;
+        if moving {
+            let st = steady.as_mut().expect("a frame was measured");
+            let mut last = steady::Motion::default();
+            for (data, m) in init.data.iter_mut().zip(&motions) {
+                let mut f = Frame {
+                    data: std::mem::take(data),
+                    width: init.w,
+                    height: init.h,
+                    ..Frame::default()
+                };
+                let m = match m {
+                    Some(m) => *m,
+                    None => st.measure(&f)?,
+                };
+                last = m.unwrap_or(last);
+                st.undo(&mut f, last)?;
+                *data = f.data;
             }
         }
         let mut stream = match held {
@@ -322,6 +373,7 @@ impl<'a> FirstLook<'a> {
             shrink: use_shrink,
             bound,
             dropped,
+            moving,
         })
     }
 }

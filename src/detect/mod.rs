@@ -50,6 +50,7 @@ mod options;
 mod repeats;
 pub mod review;
 mod row;
+pub mod steady;
 mod still;
 pub mod summary;
 mod track;
@@ -249,9 +250,20 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
 
     // The region of interest: the first look's decoder going on (its frames cut to the
     // region here), or a decoder cropping to it.
-    let mut src: Box<dyn FrameSource + '_> = match stream {
-        Some(from) => Box::new(CropSource::new(from, geo.roi)?),
-        None => input.open(geo.roi, 1)?,
+    // A moving camera's frames (see `steady`) are decoded at the look's region, each
+    // warped back onto the first frame and cut to the region of interest.
+    let steady = look.moving.then_some(first);
+    let mut src = match (stream, steady) {
+        (Some(from), _) => PassSource::Crop(Box::new(CropSource::new(from, geo.roi, steady)?)),
+        (None, Some(_)) => {
+            let from = Continued {
+                held: Default::default(),
+                rest: Some(input.open(look.bound, 1)?),
+                bound: look.bound,
+            };
+            PassSource::Crop(Box::new(CropSource::new(from, geo.roi, steady)?))
+        }
+        (None, None) => PassSource::Decoder(input.open(geo.roi, 1)?),
     };
     let decodings = look.looks + usize::from(!continued);
     let mut tracker = Tracker::new(
@@ -322,6 +334,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
             started.elapsed().as_secs_f64()
         );
     }
+    let camera = src.camera();
     drop(src);
     if rows.is_empty() {
         bail!("{}: no frame in the requested range", name);
@@ -376,6 +389,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         review: review.take(),
         swing_scale,
         calibration: opts.calibration.clone(),
+        camera,
     })
 }
 
@@ -397,11 +411,19 @@ struct CropSource<'a> {
     roi: Roi,
     /// The frame as decoded, at the look's region.
     full: Frame,
+    /// A moving camera: the frames from this index on are warped back onto the first of
+    /// them.
+    steady_from: Option<u64>,
+    steady: Option<steady::Steady>,
+    last_motion: steady::Motion,
+    motions: steady::MotionStats,
+    warped: opencv::core::Mat,
 }
 
 impl<'a> CropSource<'a> {
-    /// The frames of `from` cut to `roi`, which must lie within the look's region.
-    fn new(from: Continued<'a>, roi: Roi) -> Result<Self> {
+    /// The frames of `from` cut to `roi`, which must lie within the look's region; with
+    /// `steady_from`, each frame from that index on warped back onto the first of them.
+    fn new(from: Continued<'a>, roi: Roi, steady_from: Option<u64>) -> Result<Self> {
         let bound = from.bound;
         ensure!(
             roi.x >= bound.x
@@ -414,7 +436,36 @@ impl<'a> CropSource<'a> {
             from,
             roi,
             full: Frame::default(),
+            steady_from,
+            steady: None,
+            last_motion: steady::Motion::default(),
+            motions: steady::MotionStats::default(),
+            warped: opencv::core::Mat::default(),
         })
+    }
+}
+
+/// The streaming pass's frames: cut from the first look's (or a moving camera's), or
+/// from a decoder cropping to the region of interest.
+enum PassSource<'a> {
+    Crop(Box<CropSource<'a>>),
+    Decoder(Box<dyn FrameSource + 'a>),
+}
+
+impl PassSource<'_> {
+    fn next_frame(&mut self, frame: &mut Frame) -> Result<bool> {
+        match self {
+            PassSource::Crop(c) => c.next_frame(frame),
+            PassSource::Decoder(d) => d.next_frame(frame),
+        }
+    }
+
+    /// The camera's motion the frames were warped back from, when it moved.
+    fn camera(&self) -> Option<steady::CameraMotion> {
+        match self {
+            PassSource::Crop(c) => c.steady_from.map(|_| c.motions.finish()),
+            PassSource::Decoder(_) => None,
+        }
     }
 }
 
@@ -447,13 +498,29 @@ impl FrameSource for CropSource<'_> {
             bound.w,
             bound.h
         );
-        input::crop_rows(
-            &full.data,
-            full.width,
-            ((roi.x - bound.x) as usize, (roi.y - bound.y) as usize),
-            (roi.w as usize, roi.h as usize),
-            &mut frame.data,
-        );
+        let origin = ((roi.x - bound.x) as usize, (roi.y - bound.y) as usize);
+        let size = (roi.w as usize, roi.h as usize);
+        match self.steady_from.filter(|&from| full.index >= from) {
+            Some(_) => {
+                let st = match &mut self.steady {
+                    Some(st) => st,
+                    None => self.steady.insert(steady::Steady::new(full)?),
+                };
+                let m = match st.measure(full)? {
+                    Some(m) => m,
+                    None => {
+                        self.motions.unmeasured += 1;
+                        self.last_motion
+                    }
+                };
+                self.last_motion = m;
+                self.motions.add(m, 1.0);
+                steady::warp_into(full, m, origin, size, &mut self.warped)?;
+                frame.data.clear();
+                frame.data.extend_from_slice(steady::bytes(&self.warped)?);
+            }
+            None => input::crop_rows(&full.data, full.width, origin, size, &mut frame.data),
+        }
         frame.width = roi.w as usize;
         frame.height = roi.h as usize;
         frame.index = full.index;

@@ -95,6 +95,10 @@ pub struct Detection {
     /// angles).
     #[serde(skip)]
     pub calibration: Option<crate::plane::Calibration>,
+    /// The camera's own motion, when it moved (each frame was warped back onto the
+    /// first: see `steady`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<super::steady::CameraMotion>,
 }
 
 impl Detection {

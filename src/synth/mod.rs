@@ -43,6 +43,7 @@ mod look;
 mod mover;
 mod plan;
 mod scene;
+mod shake;
 mod twin;
 mod vfr;
 mod yuv;

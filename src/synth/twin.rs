@@ -4,6 +4,7 @@ use super::camera::{expose, HandPainter, Lights, Sensor};
 use super::mover::Mover;
 use super::plan::{stream, Plan, Spoil, EXPOSURE, SUBSAMPLES};
 use super::scene::build_background;
+use super::shake::{self, ShakePath};
 use crate::config::{DEFAULT_DRIFT_DEPTH, DEFAULT_FLICKER_DEPTH, DEFAULT_FLICKER_HZ};
 use crate::rng::Rng;
 use anyhow::Result;
@@ -17,6 +18,8 @@ pub(super) struct Twin {
     mover: Mover,
     sensor: Option<Sensor>,
     hand: HandPainter,
+    /// The camera's own motion (`synthetic.shake`).
+    shake: Option<ShakePath>,
     pub(super) frame: Mat,
     /// Scratch for a mirrored frame.
     flipped: Mat,
@@ -46,6 +49,10 @@ impl Twin {
             drift_depth: s.drift_depth.unwrap_or(DEFAULT_DRIFT_DEPTH),
         };
         let sensor = defects.then(|| Sensor::new(bg.len(), plan.look.noise_sigma, s.seed, lights));
+        let shake = plan.s.shake.as_ref().map(|k| {
+            let duration = plan.truth.last().map_or(0.0, |r| r.t_s);
+            ShakePath::new(k, plan.s.seed, duration)
+        });
         let frame = Mat::new_rows_cols_with_default(
             plan.geo.h as i32,
             plan.geo.w as i32,
@@ -59,6 +66,7 @@ impl Twin {
             mover,
             sensor,
             hand: HandPainter::default(),
+            shake,
             frame,
             flipped: Mat::default(),
         })
@@ -108,6 +116,9 @@ impl Twin {
             let smear = (0.04 * g.w as f64).max(3.0);
             self.hand
                 .paint(&mut self.frame, &self.illum, c, u, tilt, smear)?;
+        }
+        if let Some(path) = &self.shake {
+            shake::apply(&mut self.frame, path.at(t), &mut self.flipped)?;
         }
         if let Some(sensor) = &self.sensor {
             let (gain, off) = sensor.frame(i, t);

@@ -1,0 +1,598 @@
+//! The camera's own motion (a phone in the hand, a swaying tripod, a slow drift): each
+//! frame's shift and turn against the first frame, measured on the static scene, and
+//! the frame warped back onto the first, so that the plate, its static lines and the
+//! pivot stay put and the wire's angle is the plate's.
+//!
+//! The measurement is a least-squares image alignment (Lucas and Kanade's, for a shift
+//! and a small turn) of the frame, shrunk and smoothed, onto the first: every pixel with
+//! a gradient speaks, so a plain wall's faint shading counts too, and the pixels that
+//! differ much more than noise does (the wire, the ball, a hand) weigh nothing (Tukey's
+//! biweight), and a direction of motion the scene does not fix (a plain wall, one
+//! straight edge along itself) is not corrected on a guess.
+//! It starts from the previous frame's motion, first on a frame shrunk twice
+//! more, then on the measuring scale.
+
+use crate::video::Frame;
+use anyhow::Result;
+use opencv::core::{self, Mat, Scalar, Size};
+use opencv::imgproc;
+use opencv::prelude::*;
+
+/// The frame is measured shrunk to at most this side, px (block means).
+const EST_SIDE: f64 = 480.0;
+
+/// The smoothing of the measured frames (a Gaussian's standard deviation, px of the
+/// shrunk frame): it widens the basin the alignment converges from to a few px.
+const SMOOTH_PX: f64 = 1.2;
+
+/// At most this many iterations of the alignment at each of the two scales ...
+const ITERATIONS: usize = 10;
+
+/// ... which stop when a step moves the frame's corners less than this, px of the
+/// scale aligned.
+const CONVERGED_PX: f64 = 0.01;
+
+/// A pixel differing from the first frame by more than this (grey levels), once
+/// aligned, weighs nothing (Tukey's biweight): it sees something that moved.
+const TUKEY_LEVELS: f32 = 10.0;
+
+/// A direction of motion along which the scene's pixels hold less information than
+/// this (the weighted mean of the squared gradient along it, grey levels squared per px
+/// squared, on the measuring scale) is not measured: the frame is not moved along it. A
+/// textured scene holds 4 to 50 along every direction, the twin's plate 0.2 to 12 (its
+/// turn the least: at 0.3 the turn of a hand-held twin was mostly left in, 0.26 deg
+/// angle RMS, at 0.15 0.05 deg), a plain wall 0.04 to 0.13 along its least.
+const MIN_INFO: f64 = 0.15;
+
+/// A frame whose alignment leaves the static scene's pixels (weighted) this far off on
+/// average (grey levels RMS) is not taken as measured.
+const MAX_RESIDUAL: f64 = 12.0;
+
+/// A frame measured farther from the first than this share of the frame's side, or
+/// turned by more than [`MAX_TURN_DEG`], is not taken as measured: a camera held still
+/// by hand or on a tripod does not go so far, and an alignment that did has followed
+/// something that moves (on a plain wall, the ball) rather than the scene.
+const MAX_SHIFT: f64 = 0.04;
+
+/// See [`MAX_SHIFT`], degrees.
+const MAX_TURN_DEG: f64 = 3.0;
+
+/// A frame of the first look counts as moved only when its pixels, aligned, differ from
+/// the first frame's (Tukey's loss) by less than this share of what they differ
+/// unaligned (see [`Steady::explains`]).
+const EXPLAINS: f64 = 0.6;
+
+/// The camera is taken as moving when a frame of the first look is displaced, at its
+/// farthest corner, by more than this many px of the frame as measured ...
+pub(super) const MOVING_PX: f64 = 0.4;
+
+/// The first look measures every this many frames to tell whether the camera moves
+/// (all of them once it does): a still camera's look costs a third of the measurement.
+pub(super) const LOOK_EVERY: u64 = 3;
+
+/// ... in more than this share of the first look's frames: a still camera's frames
+/// measure within a few hundredths of a pixel of the first.
+pub(super) const MOVING_SHARE: f64 = 0.2;
+
+/// A frame's displacement against the first frame: a point `p` of the first frame is
+/// seen at `c + R(rot) (p - c) + t` in this one (`c` the frame's centre), frame px.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Motion {
+    pub dx: f64,
+    pub dy: f64,
+    pub rot_rad: f64,
+}
+
+impl Motion {
+    /// The largest displacement of a corner of a `w` x `h` frame, px.
+    pub fn reach(&self, w: f64, h: f64) -> f64 {
+        let r = 0.5 * w.hypot(h);
+        self.dx.hypot(self.dy) + self.rot_rad.abs() * r
+    }
+}
+
+/// One scale of the first frame: its pixels and, per pixel, the motion's three
+/// derivatives (shift x, shift y, turn about the centre).
+struct Level {
+    w: i32,
+    h: i32,
+    /// Frame px per px of this scale.
+    shrink: f64,
+    reference: Vec<f32>,
+    jac: Vec<[f32; 3]>,
+}
+
+impl Level {
+    fn new(img: &Mat, shrink: f64) -> Result<Self> {
+        let (w, h) = (img.cols(), img.rows());
+        let reference = img.data_typed::<f32>()?.to_vec();
+        let (cx, cy) = (0.5 * (w as f32 - 1.0), 0.5 * (h as f32 - 1.0));
+        let (wu, hu) = (w as usize, h as usize);
+        let mut jac = vec![[0.0f32; 3]; wu * hu];
+        for y in 1..hu.saturating_sub(1) {
+            for x in 1..wu.saturating_sub(1) {
+                let i = y * wu + x;
+                let gx = 0.5 * (reference[i + 1] - reference[i - 1]);
+                let gy = 0.5 * (reference[i + wu] - reference[i - wu]);
+                let (px, py) = (x as f32 - cx, y as f32 - cy);
+                jac[i] = [gx, gy, -gx * py + gy * px];
+            }
+        }
+        Ok(Self {
+            w,
+            h,
+            shrink,
+            reference,
+            jac,
+        })
+    }
+}
+
+/// The first frame's scales and the scratch the measurement reuses.
+pub(super) struct Steady {
+    size: (usize, usize),
+    /// Frame px per px of the measuring scale.
+    shrink: f64,
+    levels: [Level; 2],
+    small: Mat,
+    smooth: Mat,
+    coarse: Mat,
+    moved: Mat,
+    warped: Mat,
+    /// The last measured motion, where the next frame's measurement starts.
+    recent: Motion,
+    /// Tukey's loss of the last measured frame, aligned.
+    loss: f64,
+}
+
+impl Steady {
+    /// The first frame as the reference; later frames are measured against it.
+    pub(super) fn new(first: &Frame) -> Result<Self> {
+        let (w, h) = (first.width, first.height);
+        let shrink = (w.max(h) as f64 / EST_SIDE).max(1.0);
+        let mut small = Mat::default();
+        let mut smooth = Mat::default();
+        let mut coarse = Mat::default();
+        prepare(first, shrink, &mut small, &mut smooth, &mut coarse)?;
+        let levels = [
+            Level::new(&coarse, 2.0 * shrink)?,
+            Level::new(&smooth, shrink)?,
+        ];
+        Ok(Self {
+            size: (w, h),
+            shrink,
+            levels,
+            small,
+            smooth,
+            coarse,
+            moved: Mat::default(),
+            warped: Mat::default(),
+            recent: Motion::default(),
+            loss: f64::INFINITY,
+        })
+    }
+
+    /// The motion of `f` against the first frame, or none when the frame cannot be
+    /// aligned onto it (a plain wall has nothing to align; a frame that differs
+    /// throughout, a flash or a cut, is not the same scene).
+    pub(super) fn measure(&mut self, f: &Frame) -> Result<Option<Motion>> {
+        if (f.width, f.height) != self.size {
+            return Ok(None);
+        }
+        prepare(
+            f,
+            self.shrink,
+            &mut self.small,
+            &mut self.smooth,
+            &mut self.coarse,
+        )?;
+        // From the previous frame's motion.
+        let mut m = self.recent;
+        let (mut residual, mut loss) = (f64::INFINITY, f64::INFINITY);
+        for (k, level) in self.levels.iter().enumerate() {
+            let img = if k == 0 { &self.coarse } else { &self.smooth };
+            for _ in 0..ITERATIONS {
+                let (step, r, l) = align_step(level, img, m, &mut self.moved)?;
+                residual = r;
+                loss = l;
+                let Some(step) = step else {
+                    return Ok(None);
+                };
+                m.dx += step.dx;
+                m.dy += step.dy;
+                m.rot_rad += step.rot_rad;
+                let at_level = Motion {
+                    dx: step.dx / level.shrink,
+                    dy: step.dy / level.shrink,
+                    ..step
+                };
+                if at_level.reach(f64::from(level.w), f64::from(level.h)) < CONVERGED_PX {
+                    break;
+                }
+            }
+        }
+        let side = self.size.0.max(self.size.1) as f64;
+        if residual > MAX_RESIDUAL
+            || !(m.dx.is_finite() && m.dy.is_finite() && m.rot_rad.is_finite())
+            || m.dx.hypot(m.dy) > MAX_SHIFT * side
+            || m.rot_rad.abs() > MAX_TURN_DEG.to_radians()
+        {
+            return Ok(None);
+        }
+        self.recent = m;
+        self.loss = loss;
+        Ok(Some(m))
+    }
+
+    /// Whether the motion last measured explains the frame better than none: the pixels
+    /// that differ from the first frame (Tukey's loss) fewer by [`EXPLAINS`]. A motion
+    /// that does not is the moving wire's or the ball's pull on a plain scene, not the
+    /// camera's.
+    pub(super) fn explains(&mut self) -> Result<bool> {
+        let (_, _, still) = align_step(
+            &self.levels[1],
+            &self.smooth,
+            Motion::default(),
+            &mut self.moved,
+        )?;
+        Ok(self.loss < EXPLAINS * still)
+    }
+
+    /// `f` warped back onto the first frame by `m` (in place).
+    pub(super) fn undo(&mut self, f: &mut Frame, m: Motion) -> Result<()> {
+        warp_into(f, m, (0, 0), (f.width, f.height), &mut self.warped)?;
+        f.data.copy_from_slice(self.warped.data_bytes()?);
+        Ok(())
+    }
+}
+
+/// `f` shrunk `shrink` times (block means) as floats, smoothed, into `smooth`, and that
+/// shrunk twice more into `coarse`.
+fn prepare(
+    f: &Frame,
+    shrink: f64,
+    small: &mut Mat,
+    smooth: &mut Mat,
+    coarse: &mut Mat,
+) -> Result<()> {
+    let m = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
+    let (sw, sh) = (
+        ((f.width as f64 / shrink).round() as i32).max(1),
+        ((f.height as f64 / shrink).round() as i32).max(1),
+    );
+    let mut shrunk = Mat::default();
+    if shrink > 1.0 {
+        imgproc::resize(
+            &m,
+            &mut shrunk,
+            Size::new(sw, sh),
+            0.0,
+            0.0,
+            imgproc::INTER_AREA,
+        )?;
+    } else {
+        shrunk = m.try_clone()?;
+    }
+    shrunk.convert_to(small, core::CV_32F, 1.0, 0.0)?;
+    imgproc::gaussian_blur(
+        &*small,
+        smooth,
+        Size::new(0, 0),
+        SMOOTH_PX,
+        SMOOTH_PX,
+        core::BORDER_REPLICATE,
+    )?;
+    imgproc::resize(
+        &*smooth,
+        coarse,
+        Size::new((sw / 2).max(1), (sh / 2).max(1)),
+        0.0,
+        0.0,
+        imgproc::INTER_AREA,
+    )?;
+    Ok(())
+}
+
+/// One Gauss-Newton step of the alignment at `level`: the frame `img` (at the level's
+/// scale) warped back by `m`, its difference from the first frame, and the change of
+/// `m` that best removes it (none when the scene holds too little to fix it); with the
+/// weighted RMS difference, grey levels.
+fn align_step(
+    level: &Level,
+    img: &Mat,
+    m: Motion,
+    moved: &mut Mat,
+) -> Result<(Option<Motion>, f64, f64)> {
+    let at_level = Motion {
+        dx: m.dx / level.shrink,
+        dy: m.dy / level.shrink,
+        rot_rad: m.rot_rad,
+    };
+    warp_mat(img, at_level, moved)?;
+    let cur = moved.data_typed::<f32>()?;
+    let (wu, hu) = (level.w as usize, level.h as usize);
+    let mut hm = [[0.0f64; 3]; 3];
+    let mut g = [0.0f64; 3];
+    let (mut sum_w, mut sum_we2) = (0.0f64, 0.0f64);
+    // Tukey's loss, summed, and the pixels it is summed over.
+    let (mut loss, mut count) = (0.0f64, 0.0f64);
+    // A margin the warp had to invent pixels for is left out.
+    let margin = (2.0
+        + at_level.dx.abs().max(at_level.dy.abs())
+        + at_level.rot_rad.abs() * 0.5 * (level.w.max(level.h) as f64))
+        .ceil() as usize;
+    if 2 * margin + 4 >= wu.min(hu) {
+        return Ok((None, f64::INFINITY, f64::INFINITY));
+    }
+    for y in margin..hu - margin {
+        let row = y * wu;
+        for x in margin..wu - margin {
+            let i = row + x;
+            let e = cur[i] - level.reference[i];
+            // Tukey's biweight: a pixel far off weighs nothing.
+            let u = e / TUKEY_LEVELS;
+            let w = if u.abs() < 1.0 {
+                (1.0 - u * u) * (1.0 - u * u)
+            } else {
+                0.0
+            };
+            let j = level.jac[i];
+            let (j0, j1, j2) = (f64::from(j[0]), f64::from(j[1]), f64::from(j[2]));
+            let (w, e) = (f64::from(w), f64::from(e));
+            hm[0][0] += w * j0 * j0;
+            hm[0][1] += w * j0 * j1;
+            hm[0][2] += w * j0 * j2;
+            hm[1][1] += w * j1 * j1;
+            hm[1][2] += w * j1 * j2;
+            hm[2][2] += w * j2 * j2;
+            g[0] += w * j0 * e;
+            g[1] += w * j1 * e;
+            g[2] += w * j2 * e;
+            sum_w += w;
+            sum_we2 += w * e * e;
+            loss += 1.0 - w.powf(1.5);
+            count += 1.0;
+        }
+    }
+    let residual = (sum_we2 / sum_w.max(1.0)).sqrt();
+    // In units where a turn counts as the shift it gives at the frame's half side, per
+    // pixel weighed: the information the scene holds on each direction of motion
+    // (grey levels squared per px squared).
+    let r = 0.5 * f64::from(level.w.max(level.h));
+    let n = sum_w.max(1.0);
+    let hn = nalgebra::Matrix3::new(
+        hm[0][0],
+        hm[0][1],
+        hm[0][2] / r,
+        hm[0][1],
+        hm[1][1],
+        hm[1][2] / r,
+        hm[0][2] / r,
+        hm[1][2] / r,
+        hm[2][2] / (r * r),
+    ) / n;
+    let gn = nalgebra::Vector3::new(g[0], g[1], g[2] / r) / n;
+    let now = nalgebra::Vector3::new(at_level.dx, at_level.dy, at_level.rot_rad * r);
+    let eig = hn.symmetric_eigen();
+    // Along a direction the scene fixes, the Gauss-Newton step; along one it does not (a
+    // plain wall, a single straight edge along itself), back to no motion: the frame is
+    // not moved on a guess.
+    let mut d = nalgebra::Vector3::zeros();
+    let mut fixed = 0;
+    for k in 0..3 {
+        let v = eig.eigenvectors.column(k);
+        let along = if eig.eigenvalues[k] >= MIN_INFO {
+            fixed += 1;
+            -v.dot(&gn) / eig.eigenvalues[k]
+        } else {
+            -v.dot(&now)
+        };
+        d += v * along;
+    }
+    if fixed == 0 {
+        return Ok((None, residual, loss / count.max(1.0)));
+    }
+    let d = nalgebra::Vector3::new(d[0], d[1], d[2] / r);
+    Ok((
+        Some(Motion {
+            dx: d[0] * level.shrink,
+            dy: d[1] * level.shrink,
+            rot_rad: d[2],
+        }),
+        residual,
+        loss / count.max(1.0),
+    ))
+}
+
+/// The float picture `img` as the first frame would show it under motion `m` (px of
+/// `img`), into `out`.
+fn warp_mat(img: &Mat, m: Motion, out: &mut Mat) -> Result<()> {
+    let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
+    let (cx, cy) = (
+        0.5 * (img.cols() as f64 - 1.0),
+        0.5 * (img.rows() as f64 - 1.0),
+    );
+    let bx = -c * cx + s * cy + cx + m.dx;
+    let by = -s * cx - c * cy + cy + m.dy;
+    let a = Mat::from_slice_2d(&[[c, -s, bx], [s, c, by]])?;
+    imgproc::warp_affine(
+        img,
+        out,
+        &a,
+        img.size()?,
+        imgproc::INTER_LINEAR | imgproc::WARP_INVERSE_MAP,
+        core::BORDER_REPLICATE,
+        Scalar::default(),
+    )?;
+    Ok(())
+}
+
+/// The `size` part of `f` at `origin` (frame px), as the first frame would show it
+/// under motion `m`, into `out` (8-bit, `size`).
+pub(super) fn warp_into(
+    f: &Frame,
+    m: Motion,
+    origin: (usize, usize),
+    size: (usize, usize),
+    out: &mut Mat,
+) -> Result<()> {
+    let src = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
+    // Output pixel q (of the part) is the first frame's p = q + origin, seen in `f` at
+    // c + R (p - c) + t = R q + (R origin + c - R c + t).
+    let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
+    let (cx, cy) = (0.5 * (f.width as f64 - 1.0), 0.5 * (f.height as f64 - 1.0));
+    let (ox, oy) = (origin.0 as f64, origin.1 as f64);
+    let bx = c * (ox - cx) - s * (oy - cy) + cx + m.dx;
+    let by = s * (ox - cx) + c * (oy - cy) + cy + m.dy;
+    let a = Mat::from_slice_2d(&[[c, -s, bx], [s, c, by]])?;
+    imgproc::warp_affine(
+        &src,
+        out,
+        &a,
+        Size::new(size.0 as i32, size.1 as i32),
+        imgproc::INTER_LINEAR | imgproc::WARP_INVERSE_MAP,
+        core::BORDER_REPLICATE,
+        Scalar::default(),
+    )?;
+    Ok(())
+}
+
+/// The bytes of an 8-bit picture.
+pub(super) fn bytes(m: &Mat) -> Result<&[u8]> {
+    Ok(m.data_bytes()?)
+}
+
+/// The camera's motion over a detection: how far the frames were moved back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct CameraMotion {
+    /// RMS of the frames' shift, px (frame px at full size).
+    pub rms_px: f64,
+    /// RMS of the frames' turn, degrees.
+    pub rms_deg: f64,
+    /// The largest shift of a frame, px.
+    pub max_px: f64,
+    /// Frames whose motion could not be measured (held at the last measured).
+    pub unmeasured: usize,
+}
+
+/// Sums for [`CameraMotion`].
+#[derive(Default)]
+pub(super) struct MotionStats {
+    n: usize,
+    sum_shift2: f64,
+    sum_rot2: f64,
+    max_px: f64,
+    pub(super) unmeasured: usize,
+}
+
+impl MotionStats {
+    pub(super) fn add(&mut self, m: Motion, px_per_unit: f64) {
+        let d = m.dx.hypot(m.dy) * px_per_unit;
+        self.n += 1;
+        self.sum_shift2 += d * d;
+        self.sum_rot2 += m.rot_rad * m.rot_rad;
+        self.max_px = self.max_px.max(d);
+    }
+
+    pub(super) fn finish(&self) -> CameraMotion {
+        let n = self.n.max(1) as f64;
+        CameraMotion {
+            rms_px: (self.sum_shift2 / n).sqrt(),
+            rms_deg: (self.sum_rot2 / n).sqrt().to_degrees(),
+            max_px: self.max_px,
+            unmeasured: self.unmeasured,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A textured frame (a smooth random pattern) seen under motion `m`.
+    fn textured(w: usize, h: usize, m: Motion, index: u64) -> Frame {
+        // Value noise: random levels on a 6 px lattice, bilinearly joined, plus a few
+        // sharp lines (a scene's edges).
+        let lattice = |i: i64, j: i64| {
+            let mut z = (i.wrapping_mul(73_856_093) ^ j.wrapping_mul(19_349_663)) as u64;
+            z = z.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+            ((z >> 40) % 200) as f64
+        };
+        let f = |x: f64, y: f64| {
+            let (u, v) = (x / 6.0, y / 6.0);
+            let (i, j) = (u.floor(), v.floor());
+            let (a, b) = (u - i, v - j);
+            let (i, j) = (i as i64, j as i64);
+            let n = lattice(i, j) * (1.0 - a) * (1.0 - b)
+                + lattice(i + 1, j) * a * (1.0 - b)
+                + lattice(i, j + 1) * (1.0 - a) * b
+                + lattice(i + 1, j + 1) * a * b;
+            (28.0 + n).clamp(0.0, 255.0) as u8
+        };
+        // Pixel q of this frame shows the first frame's p with q = c + R (p - c) + t.
+        let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
+        let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
+        let mut data = vec![0u8; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let (qx, qy) = (x as f64 - cx - m.dx, y as f64 - cy - m.dy);
+                let px = c * qx + s * qy + cx;
+                let py = -s * qx + c * qy + cy;
+                data[y * w + x] = f(px, py);
+            }
+        }
+        Frame {
+            index,
+            t_s: index as f64 / 30.0,
+            width: w,
+            height: h,
+            data,
+        }
+    }
+
+    #[test]
+    fn a_shift_and_a_turn_are_measured_and_undone() {
+        let (w, h) = (640, 360);
+        let first = textured(w, h, Motion::default(), 0);
+        let mut s = Steady::new(&first).unwrap();
+        let still = s.measure(&first).unwrap().unwrap();
+        assert!(still.reach(w as f64, h as f64) < 0.02, "{still:?}");
+        let m = Motion {
+            dx: 2.6,
+            dy: -1.3,
+            rot_rad: 0.4f64.to_radians(),
+        };
+        let mut moved = textured(w, h, m, 1);
+        let got = s.measure(&moved).unwrap().unwrap();
+        assert!((got.dx - m.dx).abs() < 0.08, "{got:?}");
+        assert!((got.dy - m.dy).abs() < 0.08, "{got:?}");
+        assert!(
+            (got.rot_rad - m.rot_rad).abs() < 0.02f64.to_radians(),
+            "{got:?}"
+        );
+        s.undo(&mut moved, got).unwrap();
+        // Back onto the first frame, away from the borders the warp had to invent.
+        let mut err = 0.0;
+        let mut n = 0.0;
+        for y in 40..h - 40 {
+            for x in 40..w - 40 {
+                err += (f64::from(moved.data[y * w + x]) - f64::from(first.data[y * w + x])).abs();
+                n += 1.0;
+            }
+        }
+        assert!(err / n < 2.0, "mean difference {}", err / n);
+    }
+
+    #[test]
+    fn a_plain_frame_has_no_motion_to_measure() {
+        let f = Frame {
+            index: 0,
+            t_s: 0.0,
+            width: 320,
+            height: 240,
+            data: vec![120; 320 * 240],
+        };
+        let mut s = Steady::new(&f).unwrap();
+        assert_eq!(s.measure(&f).unwrap(), None);
+    }
+}

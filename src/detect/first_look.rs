@@ -211,11 +211,10 @@ impl<'a> FirstLook<'a> {
         let mut dropped = 0usize;
         let mut t_first = None;
         let mut decoded = 0u64;
-        // The camera's motion against the first frame: measured on every
-        // `steady::LOOK_EVERY`th frame; when enough of them moved, on all, and the
-        // look's frames are warped back.
+        // The camera's motion against the first frame: glanced at on every
+        // `steady::LOOK_EVERY`th frame; when enough of them moved, measured on all,
+        // and the look's frames are warped back.
         let mut steady: Option<steady::Steady> = None;
-        let mut motions = std::collections::VecDeque::new();
         let (mut measured, mut moved) = (0usize, 0usize);
         while src
             .next_frame(&mut frame)
@@ -245,7 +244,7 @@ impl<'a> FirstLook<'a> {
                 Some(st) => st,
                 None => steady.insert(steady::Steady::new(&frame)?),
             };
-            let m = if decoded % steady::LOOK_EVERY == 1 {
+            if decoded % steady::LOOK_EVERY == 1 {
                 measured += 1;
                 let m = st.measure(&frame)?;
                 if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > steady::MOVING_PX)
@@ -253,11 +252,7 @@ impl<'a> FirstLook<'a> {
                 {
                     moved += 1;
                 }
-                Some(m)
-            } else {
-                None
-            };
-            motions.push_back(m);
+            }
             let t_first = *t_first.get_or_insert(frame.t_s);
             init.data.push(frame.data.clone());
             times.push_back(frame.t_s);
@@ -269,7 +264,6 @@ impl<'a> FirstLook<'a> {
                     if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
                         init.data.remove(0);
                         times.pop_front();
-                        motions.pop_front();
                         dropped += 1;
                     }
                 }
@@ -291,17 +285,14 @@ impl<'a> FirstLook<'a> {
         if moving {
             let st = steady.as_mut().expect("a frame was measured");
             let mut last = steady::Motion::default();
-            for (data, m) in init.data.iter_mut().zip(&motions) {
+            for data in init.data.iter_mut() {
                 let mut f = Frame {
                     data: std::mem::take(data),
                     width: init.w,
                     height: init.h,
                     ..Frame::default()
                 };
-                let m = match m {
-                    Some(m) => *m,
-                    None => st.measure(&f)?,
-                };
+                let m = st.measure(&f)?;
                 last = m.unwrap_or(last);
                 st.undo(&mut f, last)?;
                 *data = f.data;

@@ -284,6 +284,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let mut rows = Vec::new();
     let mut keeper = figure11::Keeper::new(figure11::PER_SIDE);
     let mut review = review::Keeper::new();
+    // A camera the first look saw still may start to move later (a slow drift, a bump):
+    // glanced at now and then on the region's own frames, and steadied from then on.
+    let mut late = (!look.moving).then(steady::Late::default);
     let mut k = 0usize;
     let mut waited = 0.0f64;
     loop {
@@ -307,6 +310,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
             .copied()
             .flatten();
 
+        if let Some(late) = &mut late {
+            late.offer(&mut frame)?;
+        }
         let row = tracker.step(&frame, hint)?;
         keeper.offer(&row, &frame);
         review.offer(&row, &frame, tracker.predicted())?;
@@ -334,7 +340,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
             started.elapsed().as_secs_f64()
         );
     }
-    let camera = src.camera();
+    let camera = src.camera().or(late.and_then(|l| l.camera()));
     drop(src);
     if rows.is_empty() {
         bail!("{}: no frame in the requested range", name);

@@ -85,6 +85,10 @@ const MAX_RESIDUAL: f64 = 40.0;
 /// something that moves (on a plain wall, the ball) rather than the scene.
 const MAX_SHIFT: f64 = 0.02;
 
+/// ... but never less than this, px (the streaming pass's region of interest is smaller
+/// than the frame, a drift not).
+const MIN_MAX_SHIFT_PX: f64 = 16.0;
+
 /// See [`MAX_SHIFT`], degrees.
 const MAX_TURN_DEG: f64 = 3.0;
 
@@ -310,7 +314,7 @@ impl Steady {
             && m.dx.is_finite()
             && m.dy.is_finite()
             && m.rot_rad.is_finite()
-            && m.dx.hypot(m.dy) <= MAX_SHIFT * side
+            && m.dx.hypot(m.dy) <= (MAX_SHIFT * side).max(MIN_MAX_SHIFT_PX)
             && m.rot_rad.abs() <= MAX_TURN_DEG.to_radians()
     }
 
@@ -534,6 +538,72 @@ pub(super) fn warp_into(
 /// The bytes of an 8-bit picture.
 pub(super) fn bytes(m: &Mat) -> Result<&[u8]> {
     Ok(m.data_bytes()?)
+}
+
+/// A camera the first look saw still, glanced at every [`LATE_EVERY_S`] on the streaming
+/// pass's own frames (the region of interest): once [`LATE_GLANCES`] glances in a row
+/// find it moved (as the first look judges, [`MOVING_PX`] and [`EXPLAINS`]), every
+/// frame from there on is
+/// measured and warped back onto the pass's first frame, within the region.
+#[derive(Default)]
+pub(super) struct Late {
+    steady: Option<Steady>,
+    next_t: f64,
+    on: bool,
+    /// Glances in a row that found the camera moved.
+    glances: usize,
+    last: Motion,
+    stats: MotionStats,
+}
+
+/// See [`Late`]: so many glances in a row must find the camera moved.
+const LATE_GLANCES: usize = 2;
+
+/// See [`Late`], s: a drift or a bump is caught within this; a still camera pays one
+/// measurement a second.
+const LATE_EVERY_S: f64 = 1.0;
+
+impl Late {
+    /// The pass's next frame, warped back when the camera has moved.
+    pub(super) fn offer(&mut self, f: &mut Frame) -> Result<()> {
+        let Some(st) = &mut self.steady else {
+            self.next_t = f.t_s + LATE_EVERY_S;
+            self.steady = Some(Steady::new(f)?);
+            return Ok(());
+        };
+        if !self.on {
+            if f.t_s < self.next_t {
+                return Ok(());
+            }
+            self.next_t = f.t_s + LATE_EVERY_S;
+            let moved = match st.measure(f)? {
+                Some(m) => m.reach(f.width as f64, f.height as f64) > MOVING_PX && st.explains()?,
+                None => false,
+            };
+            // Two glances in a row: a region that two rods or a shadow fill pulls one
+            // glance of a still camera along now and then, not two running.
+            self.glances = if moved { self.glances + 1 } else { 0 };
+            if self.glances < LATE_GLANCES {
+                return Ok(());
+            }
+            self.on = true;
+        }
+        let m = match st.measure(f)? {
+            Some(m) => m,
+            None => {
+                self.stats.unmeasured += 1;
+                self.last
+            }
+        };
+        self.last = m;
+        self.stats.add(m, 1.0);
+        st.undo(f, m)
+    }
+
+    /// The camera's motion, when it was found to move.
+    pub(super) fn camera(&self) -> Option<CameraMotion> {
+        self.on.then(|| self.stats.finish())
+    }
 }
 
 /// The camera's motion over a detection: how far the frames were moved back.

@@ -246,7 +246,7 @@ impl<'a> FirstLook<'a> {
             };
             if decoded % steady::LOOK_EVERY == 1 {
                 measured += 1;
-                let m = st.measure(&frame)?;
+                let m = st.glance(&frame)?;
                 if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > steady::MOVING_PX)
                     && st.explains()?
                 {
@@ -282,6 +282,9 @@ impl<'a> FirstLook<'a> {
         // measure a little off on a plain wall): every frame's motion is measured (the
         // frames in between too) and the look's frames are warped back.
         let moving = moved as f64 > steady::MOVING_SHARE * measured as f64;
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!("steady: the look glanced at {measured} frames, {moved} moved");
+        }
         if moving {
             let st = steady.as_mut().expect("a frame was measured");
             let mut last = steady::Motion::default();

@@ -421,8 +421,7 @@ struct CropSource<'a> {
     /// them.
     steady_from: Option<u64>,
     steady: Option<steady::Steady>,
-    last_motion: steady::Motion,
-    motions: steady::MotionStats,
+    followed: steady::Followed,
     warped: opencv::core::Mat,
 }
 
@@ -444,8 +443,7 @@ impl<'a> CropSource<'a> {
             full: Frame::default(),
             steady_from,
             steady: None,
-            last_motion: steady::Motion::default(),
-            motions: steady::MotionStats::default(),
+            followed: steady::Followed::default(),
             warped: opencv::core::Mat::default(),
         })
     }
@@ -469,7 +467,7 @@ impl PassSource<'_> {
     /// The camera's motion the frames were warped back from, when it moved.
     fn camera(&self) -> Option<steady::CameraMotion> {
         match self {
-            PassSource::Crop(c) => c.steady_from.map(|_| c.motions.finish()),
+            PassSource::Crop(c) => c.steady_from.map(|_| c.followed.camera()),
             PassSource::Decoder(_) => None,
         }
     }
@@ -512,15 +510,7 @@ impl FrameSource for CropSource<'_> {
                     Some(st) => st,
                     None => self.steady.insert(steady::Steady::new(full)?),
                 };
-                let m = match st.measure(full)? {
-                    Some(m) => m,
-                    None => {
-                        self.motions.unmeasured += 1;
-                        self.last_motion
-                    }
-                };
-                self.last_motion = m;
-                self.motions.add(m, 1.0);
+                let m = self.followed.next(st, full)?;
                 steady::warp_into(full, m, origin, size, &mut self.warped)?;
                 frame.data.clear();
                 frame.data.extend_from_slice(steady::bytes(&self.warped)?);

@@ -85,12 +85,6 @@ const MAX_RESIDUAL: f64 = 40.0;
 /// something that moves (on a plain wall, the ball) rather than the scene.
 const MAX_SHIFT: f64 = 0.02;
 
-/// ... but never less than this, px. At 16 px (the streaming pass's region is smaller
-/// than the frame, a drift not) the drift twin's angles erred 0.067 deg RMS instead of
-/// 0.13; but the two rods of a still clip, filling its small region, then pulled the
-/// later glances along as a camera moving 9 px: a region's own 2 % is the bound.
-const MIN_MAX_SHIFT_PX: f64 = 0.0;
-
 /// See [`MAX_SHIFT`], degrees.
 const MAX_TURN_DEG: f64 = 3.0;
 
@@ -249,9 +243,9 @@ impl Steady {
         // previous frame's did (by `RESTART`), from none too, and the one that leaves
         // fewer off is kept: an alignment that went astray (pulled along by the ball
         // over a few frames) is not followed on from frame to frame.
-        let (mut m, mut residual, mut loss) = self.align_from(self.recent, 2)?;
+        let (mut m, mut residual, mut loss) = self.align_from(self.recent)?;
         if self.recent != Motion::default() && (loss.is_nan() || loss > RESTART * self.loss) {
-            let (m0, r0, l0) = self.align_from(Motion::default(), 2)?;
+            let (m0, r0, l0) = self.align_from(Motion::default())?;
             if l0 < loss {
                 (m, residual, loss) = (m0, r0, l0);
             }
@@ -269,10 +263,10 @@ impl Steady {
 
     /// The alignment of the prepared frame from motion `start`: the motion (none when
     /// the scene cannot fix it), the weighted RMS difference and Tukey's loss.
-    fn align_from(&mut self, start: Motion, levels: usize) -> Result<(Option<Motion>, f64, f64)> {
+    fn align_from(&mut self, start: Motion) -> Result<(Option<Motion>, f64, f64)> {
         let mut m = start;
         let (mut residual, mut loss) = (f64::INFINITY, f64::INFINITY);
-        for (k, level) in self.levels.iter().enumerate().take(levels) {
+        for (k, level) in self.levels.iter().enumerate() {
             let img = if k == 0 { &self.coarse } else { &self.smooth };
             for _ in 0..ITERATIONS {
                 let (step, r, l) = align_step(level, img, m, MEASURE_PX)?;
@@ -324,7 +318,7 @@ impl Steady {
             && m.dx.is_finite()
             && m.dy.is_finite()
             && m.rot_rad.is_finite()
-            && m.dx.hypot(m.dy) <= (MAX_SHIFT * side).max(MIN_MAX_SHIFT_PX)
+            && m.dx.hypot(m.dy) <= MAX_SHIFT * side
             && m.rot_rad.abs() <= MAX_TURN_DEG.to_radians()
     }
 
@@ -550,204 +544,9 @@ pub(super) fn bytes(m: &Mat) -> Result<&[u8]> {
     Ok(m.data_bytes()?)
 }
 
-/// A camera the first look saw still, glanced at every [`LATE_EVERY_S`] on the streaming
-/// pass's own frames (the region of interest): once [`LATE_GLANCES`] glances in a row
-/// find it moved (as the first look judges, [`MOVING_PX`] and [`EXPLAINS`]), every
-/// frame from there on is
-/// measured and warped back onto the pass's first frame, within the region.
-#[derive(Default)]
-pub(super) struct Late {
-    steady: Option<Steady>,
-    next_t: f64,
-    on: bool,
-    /// Glances in a row that found the camera moved.
-    glances: usize,
-    last: Motion,
-    stats: MotionStats,
-}
-
-/// See [`Late`]: so many glances in a row must find the camera moved.
-const LATE_GLANCES: usize = 2;
-
-/// See [`Late`], s: a drift or a bump is caught within two of these; a still camera pays
-/// one measurement each (at 1 s, a 22 s 60 fps clip took 4 % more of the processor than
-/// at 2 s; the drift twin's angles erred the same).
-const LATE_EVERY_S: f64 = 2.0;
-
-impl Late {
-    /// The pass's next frame, warped back when the camera has moved.
-    pub(super) fn offer(&mut self, f: &mut Frame) -> Result<()> {
-        let Some(st) = &mut self.steady else {
-            self.next_t = f.t_s + LATE_EVERY_S;
-            self.steady = Some(Steady::new(f)?);
-            return Ok(());
-        };
-        if !self.on {
-            if f.t_s < self.next_t {
-                return Ok(());
-            }
-            self.next_t = f.t_s + LATE_EVERY_S;
-            let moved = match st.measure(f)? {
-                Some(m) => m.reach(f.width as f64, f.height as f64) > MOVING_PX && st.explains()?,
-                None => false,
-            };
-            // Two glances in a row: a region that two rods or a shadow fill pulls one
-            // glance of a still camera along now and then, not two running.
-            self.glances = if moved { self.glances + 1 } else { 0 };
-            if self.glances < LATE_GLANCES {
-                return Ok(());
-            }
-            self.on = true;
-        }
-        let m = match st.measure(f)? {
-            Some(m) => m,
-            None => {
-                self.stats.unmeasured += 1;
-                self.last
-            }
-        };
-        self.last = m;
-        self.stats.add(m, 1.0);
-        st.undo(f, m)
-    }
-
-    /// The camera's motion, when it was found to move.
-    pub(super) fn camera(&self) -> Option<CameraMotion> {
-        self.on.then(|| self.stats.finish())
-    }
-}
-
-/// The camera's motion over a detection: how far the frames were moved back.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct CameraMotion {
-    /// RMS of the frames' shift, px (frame px at full size).
-    pub rms_px: f64,
-    /// RMS of the frames' turn, degrees.
-    pub rms_deg: f64,
-    /// The largest shift of a frame, px.
-    pub max_px: f64,
-    /// Frames whose motion could not be measured (held at the last measured).
-    pub unmeasured: usize,
-}
-
-/// Sums for [`CameraMotion`].
-#[derive(Default)]
-pub(super) struct MotionStats {
-    n: usize,
-    sum_shift2: f64,
-    sum_rot2: f64,
-    max_px: f64,
-    pub(super) unmeasured: usize,
-}
-
-impl MotionStats {
-    pub(super) fn add(&mut self, m: Motion, px_per_unit: f64) {
-        let d = m.dx.hypot(m.dy) * px_per_unit;
-        self.n += 1;
-        self.sum_shift2 += d * d;
-        self.sum_rot2 += m.rot_rad * m.rot_rad;
-        self.max_px = self.max_px.max(d);
-    }
-
-    pub(super) fn finish(&self) -> CameraMotion {
-        let n = self.n.max(1) as f64;
-        CameraMotion {
-            rms_px: (self.sum_shift2 / n).sqrt(),
-            rms_deg: (self.sum_rot2 / n).sqrt().to_degrees(),
-            max_px: self.max_px,
-            unmeasured: self.unmeasured,
-        }
-    }
-}
-
+mod follow;
 #[cfg(test)]
-mod tests {
-    use super::*;
+mod tests;
 
-    /// A textured frame (a smooth random pattern) seen under motion `m`.
-    fn textured(w: usize, h: usize, m: Motion, index: u64) -> Frame {
-        // Value noise: random levels on a 6 px lattice, bilinearly joined, plus a few
-        // sharp lines (a scene's edges).
-        let lattice = |i: i64, j: i64| {
-            let mut z = (i.wrapping_mul(73_856_093) ^ j.wrapping_mul(19_349_663)) as u64;
-            z = z.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-            ((z >> 40) % 200) as f64
-        };
-        let f = |x: f64, y: f64| {
-            let (u, v) = (x / 6.0, y / 6.0);
-            let (i, j) = (u.floor(), v.floor());
-            let (a, b) = (u - i, v - j);
-            let (i, j) = (i as i64, j as i64);
-            let n = lattice(i, j) * (1.0 - a) * (1.0 - b)
-                + lattice(i + 1, j) * a * (1.0 - b)
-                + lattice(i, j + 1) * (1.0 - a) * b
-                + lattice(i + 1, j + 1) * a * b;
-            (28.0 + n).clamp(0.0, 255.0) as u8
-        };
-        // Pixel q of this frame shows the first frame's p with q = c + R (p - c) + t.
-        let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
-        let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
-        let mut data = vec![0u8; w * h];
-        for y in 0..h {
-            for x in 0..w {
-                let (qx, qy) = (x as f64 - cx - m.dx, y as f64 - cy - m.dy);
-                let px = c * qx + s * qy + cx;
-                let py = -s * qx + c * qy + cy;
-                data[y * w + x] = f(px, py);
-            }
-        }
-        Frame {
-            index,
-            t_s: index as f64 / 30.0,
-            width: w,
-            height: h,
-            data,
-        }
-    }
-
-    #[test]
-    fn a_shift_and_a_turn_are_measured_and_undone() {
-        let (w, h) = (640, 360);
-        let first = textured(w, h, Motion::default(), 0);
-        let mut s = Steady::new(&first).unwrap();
-        let still = s.measure(&first).unwrap().unwrap();
-        assert!(still.reach(w as f64, h as f64) < 0.02, "{still:?}");
-        let m = Motion {
-            dx: 2.6,
-            dy: -1.3,
-            rot_rad: 0.4f64.to_radians(),
-        };
-        let mut moved = textured(w, h, m, 1);
-        let got = s.measure(&moved).unwrap().unwrap();
-        assert!((got.dx - m.dx).abs() < 0.08, "{got:?}");
-        assert!((got.dy - m.dy).abs() < 0.08, "{got:?}");
-        assert!(
-            (got.rot_rad - m.rot_rad).abs() < 0.02f64.to_radians(),
-            "{got:?}"
-        );
-        s.undo(&mut moved, got).unwrap();
-        // Back onto the first frame, away from the borders the warp had to invent.
-        let mut err = 0.0;
-        let mut n = 0.0;
-        for y in 40..h - 40 {
-            for x in 40..w - 40 {
-                err += (f64::from(moved.data[y * w + x]) - f64::from(first.data[y * w + x])).abs();
-                n += 1.0;
-            }
-        }
-        assert!(err / n < 2.0, "mean difference {}", err / n);
-    }
-
-    #[test]
-    fn a_plain_frame_has_no_motion_to_measure() {
-        let f = Frame {
-            index: 0,
-            t_s: 0.0,
-            width: 320,
-            height: 240,
-            data: vec![120; 320 * 240],
-        };
-        let mut s = Steady::new(&f).unwrap();
-        assert_eq!(s.measure(&f).unwrap(), None);
-    }
-}
+pub use follow::CameraMotion;
+pub(super) use follow::{Followed, Late};

@@ -152,15 +152,8 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         if d.dark_wire { "dark" } else { "light" },
         d.roi,
         d.camera.map_or(String::new(), |c| format!(
-            "; the camera moved (RMS {:.2} px and {:.3} deg, at most {:.1} px{}): each \
-             frame was steadied onto the first",
-            c.rms_px,
-            c.rms_deg,
-            c.max_px,
-            match c.unmeasured {
-                0 => String::new(),
-                k => format!(", {k} frames not measurable"),
-            }
+            "; the camera moved ({}): each frame was steadied onto the first",
+            c.describe()
         )),
         a.output.display()
     );

@@ -511,6 +511,63 @@ pub struct Synthetic {
     /// the plate's view and the truth is unchanged). Absent: a still camera.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shake: Option<Shake>,
+    /// The encoder's quality: x264's constant rate factor, 0 to 51 (34 and up: the
+    /// heavy compression of a phone's or a messenger's copy, blocks and smeared thin
+    /// lines). In `.avi` (MJPG) it sets the quantiser `-q:v` to `3 + (crf - 18) / 2`,
+    /// within 2 to 31. Default 18.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crf: Option<u32>,
+    /// Radial lens distortion: a point at distance `r` from the frame's centre, in units
+    /// of the frame's width (a lens of one width's focal length), is seen at `r (1 + k1
+    /// r^2)` of the undistorted view, zoomed so that the frame's corners stay filled;
+    /// -0.5 to 0.5 (negative: barrel, a phone's wide lens, to about -0.3; positive:
+    /// pincushion). The truth stays the undistorted plate's. Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lens_k1: Option<f64>,
+    /// What else the room puts in the picture: a ruled or gridded board behind the
+    /// pendulum, straight static edges near the fulcrum, a second pendulum, a person
+    /// walking through. Absent: an empty room.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub room: Option<Room>,
+}
+
+/// What else the room puts in the picture (`synthetic.room`), e.g. `{board: grid,
+/// edges: 2, second_string: true, walker_s: 8}`.
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Room {
+    /// Lines printed on the plate behind the pendulum: `ruled` (parallel lines, about
+    /// a twentieth of the wire apart, at a random angle), `grid` (two sets, square), or
+    /// `none`. Default `none`.
+    #[serde(default)]
+    pub board: Board,
+    /// Straight static edges drawn through or near the fulcrum, 0 to 6: a protractor's
+    /// base line, a table's edge, a cable, each long, dark or light, at a random angle.
+    /// Default 0.
+    #[serde(default)]
+    pub edges: u32,
+    /// A second pendulum swinging elsewhere in the frame: its own fulcrum, wire and
+    /// ball, a shorter wire, its own period and phase. Default false.
+    #[serde(default)]
+    pub second_string: bool,
+    /// A person walks between the camera and the plate, starting at this time, s: a
+    /// large dark shape crosses the whole frame in 4 s and covers the wire for about a second
+    /// (the truth marks those frames `walker`). Absent: nobody.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub walker_s: Option<f64>,
+}
+
+/// Lines printed on the plate (`synthetic.room.board`).
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize, PartialEq, Eq, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Board {
+    /// A plain plate.
+    #[default]
+    None,
+    /// Parallel lines.
+    Ruled,
+    /// A square grid.
+    Grid,
 }
 
 /// The camera's motion (`synthetic.shake`).

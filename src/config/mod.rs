@@ -10,7 +10,7 @@
 
 use crate::fsutil;
 use crate::physics::{self, BetaChoice, FrictionLaw, Pendulum};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, ensure, Context, Result};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -445,6 +445,25 @@ impl Experiment {
                 within("synthetic.shake.deg", k.deg, 0.0, 5.0, "deg")?;
                 within("synthetic.shake.hz", k.hz, 0.05, 30.0, "Hz")?;
                 within("synthetic.shake.drift_px", k.drift_px, 0.0, 500.0, "px")?;
+            }
+            if let Some(q) = s.crf {
+                ensure!(
+                    q <= 51,
+                    "`synthetic.crf` = {q}: expected 0 to 51 (x264's constant rate factor)"
+                );
+            }
+            if let Some(k) = s.lens_k1 {
+                within("synthetic.lens_k1", k, -0.5, 0.5, "")?;
+            }
+            if let Some(r) = &s.room {
+                ensure!(
+                    r.edges <= 6,
+                    "`synthetic.room.edges` = {}: expected 0 to 6",
+                    r.edges
+                );
+                if let Some(t) = r.walker_s {
+                    within("synthetic.room.walker_s", t, 0.0, 3600.0, "s")?;
+                }
             }
             if let Some(p) = s.pivot_frac {
                 for (k, v) in ["synthetic.pivot_frac[0]", "synthetic.pivot_frac[1]"]

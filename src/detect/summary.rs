@@ -41,6 +41,9 @@ pub struct DetectionSummary {
     /// The plate calibration the angles were measured through, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<crate::plane::CalibrationSummary>,
+    /// The camera's own motion, when it moved (each frame was steadied onto the first).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<super::steady::CameraMotion>,
 }
 
 impl DetectionSummary {
@@ -80,6 +83,7 @@ impl DetectionSummary {
             figure11_frame,
             swing_scale: d.swing_scale,
             calibration: d.calibration.as_ref().map(Into::into),
+            camera: d.camera,
         }
     }
 }

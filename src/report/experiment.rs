@@ -341,6 +341,17 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                 format!("{s:.4} (1 when the pivot lies on the wire's line)"),
             ));
         }
+        detection.push(kv(
+            "camera",
+            match &d.camera {
+                Some(c) => format!(
+                    "moved ({}): each frame was steadied onto the first, and angles, \
+                     pivot and region are the first frame's",
+                    c.describe()
+                ),
+                None => "still".into(),
+            },
+        ));
         match &d.calibration {
             Some(c) => detection.push(kv(
                 "angles measured in",

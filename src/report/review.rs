@@ -142,6 +142,7 @@ pub(super) fn review_files(
     ctx.insert("pictures", &pictures.len());
     ctx.insert("flagged", &d.flagged.len());
     ctx.insert("limits", &data.limits);
+    ctx.insert("camera", &d.camera.map(|c| c.describe()));
     let html = super::templates()?
         .render("review.html", &ctx)
         .context("template `review.html`")?;

@@ -131,9 +131,13 @@ impl FfmpegPipe {
         (w, h): (usize, usize),
         fps: f64,
         times: Option<&str>,
+        crf: Option<u32>,
         first: &Mat,
     ) -> Result<Self> {
         let raw = codec.raw();
+        // `synthetic.crf`: x264's rate factor, or MJPG's quantiser from it.
+        let crf = crf.unwrap_or(18);
+        let q = (3 + (i64::from(crf) - 18) / 2).clamp(2, 31);
         let mut cmd = Command::new("ffmpeg");
         cmd.args(["-nostdin", "-hide_banner", "-loglevel", "error"])
             .args(["-f", "rawvideo", "-pix_fmt"])
@@ -149,14 +153,28 @@ impl FfmpegPipe {
         }
         match codec {
             FfmpegCodec::Mjpeg | FfmpegCodec::Mjpeg444 => {
-                cmd.args(["-c:v", "mjpeg", "-q:v", "3", "-huffman", "default"]);
+                cmd.args([
+                    "-c:v",
+                    "mjpeg",
+                    "-q:v",
+                    &q.to_string(),
+                    "-huffman",
+                    "default",
+                ]);
                 if codec == FfmpegCodec::Mjpeg444 {
                     cmd.args(["-pix_fmt", "yuvj444p"]);
                 }
                 cmd.args(["-threads", "1", "-f", "avi"])
             }
             FfmpegCodec::H264 => cmd
-                .args(["-c:v", "libx264", "-preset", "veryfast", "-crf", "18"])
+                .args([
+                    "-c:v",
+                    "libx264",
+                    "-preset",
+                    "veryfast",
+                    "-crf",
+                    &crf.to_string(),
+                ])
                 .args(["-pix_fmt", "yuv420p", "-threads", "4"])
                 .args(["-color_range", "tv", "-colorspace", "smpte170m"]),
         };
@@ -263,10 +281,11 @@ fn start_ffmpeg(
     (w, h): (usize, usize),
     fps: f64,
     times: Option<&str>,
+    crf: Option<u32>,
     first: &Mat,
 ) -> Result<(FfmpegPipe, TempFile)> {
     let tmp = TempFile(Some(temp_name(fin)));
-    let pipe = FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, times, first)?;
+    let pipe = FfmpegPipe::start(&tmp.path(), codec, (w, h), fps, times, crf, first)?;
     Ok((pipe, tmp))
 }
 
@@ -283,6 +302,7 @@ pub(super) fn open_writer(
     (w, h): (usize, usize),
     fps: f64,
     times: Option<&str>,
+    crf: Option<u32>,
     first: &Mat,
 ) -> Result<(FfmpegPipe, TempFile, PathBuf, String)> {
     let vfr = if times.is_some() {
@@ -301,7 +321,7 @@ pub(super) fn open_writer(
         } else if !ffmpeg_has_encoder("libx264") {
             "this ffmpeg has no H.264 encoder (libx264)"
         } else {
-            let (pipe, tmp) = start_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, times, first)?;
+            let (pipe, tmp) = start_ffmpeg(out, FfmpegCodec::H264, (w, h), fps, times, crf, first)?;
             let codec = format!("H.264 ({ext}, ffmpeg{vfr})");
             return Ok((pipe, tmp, out.to_path_buf(), codec));
         };
@@ -317,6 +337,6 @@ pub(super) fn open_writer(
     } else {
         (FfmpegCodec::Mjpeg, "MJPG")
     };
-    let (pipe, tmp) = start_ffmpeg(&fin, codec, (w, h), fps, times, first)?;
+    let (pipe, tmp) = start_ffmpeg(&fin, codec, (w, h), fps, times, crf, first)?;
     Ok((pipe, tmp, fin, format!("{name} (avi, ffmpeg{vfr})")))
 }

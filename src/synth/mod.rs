@@ -22,6 +22,12 @@
 //!   fulcrum anywhere, also outside the frame (`pivot_frac`), and a variable frame rate
 //!   (`vfr_jitter`: each frame rendered at its own time, which the file carries; see
 //!   the `vfr` module).
+//! * The camera and the room (`shake`, `lens_k1`, `crf`, `room`; see the `shake` and
+//!   `room` modules): a camera that moves (the whole picture shifted and turned, zero
+//!   at the first frame), a wide lens's radial distortion, heavy compression, a ruled
+//!   or gridded board and straight static edges on the plate, a second pendulum beside
+//!   the first, and a person walking through (the frames where it covers the wire are
+//!   tagged `walker` in the truth).
 //! * Spoiled frames: `synthetic.spoiled_frames` counts spoiling *events*, in turn a
 //!   hand passing (1 to 3 consecutive frames, each tagged `hand`), a flash (one frame,
 //!   near white) and a duplicated frame (the recorder repeats the previous frame), one
@@ -42,6 +48,7 @@ mod encode;
 mod look;
 mod mover;
 mod plan;
+mod room;
 mod scene;
 mod shake;
 mod twin;
@@ -262,8 +269,14 @@ fn render_inner(
     let (w, h) = (twin.plan.geo.w, twin.plan.geo.h);
     twin.render_frame(0)?;
     let times = twin.plan.vfr.as_ref().map(|v| v.filters());
-    let (mut pipe, mut tmp, path, codec) =
-        open_writer(out, (w, h), twin.plan.fps, times.as_deref(), &twin.frame)?;
+    let (mut pipe, mut tmp, path, codec) = open_writer(
+        out,
+        (w, h),
+        twin.plan.fps,
+        times.as_deref(),
+        twin.plan.s.crf,
+        &twin.frame,
+    )?;
     let tmp_path = tmp.path();
     let raw = pipe.raw;
     let pumped = {

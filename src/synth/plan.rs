@@ -1,6 +1,7 @@
 //! The plan: the motion, the geometry and the spoiled frames (no pixels).
 
 use super::look::Look;
+use super::room::{Lens, Walker};
 use super::vfr::Vfr;
 use super::TruthRow;
 use crate::config::{Experiment, Synthetic};
@@ -27,6 +28,8 @@ pub(super) enum Spoil {
     },
     Flash,
     Duplicate,
+    /// A person walking through covers the wire (`synthetic.room.walker_s`).
+    Walker,
 }
 
 impl Spoil {
@@ -36,6 +39,7 @@ impl Spoil {
             Spoil::Hand { .. } => "hand",
             Spoil::Flash => "flash",
             Spoil::Duplicate => "duplicate",
+            Spoil::Walker => "walker",
         }
     }
 }
@@ -59,6 +63,10 @@ pub(super) struct Plan {
     pub(super) fps: f64,
     /// Each frame's own time, with `vfr_jitter`.
     pub(super) vfr: Option<Vfr>,
+    /// The lens's distortion (`lens_k1`).
+    pub(super) lens: Option<Lens>,
+    /// A person walking through (`room.walker_s`).
+    pub(super) walker: Option<Walker>,
     trajectory: crate::physics::ode::Trajectory,
     pub(super) truth: Vec<TruthRow>,
     pub(super) spoils: Vec<Spoil>,
@@ -111,7 +119,7 @@ impl Plan {
             None => rec.series.t.clone(),
         };
         let n = times.len();
-        let spoils = if s.clean {
+        let mut spoils = if s.clean {
             vec![Spoil::None; n]
         } else {
             plan_spoils(
@@ -121,6 +129,29 @@ impl Plan {
                 &mut Rng::new(stream(s.seed, 2)),
             )
         };
+        let lens = s
+            .lens_k1
+            .filter(|&k| k != 0.0)
+            .map(|k| Lens::new(k, geo.w, geo.h));
+        let walker = s
+            .room
+            .and_then(|r| r.walker_s)
+            .map(|t0| Walker::new(t0, geo.w, geo.h, s.seed));
+        // The frames whose wire the walker covers (anywhere along it, at 5 % or more).
+        if let Some(wk) = &walker {
+            for (k, &t) in times.iter().enumerate() {
+                let th = geo.theta_rest - rec.trajectory.state(t)[0];
+                let covered = (0..=20).any(|j| {
+                    let f = geo.d_px * j as f64 / 20.0;
+                    let p = [geo.pivot[0] + f * th.cos(), geo.pivot[1] + f * th.sin()];
+                    let q = view.map_or(p, |v| v.apply(p));
+                    wk.alpha(q[0], q[1], t) >= 0.05
+                });
+                if covered && spoils[k] == Spoil::None {
+                    spoils[k] = Spoil::Walker;
+                }
+            }
+        }
         let truth = times
             .iter()
             .zip(&spoils)
@@ -145,6 +176,8 @@ impl Plan {
             image_rest,
             view,
             vfr,
+            lens,
+            walker,
             trajectory: rec.trajectory,
             truth,
             spoils,
@@ -169,9 +202,11 @@ impl Plan {
 }
 
 impl Plan {
-    /// A point of the untilted view in the image (before any mirroring).
+    /// A point of the untilted view in the image (before any mirroring): through the
+    /// tilted camera's view and the lens.
     pub(super) fn to_image(&self, p: [f64; 2]) -> [f64; 2] {
-        self.view.map_or(p, |v| v.apply(p))
+        let q = self.view.map_or(p, |v| v.apply(p));
+        self.lens.map_or(q, |l| l.distort(q))
     }
 
     /// Protractor marks a user could pick for `video.calibration`: the fulcrum, both

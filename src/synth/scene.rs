@@ -3,6 +3,7 @@
 
 use super::look::{bgr, illumination, mix, pt, scale, to_u8, Look};
 use super::plan::{stream, Geometry, Plan};
+use super::room;
 use crate::rng::Rng;
 use anyhow::{Context, Result};
 use opencv::core::{self, Mat, Point, Rect, Scalar, Size};
@@ -410,7 +411,13 @@ pub(super) fn build_background(plan: &Plan, defocus: Option<f64>) -> Result<(Vec
     let ch = (hi[1] - lo[1]).ceil() as i32 + 8;
     let cp = [-lo[0] + 4.0, -lo[1] + 4.0];
     let mut canvas = plate_texture(cw, ch, look, &mut rng)?;
+    if let Some(room) = &plan.s.room {
+        room::draw_board(&mut canvas, cp, g, look, room, plan.s.seed)?;
+    }
     draw_instruments(&mut canvas, cp, g, look)?;
+    if let Some(room) = &plan.s.room {
+        room::draw_edges(&mut canvas, cp, g, look, room, plan.s.seed)?;
+    }
     // The canvas to the untilted view: a turn about the pivot.
     let a = nalgebra::Matrix3::new(
         c,

@@ -493,3 +493,4 @@ fn a_mirrored_twin_is_the_twin_flipped_with_its_truth() {
 }
 
 mod conditions;
+mod room;

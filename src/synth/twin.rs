@@ -3,6 +3,7 @@
 use super::camera::{expose, HandPainter, Lights, Sensor};
 use super::mover::Mover;
 use super::plan::{stream, Plan, Spoil, EXPOSURE, SUBSAMPLES};
+use super::room::{LensWarp, SecondString};
 use super::scene::build_background;
 use super::shake::{self, ShakePath};
 use crate::config::{DEFAULT_DRIFT_DEPTH, DEFAULT_FLICKER_DEPTH, DEFAULT_FLICKER_HZ};
@@ -20,6 +21,10 @@ pub(super) struct Twin {
     hand: HandPainter,
     /// The camera's own motion (`synthetic.shake`).
     shake: Option<ShakePath>,
+    /// A second pendulum (`room.second_string`).
+    second: Option<SecondString>,
+    /// The lens's distortion (`lens_k1`).
+    lens: Option<LensWarp>,
     pub(super) frame: Mat,
     /// Scratch for a mirrored frame.
     flipped: Mat,
@@ -53,6 +58,15 @@ impl Twin {
             let duration = plan.truth.last().map_or(0.0, |r| r.t_s);
             ShakePath::new(k, plan.s.seed, duration)
         });
+        let second = plan
+            .s
+            .room
+            .filter(|r| r.second_string)
+            .map(|_| SecondString::new(&plan, sigma, contrast));
+        let lens = match &plan.lens {
+            Some(l) => Some(LensWarp::new(l, plan.geo.w, plan.geo.h)?),
+            None => None,
+        };
         let frame = Mat::new_rows_cols_with_default(
             plan.geo.h as i32,
             plan.geo.w as i32,
@@ -67,6 +81,8 @@ impl Twin {
             sensor,
             hand: HandPainter::default(),
             shake,
+            second,
+            lens,
             frame,
             flipped: Mat::default(),
         })
@@ -92,8 +108,26 @@ impl Twin {
         {
             let buf = self.frame.data_bytes_mut()?;
             buf.copy_from_slice(&self.bg);
+            // The second pendulum first: the first is drawn over it.
+            let under = match &mut self.second {
+                Some(sec) => {
+                    let ts: Vec<f64> = (0..n_sub)
+                        .map(|k| {
+                            let f = if n_sub == 1 {
+                                0.0
+                            } else {
+                                k as f64 / (n_sub - 1) as f64 - 0.5
+                            };
+                            t + f * EXPOSURE * dt
+                        })
+                        .collect();
+                    sec.draw(buf, &self.bg, &self.illum, &ts);
+                    &sec.under
+                }
+                None => &self.bg,
+            };
             self.mover
-                .draw(buf, &self.bg, &self.illum, &thetas[..n_sub], theta_mid);
+                .draw(buf, under, &self.illum, &thetas[..n_sub], theta_mid);
         }
         if let Spoil::Hand { k, n, event } = plan.spoils[i] {
             let g = &plan.geo;
@@ -119,6 +153,12 @@ impl Twin {
         }
         if let Some(path) = &self.shake {
             shake::apply(&mut self.frame, path.at(t), &mut self.flipped)?;
+        }
+        if let Some(walker) = &plan.walker {
+            walker.paint(&mut self.frame, &self.illum, t)?;
+        }
+        if let Some(lens) = &mut self.lens {
+            lens.apply(&mut self.frame)?;
         }
         if let Some(sensor) = &self.sensor {
             let (gain, off) = sensor.frame(i, t);

@@ -64,7 +64,7 @@ impl Late {
 }
 
 /// The camera's motion over a detection: how far the frames were moved back.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CameraMotion {
     /// RMS of the frames' shift, px (frame px at full size).
     pub rms_px: f64,
@@ -74,6 +74,24 @@ pub struct CameraMotion {
     pub max_px: f64,
     /// Frames whose motion could not be measured (held at the last measured).
     pub unmeasured: usize,
+}
+
+impl CameraMotion {
+    /// In words, as the reports give it: "RMS 1.20 px and 0.150 deg, at most 3.1 px"
+    /// (and the frames not measurable, if any).
+    pub fn describe(&self) -> String {
+        format!(
+            "RMS {:.2} px and {:.3} deg, at most {:.1} px{}",
+            self.rms_px,
+            self.rms_deg,
+            self.max_px,
+            if self.unmeasured > 0 {
+                format!(", {} frames not measurable", self.unmeasured)
+            } else {
+                String::new()
+            }
+        )
+    }
 }
 
 /// Frames followed one after another: each one's motion measured, or held at the last

@@ -5,7 +5,7 @@
 //! (decoding) and [`detect`] (the wire angle in every frame), [`series`] (angle CSVs),
 //! [`signal`] (turning points, equilibrium) and [`fit`] (over [`numerics`]) (`s_r` and its uncertainty),
 //! with [`verdict`] for the checks; [`simulate`] and [`synth`] for the digital twin;
-//! [`pipeline`] takes one experiment through them; [`report`] renders pages as bytes;
+//! [`plane`] and [`lens`] map image angles to the plate's; [`pipeline`] takes one experiment through them; [`report`] renders pages as bytes;
 //! [`picture`] encodes PNGs;
 //! [`build`] runs the pipeline for a manifest with a content-hash cache ([`hash`],
 //! [`sources`]) and writes the reports; [`cli`] is the command line.
@@ -18,6 +18,7 @@ pub mod detect;
 pub mod fit;
 pub mod fsutil;
 pub mod hash;
+pub mod lens;
 pub mod numerics;
 pub mod physics;
 pub mod picture;

@@ -228,7 +228,8 @@ pub struct Component {
     /// The quantity's symbol, e.g. `d`.
     pub quantity: String,
     /// Where its value comes from: the experiment file's key, `angles`, or
-    /// `video.calibration` (the plate calibration's share).
+    /// `video.calibration` or `video.lens` (the plate calibration's or the lens's
+    /// share).
     pub key: String,
     /// Its estimate, in `unit` (`s_r` itself for the angles' parts).
     pub value: f64,
@@ -412,6 +413,7 @@ pub fn budget(
     f: &FitResult,
     a: AngleUncertainty,
     calibration: Option<&PlaneScale>,
+    lens: Option<&LensScale>,
 ) -> Result<Budget> {
     let start = [f.s_r_m, f.a_start_rad];
     let mut components = Vec::new();
@@ -521,6 +523,26 @@ pub fn budget(
             dof: c.dof,
         });
     }
+    if let Some(l) = lens {
+        let u = l.u_rel * f.s_r_m.abs();
+        components.push(Component {
+            quantity: "s_r (lens distortion)".to_string(),
+            key: "video.lens".to_string(),
+            value: f.s_r_m,
+            unit: "m".to_string(),
+            u,
+            distribution: Distribution::Normal,
+            source: format!(
+                "the swing's scale through the lens, k1 = {} +- {}: {:.3} %",
+                l.k1,
+                l.u_k1,
+                100.0 * l.u_rel
+            ),
+            sensitivity: 1.0,
+            contribution_m: u,
+            dof: None,
+        });
+    }
     let u_c = components
         .iter()
         .map(|c| c.contribution_m.powi(2))
@@ -568,6 +590,28 @@ impl PlaneScale {
             point_u_px: c.point_u_px,
             point_u_why: c.point_u_source.describe(),
             dof: (c.point_u_source == crate::plane::PointUSource::Residual).then_some(c.dof as f64),
+        }
+    }
+}
+
+/// What a lens's distortion (`video.lens`) adds to the budget: the relative standard
+/// uncertainty `u_k1` puts on the swing's scale ([`crate::lens::Lens::scale_u_rel`]),
+/// which `s_r` follows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LensScale {
+    pub u_rel: f64,
+    pub k1: f64,
+    pub u_k1: f64,
+}
+
+impl LensScale {
+    /// The scale uncertainty of `l` for a wire through the image point `pivot`, seen
+    /// over the radii `band` (px), swinging `amp` about the image angle `rest` (rad).
+    pub fn of(l: &crate::lens::Lens, pivot: [f64; 2], band: [f64; 2], rest: f64, amp: f64) -> Self {
+        Self {
+            u_rel: l.scale_u_rel(pivot, rest, amp, band),
+            k1: l.k1,
+            u_k1: l.u_k1,
         }
     }
 }

@@ -702,6 +702,15 @@ pub struct Video {
     /// image's (a camera square to the plate).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<PlateCalibration>,
+    /// The lens's radial distortion, e.g. `{k1: -0.2, u_k1: 0.02}` for a phone's wide
+    /// lens: a point at distance `r` from the frame's centre, in frame widths, is seen
+    /// at `z r (1 + k1 r^2)` (`z` keeps the frame's corners in place; the twin's
+    /// `synthetic.lens_k1` renders the same model). Every angle is then measured as the
+    /// undistorted wire's, and `u_k1` enters the budget of `s_r`. Not with
+    /// `calibration` (whose points would have to be undistorted first). Absent: an
+    /// undistorted view.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lens: Option<LensSpec>,
     /// The largest side, px, the detector works at: a frame (or its region of interest)
     /// is shrunk by a whole factor to at most this before the wire is measured (and to
     /// the default's scale when the finer one's look is in doubt). Default 640, at
@@ -710,6 +719,17 @@ pub struct Video {
     /// and a 1920x1080 one at half size (docs/detector.md, "Working scale").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub work_side_px: Option<u32>,
+}
+
+/// `video.lens`: the one-coefficient radial distortion and its uncertainty.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LensSpec {
+    /// The coefficient, -0.5 to 0.5 (negative: barrel).
+    pub k1: f64,
+    /// Its standard uncertainty, 0 to 0.5. Default 0.
+    #[serde(default)]
+    pub u_k1: f64,
 }
 
 /// `video.calibration`, e.g. `{points: [{image: [412.5, 96.0], plate: [0, 0]}, ...]}`.

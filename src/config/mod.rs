@@ -389,6 +389,15 @@ impl Experiment {
             .and_then(|v| v.calibration.as_ref())
             .map(plate_calibration)
             .transpose()?;
+        if let Some(l) = file.video.as_ref().and_then(|v| v.lens) {
+            within("video.lens.k1", l.k1, -0.5, 0.5, "")?;
+            within("video.lens.u_k1", l.u_k1, 0.0, 0.5, "")?;
+            ensure!(
+                calibration.is_none(),
+                "`video.lens` with `video.calibration`: not supported (the calibration's \
+                 image points would have to be undistorted first); give one of them"
+            );
+        }
         if let Some(s) = &file.synthetic {
             self::s_r("synthetic.s_r_m", s.s_r_m)?;
             if parse_beta(&s.beta, "synthetic.beta")? == BetaChoice::Free {

@@ -288,6 +288,7 @@ mod tests {
             review: Default::default(),
             swing_scale: None,
             calibration: None,
+            lens: None,
             camera: None,
         }
     }

@@ -64,7 +64,7 @@ pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, FrameSource, Roi};
 use anyhow::{bail, ensure, Context, Result};
-use fill::{apply_marks, fill_flagged};
+use fill::{apply_marks, fill_flagged, flag_isolated};
 use first_look::*;
 use geometry::InitFrames;
 use nalgebra::Vector2;
@@ -349,7 +349,12 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         bail!("{}: the decoder gave frames without timestamps", name);
     }
     flag_repeats(&mut rows);
-    let pivot = tracker.refine_pivot(&mut rows);
+    let lens = opts.lens.map(|l| {
+        let info = input.info();
+        crate::lens::Lens::new(l.k1, l.u_k1, info.width, info.height)
+    });
+    let pivot = tracker.refine_pivot(&mut rows, lens.as_ref());
+    flag_isolated(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(
         &mut rows,
@@ -380,7 +385,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
             pivot.y
         );
     }
-    let swing_scale = tracker.swing_scale(&rows, pivot);
+    let swing_scale = tracker.swing_scale(&rows, pivot, lens.as_ref());
     let figure11 = keeper.take(&rows);
     Ok(Detection {
         rows,
@@ -395,6 +400,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         review: review.take(),
         swing_scale,
         calibration: opts.calibration.clone(),
+        lens,
         camera,
     })
 }

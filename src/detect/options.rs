@@ -18,6 +18,9 @@ pub struct DetectOptions {
     /// The plate calibration (`video.calibration`): the angles CSV then holds plate
     /// angles ([`super::Detection::to_csv`]); the detection itself works in the image.
     pub calibration: Option<crate::plane::Calibration>,
+    /// The lens's radial distortion (`video.lens`): the angles CSV then holds the
+    /// undistorted wire's angles; the detection itself works in the image.
+    pub lens: Option<crate::config::LensSpec>,
     /// Folder for the diagnostic images of flagged frames (none if `None`).
     pub diag_dir: Option<PathBuf>,
     /// Told the frames done (and the header's frame count) every 100 frames; when set,
@@ -54,6 +57,7 @@ impl Default for DetectOptions {
             gate_deg: 1.5,
             marks: BTreeMap::new(),
             calibration: None,
+            lens: None,
             diag_dir: None,
             progress: None,
             decode_once: true,
@@ -74,6 +78,7 @@ impl DetectOptions {
             threshold_sigma: v.threshold_sigma.unwrap_or(4.0),
             gate_deg: v.gate_deg.unwrap_or(1.5),
             marks: v.marks.clone(),
+            lens: v.lens,
             work_side_px: v.work_side_px.map_or(super::WORK_SIDE_PX, f64::from),
             ..Self::default()
         }

@@ -21,6 +21,9 @@ pub enum Flag {
     Duplicate,
     /// Much of the region changed at once (a hand or a shadow passing).
     Disturbed,
+    /// A few frames found between two losses of the wire (a person passing in front of
+    /// it): not trusted on their own.
+    Isolated,
 }
 
 impl Flag {
@@ -32,6 +35,7 @@ impl Flag {
             Flag::Flash => "flash",
             Flag::Duplicate => "duplicate",
             Flag::Disturbed => "disturbed",
+            Flag::Isolated => "isolated",
         }
     }
 
@@ -43,6 +47,7 @@ impl Flag {
             Flag::Flash,
             Flag::Duplicate,
             Flag::Disturbed,
+            Flag::Isolated,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)
@@ -95,6 +100,10 @@ pub struct Detection {
     /// angles).
     #[serde(skip)]
     pub calibration: Option<crate::plane::Calibration>,
+    /// The lens the angles CSV is measured through (`video.lens`; the rows keep image
+    /// angles).
+    #[serde(skip)]
+    pub lens: Option<crate::lens::Lens>,
     /// The camera's own motion, when it moved (each frame was warped back onto the
     /// first: see `steady`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -108,12 +117,14 @@ impl Detection {
     }
 
     /// Each row's angle as the CSV gives it: the image angle, or with a plate
-    /// calibration the plate angle of the wire through the pivot (kept continuous).
+    /// calibration the plate angle of the wire through the pivot (kept continuous), or
+    /// through a lens (`video.lens`) the undistorted wire's.
     pub fn angles(&self) -> Vec<Option<f64>> {
         let image: Vec<Option<f64>> = self.rows.iter().map(|r| r.angle_rad).collect();
-        match &self.calibration {
-            Some(c) => c.plate_angles(self.pivot_px, &image),
-            None => image,
+        match (&self.calibration, &self.lens) {
+            (Some(c), _) => c.plate_angles(self.pivot_px, &image),
+            (None, Some(l)) => l.plate_angles(self.pivot_px, self.band_px, &image),
+            (None, None) => image,
         }
     }
 

@@ -296,10 +296,23 @@ impl Steady {
     /// that does not is the moving wire's or the ball's pull on a plain scene, not the
     /// camera's.
     pub(super) fn explains(&mut self) -> Result<bool> {
+        let (moved, still) = self.losses()?;
+        Ok(moved < EXPLAINS * still)
+    }
+
+    /// The loss of the frame last measured at its motion and at none.
+    fn losses(&mut self) -> Result<(f64, f64)> {
         let (level, img) = (&self.levels[1], &self.smooth);
         let (_, _, moved) = align_step(level, img, self.recent, EXPLAIN_PX)?;
         let (_, _, still) = align_step(level, img, Motion::default(), EXPLAIN_PX)?;
-        Ok(moved < EXPLAINS * still)
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "steady: {:?}: the frame's loss {moved:.3} aligned, {still:.3} not ({:.2})",
+                self.recent,
+                moved / still
+            );
+        }
+        Ok((moved, still))
     }
 
     /// The motion of `f` measured from no motion (for frames far apart, as the first

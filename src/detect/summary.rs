@@ -44,6 +44,9 @@ pub struct DetectionSummary {
     /// The camera's own motion, when it moved (each frame was steadied onto the first).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<super::steady::CameraMotion>,
+    /// The lens the angles were measured through (`video.lens`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lens: Option<crate::lens::SeenThrough>,
 }
 
 impl DetectionSummary {
@@ -84,6 +87,10 @@ impl DetectionSummary {
             swing_scale: d.swing_scale,
             calibration: d.calibration.as_ref().map(Into::into),
             camera: d.camera,
+            lens: d.lens.map(|lens| crate::lens::SeenThrough {
+                lens,
+                band_px: d.band_px,
+            }),
         }
     }
 }

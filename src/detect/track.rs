@@ -12,6 +12,7 @@ use super::line::{Line, Moments};
 use super::{
     full_to_shrunk, shrunk_to_full, unwrap_near, AngleRow, DetectOptions, Flag, Pt, Status,
 };
+use crate::lens::Lens;
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
 use opencv::core::{self, Mat, Scalar};
@@ -490,8 +491,20 @@ impl Tracker {
     /// regressand, so it does not bias the slope. `None` with fewer than
     /// [`SWING_SCALE_FRAMES`] accepted frames or a swing under
     /// [`SWING_SCALE_SPREAD_DEG`].
-    pub(super) fn swing_scale(&self, rows: &[AngleRow], pivot: Pt) -> Option<f64> {
-        let p = full_to_shrunk(pivot, Pt::new(self.roi_x, self.roi_y), self.scale);
+    ///
+    /// Through a lens, both are the undistorted view's: the free line taken into it by
+    /// two of its points, the angle about the pivot by [`Lens::plate_angle`].
+    pub(super) fn swing_scale(
+        &self,
+        rows: &[AngleRow],
+        pivot: Pt,
+        lens: Option<&Lens>,
+    ) -> Option<f64> {
+        let origin = Pt::new(self.roi_x, self.roi_y);
+        let p = full_to_shrunk(pivot, origin, self.scale);
+        let to_full = |q: Pt| shrunk_to_full(q, origin, self.scale);
+        let band = [self.r_lo * self.scale, self.r_hi * self.scale];
+        let half = 0.25 * (self.r_hi - self.r_lo);
         let pairs: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.flag.is_none() && r.status == Status::Ok)
@@ -499,6 +512,21 @@ impl Tracker {
                 let m = r.moments.as_ref()?;
                 let (about, _) = m.line_about(p)?;
                 let free = m.free_line()?;
+                let (about, free) = match lens {
+                    Some(l) => {
+                        let ends = [free.point - free.dir * half, free.point + free.dir * half]
+                            .map(|q| {
+                                let f = to_full(q);
+                                let u = l.undistort([f.x, f.y]);
+                                Pt::new(u[0], u[1])
+                            });
+                        (
+                            l.plate_angle([pivot.x, pivot.y], about, band),
+                            Line::through(ends[0], ends[1]),
+                        )
+                    }
+                    None => (about, free),
+                };
                 // The free line has no direction: the branch nearest the angle about
                 // the pivot.
                 let f = unwrap_near(free.dir.y.atan2(free.dir.x), about);
@@ -531,15 +559,43 @@ impl Tracker {
     /// frame's free line fit (hundreds of lines at different angles, against the few
     /// dozen of the first seconds), then refit every angle about it from the stored
     /// pixel moments. Returns the pivot in full-frame pixels.
-    pub(super) fn refine_pivot(&self, rows: &mut [AngleRow]) -> Pt {
-        let to_full = |p: Pt| shrunk_to_full(p, Pt::new(self.roi_x, self.roi_y), self.scale);
+    ///
+    /// Through a lens (`video.lens`), the wire's image is a slight curve and its free
+    /// lines, chords of it, meet off the pivot: each is taken into the undistorted view
+    /// (two of its points, half the visible band apart), they are intersected there,
+    /// and the pivot is taken back into the image.
+    pub(super) fn refine_pivot(&self, rows: &mut [AngleRow], lens: Option<&Lens>) -> Pt {
+        let origin = Pt::new(self.roi_x, self.roi_y);
+        let to_full = |p: Pt| shrunk_to_full(p, origin, self.scale);
+        let undistort = |l: &Lens, p: Pt| {
+            let f = to_full(p);
+            let u = l.undistort([f.x, f.y]);
+            full_to_shrunk(Pt::new(u[0], u[1]), origin, self.scale)
+        };
+        let half = 0.25 * (self.r_hi - self.r_lo);
         let lines: Vec<Line> = rows
             .iter()
             .filter(|r| r.flag.is_none())
             .filter_map(|r| r.moments.as_ref().and_then(|m| m.free_line()))
+            .map(|ln| match lens {
+                Some(l) => Line::through(
+                    undistort(l, ln.point - ln.dir * half),
+                    undistort(l, ln.point + ln.dir * half),
+                ),
+                None => ln,
+            })
             .collect();
-        let Some(p) = refined_pivot(&lines, self.piv, 0.05 * (self.r_lo + self.r_hi)) else {
+        let start = lens.map_or(self.piv, |l| undistort(l, self.piv));
+        let Some(p) = refined_pivot(&lines, start, 0.05 * (self.r_lo + self.r_hi)) else {
             return to_full(self.piv);
+        };
+        let p = match lens {
+            Some(l) => {
+                let f = to_full(p);
+                let d = l.distort([f.x, f.y]);
+                full_to_shrunk(Pt::new(d[0], d[1]), origin, self.scale)
+            }
+            None => p,
         };
         for r in rows.iter_mut() {
             if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {

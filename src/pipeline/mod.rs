@@ -382,7 +382,20 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         }
         _ => None,
     };
-    let budget = uncertainty::budget(exp, &m, &f, angle_u, plane.as_ref())
+    // A lens's share: the angles were measured through it. Its swing is the image's
+    // (the rest angle taken back through the lens is near enough for a share).
+    let lens = angles.detection.as_ref().and_then(|d| {
+        let l = d.lens.as_ref()?;
+        let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
+        Some(uncertainty::LensScale::of(
+            &l.lens,
+            d.pivot_px,
+            l.band_px,
+            m.equilibrium.envelope,
+            amp,
+        ))
+    });
+    let budget = uncertainty::budget(exp, &m, &f, angle_u, plane.as_ref(), lens.as_ref())
         .context("the uncertainty budget")
         .with_context(what)?;
     let monte_carlo = match exp.file.monte_carlo_draws {

@@ -368,7 +368,16 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             )),
             None => detection.push(kv(
                 "angles measured in",
-                "the image (no `video.calibration`: a camera square to the plate)".into(),
+                match &d.lens {
+                    Some(l) => format!(
+                        "the undistorted view, through the lens's radial distortion \
+                         (`video.lens`: k1 = {} +- {})",
+                        l.lens.k1, l.lens.u_k1
+                    ),
+                    None => {
+                        "the image (no `video.calibration`: a camera square to the plate)".into()
+                    }
+                },
             )),
         }
         const SHOW: usize = 40;

@@ -1,10 +1,11 @@
 //! The plan: the motion, the geometry and the spoiled frames (no pixels).
 
 use super::look::Look;
-use super::room::{Lens, Walker};
+use super::room::Walker;
 use super::vfr::Vfr;
 use super::TruthRow;
 use crate::config::{Experiment, Synthetic};
+use crate::lens::Lens;
 use crate::plane::{self, Homography};
 use crate::rng::Rng;
 use crate::simulate;
@@ -132,7 +133,7 @@ impl Plan {
         let lens = s
             .lens_k1
             .filter(|&k| k != 0.0)
-            .map(|k| Lens::new(k, geo.w, geo.h));
+            .map(|k| Lens::new(k, 0.0, geo.w as u32, geo.h as u32));
         let walker = s
             .room
             .and_then(|r| r.walker_s)

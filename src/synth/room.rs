@@ -1,11 +1,13 @@
 //! What else the room puts in the picture (`synthetic.room`, `synthetic.lens_k1`): a
 //! ruled or gridded board and straight static edges on the plate, a second pendulum, a
-//! person walking through, and the lens's radial distortion.
+//! person walking through, and the lens's radial distortion (the model is
+//! [`crate::lens`]'s).
 
 use super::look::{bgr, mix, pt, scale, Look};
 use super::mover::Mover;
 use super::plan::{stream, Geometry, Plan};
 use crate::config::{Board, Room};
+use crate::lens::Lens;
 use crate::rng::Rng;
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar};
@@ -235,77 +237,24 @@ impl Walker {
     }
 }
 
-/// The lens's radial distortion (`synthetic.lens_k1`): a point at distance `r` (in
-/// frame widths) from the centre of the undistorted view is seen at `z r (1 + k1 r^2)`,
-/// `z` the zoom that keeps the corners where they are.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Lens {
-    k1: f64,
-    zoom: f64,
-    centre: [f64; 2],
-    w: f64,
-}
-
-impl Lens {
-    pub(super) fn new(k1: f64, w: usize, h: usize) -> Self {
-        let (wf, hf) = (w as f64, h as f64);
-        let centre = [(wf - 1.0) / 2.0, (hf - 1.0) / 2.0];
-        let corner2 = (centre[0] * centre[0] + centre[1] * centre[1]) / (wf * wf);
-        Self {
-            k1,
-            zoom: 1.0 / (1.0 + k1 * corner2),
-            centre,
-            w: wf,
-        }
-    }
-
-    /// Where the undistorted view's point `p` is seen, px.
-    pub(super) fn distort(&self, p: [f64; 2]) -> [f64; 2] {
-        let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
-        let r2 = (dx * dx + dy * dy) / (self.w * self.w);
-        let k = self.zoom * (1.0 + self.k1 * r2);
-        [self.centre[0] + k * dx, self.centre[1] + k * dy]
-    }
-
-    /// The undistorted view's point seen at `p` (Newton's method on the radius).
-    fn undistort(&self, p: [f64; 2]) -> [f64; 2] {
-        let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
-        let rho = dx.hypot(dy) / self.w;
-        if rho < 1e-12 {
-            return p;
-        }
-        let target = rho / self.zoom;
-        let mut r = target;
-        for _ in 0..8 {
-            let f = r * (1.0 + self.k1 * r * r) - target;
-            let df = 1.0 + 3.0 * self.k1 * r * r;
-            if df.abs() < 1e-9 {
-                break;
-            }
-            r -= f / df;
-        }
-        let k = r / rho;
-        [self.centre[0] + k * dx, self.centre[1] + k * dy]
-    }
-
-    /// The maps `remap` takes: for each image pixel, its source in the undistorted view.
-    pub(super) fn maps(&self, w: usize, h: usize) -> Result<(Mat, Mat)> {
-        let mut mx =
-            Mat::new_rows_cols_with_default(h as i32, w as i32, core::CV_32FC1, Scalar::all(0.0))?;
-        let mut my = mx.clone();
-        {
-            let xs = mx.data_typed_mut::<f32>()?;
-            let ys = my.data_typed_mut::<f32>()?;
-            for y in 0..h {
-                for x in 0..w {
-                    let s = self.undistort([x as f64, y as f64]);
-                    xs[y * w + x] = s[0] as f32;
-                    ys[y * w + x] = s[1] as f32;
-                }
+/// The maps `remap` takes for `lens`: for each image pixel, its source in the
+/// undistorted view.
+fn lens_maps(lens: &Lens, w: usize, h: usize) -> Result<(Mat, Mat)> {
+    let mut mx =
+        Mat::new_rows_cols_with_default(h as i32, w as i32, core::CV_32FC1, Scalar::all(0.0))?;
+    let mut my = mx.clone();
+    {
+        let xs = mx.data_typed_mut::<f32>()?;
+        let ys = my.data_typed_mut::<f32>()?;
+        for y in 0..h {
+            for x in 0..w {
+                let s = lens.undistort([x as f64, y as f64]);
+                xs[y * w + x] = s[0] as f32;
+                ys[y * w + x] = s[1] as f32;
             }
         }
-        Ok((mx, my))
     }
+    Ok((mx, my))
 }
 
 /// The lens applied to a frame: its maps and a scratch frame.
@@ -317,7 +266,7 @@ pub(super) struct LensWarp {
 
 impl LensWarp {
     pub(super) fn new(lens: &Lens, w: usize, h: usize) -> Result<Self> {
-        let (mx, my) = lens.maps(w, h)?;
+        let (mx, my) = lens_maps(lens, w, h)?;
         Ok(Self {
             mx,
             my,
@@ -343,25 +292,6 @@ impl LensWarp {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_lens_keeps_the_centre_and_corners_and_undoes_itself() {
-        let lens = Lens::new(-0.3, 960, 540);
-        let c = [479.5, 269.5];
-        assert_eq!(lens.distort(c), c);
-        let corner = lens.distort([0.0, 0.0]);
-        assert!(
-            corner[0].abs() < 1e-9 && corner[1].abs() < 1e-9,
-            "{corner:?}"
-        );
-        // Barrel: a point half-way out is pushed outwards (magnified centre).
-        let mid = lens.distort([c[0] + 200.0, c[1]]);
-        assert!(mid[0] > c[0] + 200.0, "{mid:?}");
-        for p in [[10.0, 20.0], [700.0, 400.0], [480.0, 100.0]] {
-            let q = lens.undistort(lens.distort(p));
-            assert!((q[0] - p[0]).abs() < 1e-6 && (q[1] - p[1]).abs() < 1e-6);
-        }
-    }
 
     #[test]
     fn the_walker_crosses_the_frame_in_its_time() {

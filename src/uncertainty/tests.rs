@@ -61,7 +61,7 @@ fn sensitivities_agree_with_the_small_angle_relation() {
     let exp = experiment("");
     let (m, f) = fitted(&exp, 0.0);
     let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-    let b = budget(&exp, &m, &f, a.clone(), None).unwrap();
+    let b = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
     let c = |q: &str| {
         b.components
             .iter()
@@ -97,11 +97,31 @@ fn a_given_uncertainty_replaces_the_default() {
     let exp = experiment("  uncertainty: { d_m: 0.002, g_m_s2: 0 }\n");
     let (m, f) = fitted(&exp, 0.0);
     let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-    let b = budget(&exp, &m, &f, a.clone(), None).unwrap();
+    let b = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
     let d = b.components.iter().find(|c| c.quantity == "d").unwrap();
     assert_eq!((d.u, d.distribution), (0.002, Distribution::Normal));
     let g = b.components.iter().find(|c| c.quantity == "g").unwrap();
     assert_eq!(g.contribution_m, 0.0);
+}
+
+#[test]
+fn a_lens_adds_its_share_of_the_swing_scale() {
+    let exp = experiment("");
+    let (m, f) = fitted(&exp, 0.0);
+    let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
+    let plain = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
+    let lens = LensScale {
+        u_rel: 0.004,
+        k1: -0.2,
+        u_k1: 0.01,
+    };
+    let b = budget(&exp, &m, &f, a, None, Some(&lens)).unwrap();
+    let c = b.components.iter().find(|c| c.key == "video.lens").unwrap();
+    assert!((c.contribution_m - 0.004 * f.s_r_m.abs()).abs() < 1e-18);
+    assert!(c.adds_to_s_r());
+    // In quadrature with the rest.
+    let expect = (plain.u_c_m.powi(2) + c.contribution_m.powi(2)).sqrt();
+    assert!((b.u_c_m - expect).abs() < 1e-15 * expect);
 }
 
 #[test]
@@ -135,7 +155,7 @@ fn the_monte_carlo_check_agrees_with_the_budget() {
     let exp = experiment("");
     let (m, f) = fitted(&exp, 0.05f64.to_radians());
     let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-    let b = budget(&exp, &m, &f, a.clone(), None).unwrap();
+    let b = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
     let mut calls = 0;
     let mc = monte_carlo(&exp, &m, &f, &b, 1000, 1, &mut |_| calls += 1).unwrap();
     assert_eq!(calls, 1000);

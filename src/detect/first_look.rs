@@ -211,11 +211,12 @@ impl<'a> FirstLook<'a> {
         let mut dropped = 0usize;
         let mut t_first = None;
         let mut decoded = 0u64;
-        // The camera's motion against the first frame: glanced at on every
-        // `steady::LOOK_EVERY`th frame; when enough of them moved, measured on all,
+        // The camera's motion against the first frame: glanced at every
+        // `steady::LOOK_EVERY_S`; when enough of them moved, measured on all,
         // and the look's frames are warped back.
         let mut steady: Option<steady::Steady> = None;
         let (mut measured, mut moved) = (0usize, 0usize);
+        let mut next_glance_t = f64::NEG_INFINITY;
         while src
             .next_frame(&mut frame)
             .with_context(|| "finding the wire".to_string())?
@@ -244,7 +245,8 @@ impl<'a> FirstLook<'a> {
                 Some(st) => st,
                 None => steady.insert(steady::Steady::new(&frame)?),
             };
-            if decoded % steady::LOOK_EVERY == 1 {
+            if frame.t_s >= next_glance_t {
+                next_glance_t = frame.t_s + steady::LOOK_EVERY_S;
                 measured += 1;
                 let m = st.glance(&frame)?;
                 if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > steady::MOVING_PX)

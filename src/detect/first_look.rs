@@ -212,11 +212,12 @@ impl<'a> FirstLook<'a> {
         let mut t_first = None;
         let mut decoded = 0u64;
         // The camera's motion against the first frame: glanced at every
-        // `steady::LOOK_EVERY_S`; when enough of them moved, measured on all,
+        // `steady::LOOK_EVERY`th frame, `steady::LOOK_EVERY_S` apart at least; when
+        // enough of them moved, measured on all,
         // and the look's frames are warped back.
         let mut steady: Option<steady::Steady> = None;
         let (mut measured, mut moved) = (0usize, 0usize);
-        let mut next_glance_t = f64::NEG_INFINITY;
+        let mut last_glance: Option<(u64, f64)> = None;
         while src
             .next_frame(&mut frame)
             .with_context(|| "finding the wire".to_string())?
@@ -245,8 +246,11 @@ impl<'a> FirstLook<'a> {
                 Some(st) => st,
                 None => steady.insert(steady::Steady::new(&frame)?),
             };
-            if frame.t_s >= next_glance_t {
-                next_glance_t = frame.t_s + steady::LOOK_EVERY_S;
+            let glance = last_glance.is_none_or(|(k, t)| {
+                decoded - k >= steady::LOOK_EVERY && frame.t_s - t >= steady::LOOK_EVERY_S
+            });
+            if glance {
+                last_glance = Some((decoded, frame.t_s));
                 measured += 1;
                 let m = st.glance(&frame)?;
                 if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > steady::MOVING_PX)

@@ -97,11 +97,15 @@ const EXPLAINS: f64 = 0.6;
 /// farthest corner, by more than this many px of the frame as measured ...
 pub(super) const MOVING_PX: f64 = 0.4;
 
-/// The first look measures a frame every this many seconds to tell whether the camera
-/// moves (all of them once it does): ten or so over the look at any frame rate. Every
-/// sixth frame, as before, was 25 glances at 60 frames/s, and a still 60 fps clip's
-/// detection took a fifth more of the processor than without them.
-pub(super) const LOOK_EVERY_S: f64 = 0.24;
+/// The first look measures every this many frames to tell whether the camera moves
+/// (all of them once it does): a still camera's look costs a third of the measurement.
+pub(super) const LOOK_EVERY: u64 = 6;
+
+/// ... and [`LOOK_EVERY_S`] apart at least: 13 glances over the look at 30 frames/s or
+/// less, not 25 at 60 (a still 60 fps clip's detection took a fifth more of the
+/// processor than without them). A glance every 0.24 s whatever the rate left the
+/// two-rod clip, moved, 2 glances of 10 that found it moved, and unsteadied.
+pub(super) const LOOK_EVERY_S: f64 = 0.2;
 
 /// ... in more than this share of the first look's frames: a still camera's frames
 /// measure within a few hundredths of a pixel of the first.

@@ -27,7 +27,14 @@ pub(super) struct Brightness {
     samples: Vec<(u32, u32)>,
     hist: Vec<u32>,
     lut: [u8; 256],
+    /// Of the last frame's votes, the share far from its gain ([`FOREIGN_RATIO`]).
+    foreign: f64,
 }
+
+/// A vote whose ratio lies beyond this factor of the frame's gain (either way) is
+/// foreign: the pixel shows something else than the reference did (the ball, or a
+/// person in front of the plate), not the same scene lit otherwise.
+const FOREIGN_RATIO: f64 = 1.25;
 
 impl Brightness {
     /// Gains against `reference` (the bytes of one frame; later frames have the same
@@ -44,12 +51,14 @@ impl Brightness {
             samples,
             hist: vec![0; RATIO_BINS],
             lut: [0; 256],
+            foreign: 0.0,
         }
     }
 
     /// The frame's brightness against the reference's: the median ratio (`None` when
     /// too few pixels of the reference are lit to tell, or the frame has another size).
     pub(super) fn gain(&mut self, frame: &[u8]) -> Option<f64> {
+        self.foreign = 0.0;
         if self.samples.len() < 50
             || self
                 .samples
@@ -70,11 +79,23 @@ impl Brightness {
             if seen + n > half {
                 // Within the bin, where the median falls (its votes spread evenly).
                 let within = (half - seen) as f64 + 0.5;
-                return Some((b as f64 + within / n as f64) / RATIO_SCALE as f64);
+                let g = (b as f64 + within / n as f64) / RATIO_SCALE as f64;
+                let lo = (g / FOREIGN_RATIO * RATIO_SCALE as f64) as usize;
+                let hi = ((g * FOREIGN_RATIO * RATIO_SCALE as f64) as usize).min(RATIO_BINS);
+                let near: u32 = self.hist[lo.min(hi)..hi].iter().sum();
+                self.foreign = 1.0 - f64::from(near) / self.samples.len() as f64;
+                return Some(g);
             }
             seen += n;
         }
         None
+    }
+
+    /// Of the last frame measured, the share of its votes far from its gain (beyond
+    /// [`FOREIGN_RATIO`] either way): what of it shows something else than the
+    /// reference frame did.
+    pub(super) fn foreign(&self) -> f64 {
+        self.foreign
     }
 
     /// Bring `frame` to the reference's brightness (divide by its gain), in place.
@@ -147,6 +168,27 @@ mod tests {
             // A dark object over 30 % of the frame does not move the median ratio.
             let got = b.gain(&scene(g, 0.3)).unwrap();
             assert!((got - g).abs() < 0.004, "gain {g}: measured {got}");
+        }
+    }
+
+    #[test]
+    fn the_share_that_shows_something_else_is_foreign_whatever_the_light() {
+        let mut b = Brightness::new(&scene(1.0, 0.0));
+        for (g, cover) in [
+            (1.0, 0.0),
+            (0.88, 0.0),
+            (1.0, 0.3),
+            (1.12, 0.3),
+            (0.9, 0.45),
+        ] {
+            b.gain(&scene(g, cover)).unwrap();
+            // The dark bar's pixels (a few of the darkest reference pixels are as dark
+            // as the bar, and vote as the scene).
+            assert!(
+                (b.foreign() - cover).abs() < 0.02,
+                "gain {g}, {cover} covered: foreign {}",
+                b.foreign()
+            );
         }
     }
 

@@ -358,10 +358,19 @@ fn run(
         dir.join("swing_scale.txt"),
         d.swing_scale.map_or("none".to_string(), |s| s.to_string()),
     )?;
+    // The angles as the CSV gives them (through `video.lens` when it is given).
+    let rows: Vec<rollfric::detect::AngleRow> = d
+        .rows
+        .iter()
+        .zip(d.angles())
+        .map(|(r, a)| rollfric::detect::AngleRow {
+            angle_rad: a,
+            ..r.clone()
+        })
+        .collect();
     // Angle error of the accepted frames against the truth (mirrored footage and any
     // roll: compared modulo a turn).
-    let errs: Vec<f64> = d
-        .rows
+    let errs: Vec<f64> = rows
         .iter()
         .zip(&truth)
         .filter(|(r, t)| r.status == rollfric::series::Status::Ok && t.spoiled == "none")
@@ -376,9 +385,8 @@ fn run(
     let rms = (errs.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / errs.len().max(1) as f64)
         .sqrt()
         .to_degrees();
-    let parts = error_parts(&d.rows, &truth);
-    let occluded_wrong = d
-        .rows
+    let parts = error_parts(&rows, &truth);
+    let occluded_wrong = rows
         .iter()
         .zip(&truth)
         .filter(|(r, t)| r.status == rollfric::series::Status::Ok && t.spoiled == "walker")

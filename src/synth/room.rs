@@ -5,7 +5,7 @@
 
 use super::look::{bgr, mix, pt, scale, Look};
 use super::mover::Mover;
-use super::plan::{stream, Geometry, Plan};
+use super::plan::{stream, Geometry, Plan, SUBSAMPLES};
 use crate::config::{Board, Room};
 use crate::lens::Lens;
 use crate::rng::Rng;
@@ -27,8 +27,6 @@ pub(super) fn draw_board(
     seed: u64,
 ) -> Result<()> {
     let mut rng = Rng::new(stream(seed, 20));
-    let size = canvas.size()?;
-    let diag = f64::from(size.width).hypot(f64::from(size.height));
     let ink = bgr(mix(look.plate, look.marks, 0.35));
     let spacing = (g.d_px / 20.0).max(6.0);
     let sets: &[f64] = match room.board {
@@ -40,22 +38,35 @@ pub(super) fn draw_board(
     for &turn in sets {
         let a = base + turn;
         let (u, n) = ([a.cos(), a.sin()], [-a.sin(), a.cos()]);
-        let lines = (diag / spacing).ceil() as i32;
+        let lines = (diag(canvas)? / spacing).ceil() as i32;
         let phase = rng.uniform() * spacing;
         for k in -lines..=lines {
             let o = phase + f64::from(k) * spacing;
             let m = [c[0] + o * n[0], c[1] + o * n[1]];
-            imgproc::line(
-                canvas,
-                pt(m[0] - diag * u[0], m[1] - diag * u[1]),
-                pt(m[0] + diag * u[0], m[1] + diag * u[1]),
-                ink,
-                1,
-                imgproc::LINE_AA,
-                4,
-            )?;
+            across(canvas, m, u, ink, 1)?;
         }
     }
+    Ok(())
+}
+
+/// The canvas's diagonal, px: a line that long through any point of it crosses it.
+fn diag(canvas: &Mat) -> Result<f64> {
+    let size = canvas.size()?;
+    Ok(f64::from(size.width).hypot(f64::from(size.height)))
+}
+
+/// A line across the whole canvas through `m` along the unit direction `u`.
+fn across(canvas: &mut Mat, m: [f64; 2], u: [f64; 2], colour: Scalar, width: i32) -> Result<()> {
+    let d = diag(canvas)?;
+    imgproc::line(
+        canvas,
+        pt(m[0] - d * u[0], m[1] - d * u[1]),
+        pt(m[0] + d * u[0], m[1] + d * u[1]),
+        colour,
+        width,
+        imgproc::LINE_AA,
+        4,
+    )?;
     Ok(())
 }
 
@@ -71,8 +82,6 @@ pub(super) fn draw_edges(
     seed: u64,
 ) -> Result<()> {
     let mut rng = Rng::new(stream(seed, 21));
-    let size = canvas.size()?;
-    let diag = f64::from(size.width).hypot(f64::from(size.height));
     for _ in 0..room.edges {
         let a = rng.uniform() * PI;
         let off = 0.15 * g.d_px * (2.0 * rng.uniform() - 1.0);
@@ -83,15 +92,7 @@ pub(super) fn draw_edges(
             mix(look.plate, [240.0; 3], 0.7)
         };
         let width = 2 + (rng.uniform() * 5.0) as i32;
-        imgproc::line(
-            canvas,
-            pt(m[0] - diag * a.cos(), m[1] - diag * a.sin()),
-            pt(m[0] + diag * a.cos(), m[1] + diag * a.sin()),
-            bgr(colour),
-            width,
-            imgproc::LINE_AA,
-            4,
-        )?;
+        across(canvas, m, [a.cos(), a.sin()], bgr(colour), width)?;
     }
     Ok(())
 }
@@ -143,9 +144,12 @@ impl SecondString {
     /// Draw it into `frame`, which holds `bg`, at the exposure's times `ts`; keep the
     /// result in `under`.
     pub(super) fn draw(&mut self, frame: &mut [u8], bg: &[u8], illum: &[f32], ts: &[f64]) {
-        let thetas: Vec<f64> = ts.iter().map(|&t| self.theta(t)).collect();
+        let mut thetas = [0.0; SUBSAMPLES];
+        for (th, &t) in thetas.iter_mut().zip(ts) {
+            *th = self.theta(t);
+        }
         let mid = self.theta(ts[ts.len() / 2]);
-        self.mover.draw(frame, bg, illum, &thetas, mid);
+        self.mover.draw(frame, bg, illum, &thetas[..ts.len()], mid);
         self.under.clear();
         self.under.extend_from_slice(frame);
     }
@@ -201,9 +205,12 @@ impl Walker {
 
     /// How much of the pixel `(x, y)` the walker covers at time `t`, 0 to 1.
     pub(super) fn alpha(&self, x: f64, y: f64, t: f64) -> f64 {
-        let Some((cx, half)) = self.band(y, t) else {
-            return 0.0;
-        };
+        self.band(y, t)
+            .map_or(0.0, |(cx, half)| self.cover(x, cx, half))
+    }
+
+    /// How much of column `x` a band at `cx` of half-width `half` covers, 0 to 1.
+    fn cover(&self, x: f64, cx: f64, half: f64) -> f64 {
         let z = (half - (x - cx).abs()) / self.soft();
         0.97 / (1.0 + (-1.7 * z).exp())
     }
@@ -220,7 +227,7 @@ impl Walker {
             let x0 = (cx - reach).floor().max(0.0) as usize;
             let x1 = ((cx + reach).ceil().max(0.0) as usize).min(w);
             for x in x0..x1 {
-                let a = self.alpha(x as f64, y as f64, t) as f32;
+                let a = self.cover(x as f64, cx, half) as f32;
                 if a < 1e-3 {
                     continue;
                 }

@@ -94,15 +94,17 @@ impl Twin {
         let plan = &self.plan;
         let t = plan.truth[i].t_s;
         let dt = 1.0 / plan.fps;
-        let mut thetas = [0.0; SUBSAMPLES];
+        // The exposure's sub-times, and the wire's angle at each.
+        let (mut ts, mut thetas) = ([0.0; SUBSAMPLES], [0.0; SUBSAMPLES]);
         let n_sub = if self.sensor.is_some() { SUBSAMPLES } else { 1 };
-        for (k, th) in thetas[..n_sub].iter_mut().enumerate() {
+        for k in 0..n_sub {
             let f = if n_sub == 1 {
                 0.0
             } else {
                 k as f64 / (n_sub - 1) as f64 - 0.5
             };
-            *th = plan.theta(t + f * EXPOSURE * dt);
+            ts[k] = t + f * EXPOSURE * dt;
+            thetas[k] = plan.theta(ts[k]);
         }
         let theta_mid = plan.theta(t);
         {
@@ -111,17 +113,7 @@ impl Twin {
             // The second pendulum first: the first is drawn over it.
             let under = match &mut self.second {
                 Some(sec) => {
-                    let ts: Vec<f64> = (0..n_sub)
-                        .map(|k| {
-                            let f = if n_sub == 1 {
-                                0.0
-                            } else {
-                                k as f64 / (n_sub - 1) as f64 - 0.5
-                            };
-                            t + f * EXPOSURE * dt
-                        })
-                        .collect();
-                    sec.draw(buf, &self.bg, &self.illum, &ts);
+                    sec.draw(buf, &self.bg, &self.illum, &ts[..n_sub]);
                     &sec.under
                 }
                 None => &self.bg,

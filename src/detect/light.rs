@@ -29,7 +29,24 @@ pub(super) struct Brightness {
     lut: [u8; 256],
     /// Of the last frame's votes, the share far from its gain ([`FOREIGN_RATIO`]).
     foreign: f64,
+    /// Typical foreign share and gain of the frames not covered
+    /// ([`Brightness::covered`]).
+    foreign_ref: Option<f64>,
+    gain_ref: Option<f64>,
 }
+
+/// A frame is covered (a person in front of the plate) when more of its region than
+/// this many times the typical share, and than [`COVERED_SHARE`], shows something else
+/// than the first look's reference ([`Brightness::foreign`]) ...
+const COVERED_TIMES: f64 = 3.0;
+/// ... (see [`COVERED_TIMES`]) ...
+const COVERED_SHARE: f64 = 0.35;
+/// ... or when its brightness departs from the typical by more than this factor (a
+/// person covering most of the region: the gain follows it; flicker of 15 % and a
+/// slow drift stay well within).
+const COVERED_GAIN: f64 = 1.35;
+/// How much of each frame not covered the typical foreign share and gain take in.
+const COVERED_FOLLOW: f64 = 0.01;
 
 /// A vote whose ratio lies beyond this factor of the frame's gain (either way) is
 /// foreign: the pixel shows something else than the reference did (the ball, or a
@@ -52,6 +69,8 @@ impl Brightness {
             hist: vec![0; RATIO_BINS],
             lut: [0; 256],
             foreign: 0.0,
+            foreign_ref: None,
+            gain_ref: None,
         }
     }
 
@@ -96,6 +115,29 @@ impl Brightness {
     /// reference frame did.
     pub(super) fn foreign(&self) -> f64 {
         self.foreign
+    }
+
+    /// Whether the frame last measured, of gain `gain`, is covered (see
+    /// [`COVERED_TIMES`] and [`COVERED_GAIN`]), from its foreign share and gain; the typical ones follow the frames that are not.
+    pub(super) fn covered(&mut self, gain: f64) -> bool {
+        let foreign = self.foreign;
+        let covered = self
+            .foreign_ref
+            .is_some_and(|r| foreign > (COVERED_TIMES * r).max(COVERED_SHARE))
+            || self
+                .gain_ref
+                .is_some_and(|g| gain > 0.0 && (gain / g).ln().abs() > COVERED_GAIN.ln());
+        // Slowly (a hundred frames or so): a person stepping in over half a second
+        // does not become the typical.
+        if !covered {
+            let k = COVERED_FOLLOW;
+            self.foreign_ref = Some(
+                self.foreign_ref
+                    .map_or(foreign, |r| (1.0 - k) * r + k * foreign),
+            );
+            self.gain_ref = Some(self.gain_ref.map_or(gain, |g| (1.0 - k) * g + k * gain));
+        }
+        covered
     }
 
     /// Bring `frame` to the reference's brightness (divide by its gain), in place.

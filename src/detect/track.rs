@@ -80,23 +80,7 @@ pub(super) struct Tracker {
     debug: Option<String>,
     /// The last frame's predicted angle.
     last_pred: Option<f64>,
-    /// Typical foreign share and gain of the frames not covered ([`Tracker::covered`]).
-    foreign_ref: Option<f64>,
-    gain_ref: Option<f64>,
 }
-
-/// A frame is covered (a person in front of the plate) when more of its region than
-/// this many times the typical share, and than [`COVERED_SHARE`], shows something else
-/// than the first look's reference ([`Brightness::foreign`]) ...
-const COVERED_TIMES: f64 = 3.0;
-/// ... (see [`COVERED_TIMES`]) ...
-const COVERED_SHARE: f64 = 0.35;
-/// ... or when its brightness departs from the typical by more than this factor (a
-/// person covering most of the region: the gain follows it; flicker of 15 % and a
-/// slow drift stay well within).
-const COVERED_GAIN: f64 = 1.35;
-/// How much of each frame not covered the typical foreign share and gain take in.
-const COVERED_FOLLOW: f64 = 0.01;
 
 impl Tracker {
     pub(super) fn new(
@@ -187,8 +171,6 @@ impl Tracker {
             diagnostics: Vec::new(),
             debug,
             last_pred: None,
-            foreign_ref: None,
-            gain_ref: None,
         })
     }
 
@@ -238,28 +220,6 @@ impl Tracker {
             return Some(a2 + (a2 - a1) / (t2 - t1) * (t - t2));
         }
         Some(recent[0].1)
-    }
-
-    /// Whether a frame is covered (see [`COVERED_TIMES`] and [`COVERED_GAIN`]), from its
-    /// foreign share and gain; the typical ones follow the frames that are not.
-    fn covered(&mut self, foreign: f64, gain: f64) -> bool {
-        let covered = self
-            .foreign_ref
-            .is_some_and(|r| foreign > (COVERED_TIMES * r).max(COVERED_SHARE))
-            || self
-                .gain_ref
-                .is_some_and(|g| gain > 0.0 && (gain / g).ln().abs() > COVERED_GAIN.ln());
-        // Slowly (a hundred frames or so): a person stepping in over half a second
-        // does not become the typical.
-        if !covered {
-            let k = COVERED_FOLLOW;
-            self.foreign_ref = Some(
-                self.foreign_ref
-                    .map_or(foreign, |r| (1.0 - k) * r + k * foreign),
-            );
-            self.gain_ref = Some(self.gain_ref.map_or(gain, |g| (1.0 - k) * g + k * gain));
-        }
-        covered
     }
 
     pub(super) fn step(&mut self, f: &Frame, hint: Option<f64>) -> Result<AngleRow> {
@@ -316,7 +276,7 @@ impl Tracker {
         };
         let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
         let foreign = if flash { 0.0 } else { self.light.foreign() };
-        let covered = !flash && self.covered(foreign, gain);
+        let covered = !flash && self.light.covered(gain);
         let disturbed = covered || self.mad_ref.is_some_and(|r| mad > 4.0 * r.max(0.5));
         if self.debug.as_deref() == Some("mad") {
             eprintln!(

@@ -262,6 +262,14 @@ enum Outcome {
     Refused(String),
 }
 
+/// A measured scene's detection (whether or not its fit was refused): its angle RMS
+/// against the truth, and the detection's own verdict.
+struct DetectionSeen {
+    angle_rms_deg: f64,
+    label: String,
+    suspect: bool,
+}
+
 /// The accepted frames' angle error split into its parts: `error = offset + scale *
 /// (true angle - its mean) + lag * true angular velocity + rest`. A swing measured too
 /// small or too large (`scale`, a share: what a pivot placed off along the wire gives)
@@ -316,6 +324,7 @@ fn run(
     dir: &Path,
     duration: f64,
     opts: &DetectOptions,
+    seen: &mut Option<DetectionSeen>,
 ) -> Result<Outcome> {
     let exp = scene.experiment(root, dir, duration)?;
     // `ROBUSTNESS_LENS=known`: a scene with a lens is detected with its coefficient
@@ -399,6 +408,11 @@ fn run(
             })
         })
         .count();
+    *seen = Some(DetectionSeen {
+        angle_rms_deg: rms,
+        label: d.verdict.label(),
+        suspect: d.verdict.verdict == rollfric::verdict::Status::Suspect,
+    });
     let a = match pipeline::analyze(&exp, &angles, Overrides::default()) {
         Ok(a) => a,
         Err(e) => return Ok(Outcome::Refused(format!("fit: {e:#}"))),
@@ -494,6 +508,10 @@ fn main() -> Result<()> {
     // more than 1 % off and called `ok`.
     let mut by_condition = [[0usize; 5]; CONDITIONS.len()];
     let mut occluded_wrong_total = 0;
+    // The detection's verdict against the angle RMS: [ok, suspect] for <= 0.02 deg,
+    // 0.02-0.05 deg and > 0.05 deg; and the scenes over 0.05 deg it called `ok`.
+    let mut detection_confusion = [[0usize; 2]; 3];
+    let mut missed = Vec::new();
     for i in 0..scenes {
         let mut scene = Scene::draw(&mut rng, seed * 1000 + i as u64);
         while !placeable(&scene, root, duration)? {
@@ -512,7 +530,22 @@ fn main() -> Result<()> {
             Dir::Temp(dir)
         };
         let started = std::time::Instant::now();
-        let outcome = run(&scene, root, dir.path(), duration, &opts);
+        let mut seen = None;
+        let outcome = run(&scene, root, dir.path(), duration, &opts, &mut seen);
+        if let Some(s) = &seen {
+            let band = match s.angle_rms_deg {
+                r if r <= 0.02 => 0,
+                r if r <= 0.05 => 1,
+                _ => 2,
+            };
+            detection_confusion[band][usize::from(s.suspect)] += 1;
+            if band == 2 && !s.suspect {
+                missed.push(format!(
+                    "scene {i}: angle RMS {:.4} deg, detection {}",
+                    s.angle_rms_deg, s.label
+                ));
+            }
+        }
         if let (Some(keep), Ok(Outcome::Measured { .. })) = (&keep, &outcome) {
             let to = keep.join(format!("scene-{i:03}"));
             std::fs::create_dir_all(&to)
@@ -585,8 +618,9 @@ fn main() -> Result<()> {
                     ));
                 }
                 format!(
-                    "s_r {:+.3} %, angle RMS {angle_rms_deg:.4} deg{parts}, {verdict}{}",
+                    "s_r {:+.3} %, angle RMS {angle_rms_deg:.4} deg{parts}, {verdict}, detection {}{}",
                     100.0 * s_r_err,
+                    seen.as_ref().map_or("-", |s| s.label.as_str()),
                     if *occluded_wrong > 0 {
                         format!("; {occluded_wrong} occluded frames ok and > 0.5 deg off")
                     } else {
@@ -652,6 +686,17 @@ fn main() -> Result<()> {
     println!("    |s_r error|   ok  suspect");
     for (name, row) in ["<= 0.5 %", "0.5-1 %", "> 1 %"].iter().zip(&confusion) {
         println!("    {name:<10} {:>5} {:>8}", row[0], row[1]);
+    }
+    println!("  the detection's verdict against the angle RMS (every scene detected):");
+    println!("    angle RMS        ok  suspect");
+    for (name, row) in ["<= 0.02 deg", "0.02-0.05 deg", "> 0.05 deg"]
+        .iter()
+        .zip(&detection_confusion)
+    {
+        println!("    {name:<13} {:>5} {:>8}", row[0], row[1]);
+    }
+    for m in &missed {
+        println!("    over 0.05 deg, called ok: {m}");
     }
     println!("  by condition (a scene may have several):");
     println!(

@@ -19,7 +19,12 @@ pub enum Kind {
     Truth,
     /// A twin's video (`synth`): it carries [`TWIN_MARK`].
     Twin,
+    /// `detect --json`'s summary: it begins with [`DETECT_JSON_KIND`].
+    DetectJson,
 }
+
+/// The first key of `detect --json`'s summary, by which an older one is known.
+pub const DETECT_JSON_KIND: &str = "\"kind\": \"rollfric detect\"";
 
 impl Kind {
     fn describe(self) -> &'static str {
@@ -27,6 +32,7 @@ impl Kind {
             Kind::Angles => "an angle CSV (t_s,angle_rad,...)",
             Kind::Truth => "a twin's truth CSV (t_s,angle_rad,spoiled)",
             Kind::Twin => "a twin's video rendered by `rollfric synth`",
+            Kind::DetectJson => "a detection summary written by `rollfric detect --json`",
         }
     }
 
@@ -37,17 +43,28 @@ impl Kind {
                 .is_some_and(|l| l == "t_s,angle_rad" || l == "t_s,angle_rad,status,quality"),
             Kind::Truth => first_line(path).is_some_and(|l| l == "t_s,angle_rad,spoiled"),
             Kind::Twin => carries_mark(path),
+            Kind::DetectJson => head(path).is_some_and(|h| h.contains(DETECT_JSON_KIND)),
         }
     }
 }
 
 /// The first line of a file (at most 256 bytes read), without its line end.
 fn first_line(path: &Path) -> Option<String> {
+    Some(
+        head(path)?
+            .lines()
+            .next()?
+            .trim_end_matches('\r')
+            .to_string(),
+    )
+}
+
+/// The first 256 bytes of a file, as text.
+fn head(path: &Path) -> Option<String> {
     let mut buf = [0u8; 256];
     let mut f = std::fs::File::open(path).ok()?;
     let n = f.read(&mut buf).ok()?;
-    let text = std::str::from_utf8(&buf[..n]).ok()?;
-    Some(text.lines().next()?.trim_end_matches('\r').to_string())
+    Some(String::from_utf8_lossy(&buf[..n]).into_owned())
 }
 
 /// Whether a video holds [`TWIN_MARK`] where a container keeps its metadata: the

@@ -150,6 +150,9 @@ fn review_page_marks_a_frame_that_the_rebuild_measures() {
             clip.as_os_str(),
             OsStr::new("-o"),
             yaml.as_os_str(),
+            // Two pendulums swing in the frame: the right panel's.
+            OsStr::new("--roi"),
+            OsStr::new("240,0,240,360"),
         ],
         &root(),
     );

@@ -521,7 +521,8 @@ fn a_hand_held_twin_is_steadied_onto_its_first_frame() {
 
 /// A room that is not empty: a gridded board behind the pendulum, two static edges near
 /// the fulcrum, a second pendulum swinging beside the first, and a person walking
-/// through who covers the wire for about a second. The track stays on the wire: the
+/// through who covers the wire for about a second. The two pendulums are told apart
+/// (refused, naming both, until a pivot says which). The track stays on the wire: the
 /// frames the walker covers are `missing` or `corrected`, never `ok` on something else,
 /// and the other frames are measured as in an empty room (0.0073 deg; 0.0056 empty).
 #[test]
@@ -549,7 +550,36 @@ fn a_twin_in_a_busy_room_is_measured_and_its_occluded_frames_are_not_ok() {
         ],
         d,
     );
-    rollfric_ok(&["detect", "room.mp4", "-o", "angles.csv"], d);
+    // Two pendulums: refused, naming both pivots, until a pivot says which; the first
+    // pendulum's hangs in the frame's middle column (480 px), the second's beside it.
+    let out = common::rollfric(&["detect", "room.mp4", "-o", "angles.csv"], d);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("two pendulums"),
+        "{err}"
+    );
+    let pivots: Vec<(f64, f64)> = err
+        .split(" px")
+        .filter_map(|p| {
+            let (x, y) = p
+                .rsplit_once('(')?
+                .1
+                .trim_end_matches(')')
+                .split_once(", ")?;
+            Some((x.parse().ok()?, y.parse().ok()?))
+        })
+        .collect();
+    assert_eq!(pivots.len(), 2, "{err}");
+    let first = pivots
+        .iter()
+        .min_by(|a, b| (a.0 - 480.0).abs().total_cmp(&(b.0 - 480.0).abs()))
+        .unwrap();
+    assert!((first.0 - 480.0).abs() < 20.0, "{err}");
+    let pivot = format!("{},{}", first.0, first.1);
+    rollfric_ok(
+        &["detect", "room.mp4", "-o", "angles.csv", "--pivot", &pivot],
+        d,
+    );
     let t = read(&d.join("truth.csv"), "spoiled");
     let a = read(&d.join("angles.csv"), "status");
     assert_eq!(t.len(), a.len(), "one row per frame");

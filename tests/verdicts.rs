@@ -83,7 +83,7 @@ fn fit_json(exp: &Path) -> serde_json::Value {
 
 /// A real clip's experiment in `dir`: a plausible geometry (incline 5 deg, r = 12.7 mm,
 /// m = 67 g) with pendulum length `d_m`, the clip's video measured.
-fn clip_yaml(dir: &Path, clip: &Path, d_m: &str) -> PathBuf {
+fn clip_yaml(dir: &Path, clip: &Path, d_m: &str, video_extra: &str) -> PathBuf {
     let p = dir.join(format!("clip-{}.yaml", d_m.replace('.', "_")));
     std::fs::write(
         &p,
@@ -92,7 +92,7 @@ fn clip_yaml(dir: &Path, clip: &Path, d_m: &str) -> PathBuf {
   incline: {{ angle_deg: 5 }}
   pendulum: {{ d_m: {d_m} }}
   ball: {{ radius_m: 0.0127, mass_kg: 0.067 }}
-video: {{ path: {} }}
+video: {{ path: {}{video_extra} }}
 ",
             clip.display()
         ),
@@ -317,7 +317,7 @@ fn the_real_clip_with_a_wrong_length_is_suspect() {
         return;
     };
     let d = tempfile::tempdir().unwrap();
-    let exp = |d_m: &str| clip_yaml(d.path(), &clip, d_m);
+    let exp = |d_m: &str| clip_yaml(d.path(), &clip, d_m, "");
     let j = fit_json(&exp("0.20"));
     assert_eq!(j["verdict"], "suspect", "{j}");
     assert!(warned(&j).contains(&"period".to_string()), "{j}");
@@ -342,7 +342,13 @@ fn the_split_screen_clip_with_a_plausible_yaml_is_suspect() {
         return;
     };
     let d = tempfile::tempdir().unwrap();
-    let j = fit_json(&clip_yaml(d.path(), &clip, "0.20"));
+    // Its right panel (two pendulums swing in the frame: one is chosen).
+    let j = fit_json(&clip_yaml(
+        d.path(),
+        &clip,
+        "0.20",
+        ", roi: [240, 0, 240, 360]",
+    ));
     assert_eq!(j["verdict"], "suspect", "{j}");
     let w = warned(&j);
     assert!(

@@ -37,9 +37,85 @@ pub struct DetectArgs {
     /// measures 1280x720 footage at full size, more finely and more slowly.
     #[arg(long, value_name = "PX")]
     work_side: Option<u32>,
+    /// Also write the detection's summary as JSON: its verdict (`ok`, `suspect` or
+    /// `refused`, with the reason), each check with its figure and limit, what it saw
+    /// (period, amplitudes, pivot), the frames' counts. Written on a refusal too.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
     /// Replace an existing output that is not an angle CSV.
     #[arg(long)]
     force: bool,
+}
+
+/// `detect --json`'s summary.
+#[derive(serde::Serialize)]
+struct JsonSummary<'a> {
+    /// Always `rollfric detect` (first, so that an older summary is known by it).
+    kind: &'static str,
+    video: String,
+    /// `ok`, `suspect` or `refused`.
+    verdict: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reason: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frames: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    counts: Option<Counts>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    roi: Option<[u32; 4]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dark_wire: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    swing_scale: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    seen: Option<&'a detect::judge::Seen>,
+    checks: &'a [detect::judge::DetectionCheck],
+}
+
+#[derive(serde::Serialize)]
+struct Counts {
+    ok: usize,
+    corrected: usize,
+    manual: usize,
+    missing: usize,
+}
+
+/// The JSON text of `d`'s summary, or of a refusal (`d` an error).
+fn json_summary(video: &std::path::Path, d: &Result<detect::Detection>) -> Result<String> {
+    let s = match d {
+        Ok(d) => JsonSummary {
+            kind: "rollfric detect",
+            video: video.display().to_string(),
+            verdict: d.verdict.verdict.as_str(),
+            reason: None,
+            frames: Some(d.rows.len()),
+            counts: Some(Counts {
+                ok: d.count(Status::Ok),
+                corrected: d.count(Status::Corrected),
+                manual: d.count(Status::Manual),
+                missing: d.count(Status::Missing),
+            }),
+            roi: Some(d.roi),
+            dark_wire: Some(d.dark_wire),
+            swing_scale: d.swing_scale,
+            seen: Some(&d.verdict.seen),
+            checks: &d.verdict.checks,
+        },
+        Err(e) => JsonSummary {
+            kind: "rollfric detect",
+            video: video.display().to_string(),
+            verdict: "refused",
+            reason: Some(format!("{e:#}")),
+            frames: None,
+            counts: None,
+            roi: None,
+            dark_wire: None,
+            swing_scale: None,
+            seen: None,
+            checks: &[],
+        },
+    };
+    Ok(serde_json::to_string_pretty(&s)? + "\n")
 }
 
 /// Exactly `N` comma-separated numbers for `--name`.
@@ -97,15 +173,19 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     if let Some(e) = &experiment {
         inputs.push(("the experiment file", e.as_path()));
     }
-    clobber::check(
-        &[clobber::Output {
-            flag: "-o",
-            path: &a.output,
-            kind: clobber::Kind::Angles,
-        }],
-        &inputs,
-        a.force,
-    )?;
+    let mut outputs = vec![clobber::Output {
+        flag: "-o",
+        path: &a.output,
+        kind: clobber::Kind::Angles,
+    }];
+    if let Some(j) = &a.json {
+        outputs.push(clobber::Output {
+            flag: "--json",
+            path: j,
+            kind: clobber::Kind::DetectJson,
+        });
+    }
+    clobber::check(&outputs, &inputs, a.force)?;
     let opts = options(&a)?;
     if a.work_side.is_some_and(|s| s > 640) {
         // A larger working side costs memory: say how much, before it is spent.
@@ -125,14 +205,18 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         }
     }
     let started = std::time::Instant::now();
-    let d = detect::detect(&a.video, &opts)?;
+    let d = detect::detect(&a.video, &opts);
+    if let Some(j) = &a.json {
+        fsutil::write_atomic(j, json_summary(&a.video, &d)?.as_bytes())?;
+    }
+    let d = d?;
     let secs = started.elapsed().as_secs_f64();
     fsutil::write_atomic(&a.output, d.to_csv().as_bytes())?;
     let n = d.rows.len();
     eprintln!(
         "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, decoded {}, peak memory {}, CPU \
          besides the decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, \
-         {:.1}) px (swing scale {}), {} wire, ROI {:?}{} -> {}",
+         {:.1}) px (swing scale {}), {} wire, ROI {:?}{} -> {}; {}",
         a.video.display(),
         n as f64 / secs,
         d.decoder,
@@ -155,9 +239,20 @@ pub fn detect(a: DetectArgs) -> Result<String> {
             "; the camera moved ({}): each frame was steadied onto the first",
             c.describe()
         )),
-        a.output.display()
+        a.output.display(),
+        describe_verdict(&d.verdict)
     );
     Ok(String::new())
+}
+
+/// The detection's verdict and what it saw, for the summary's line, with each failed
+/// check's reason.
+fn describe_verdict(v: &detect::judge::DetectionVerdict) -> String {
+    let mut out = format!("detection {}: {}", v.label(), v.seen.describe());
+    for c in v.failed() {
+        out.push_str(&format!("; {}: {}", c.check, c.reason));
+    }
+    out
 }
 
 /// The estimated peak memory above which `detect` says what a working side costs, MiB.

@@ -24,6 +24,14 @@ pub struct InitArgs {
     /// manifest that does not exist yet is made).
     #[arg(long)]
     manifest: Option<PathBuf>,
+    /// Region of interest `x,y,width,height` (px): which pendulum, when the frame holds
+    /// more than one (written into the file's `video.roi`).
+    #[arg(long, value_delimiter = ',')]
+    roi: Option<Vec<u32>>,
+    /// Pivot `x,y` (px; may lie outside the frame): which pendulum, when the frame holds
+    /// more than one (written into the file's `video.pivot`).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pivot: Option<Vec<f64>>,
     /// Replace an existing experiment file.
     #[arg(long)]
     force: bool,
@@ -38,6 +46,9 @@ struct Found {
     dark: bool,
     pivot: [f64; 2],
     roi: [u32; 4],
+    /// The region and the pivot `--roi` and `--pivot` gave, if any.
+    given_roi: Option<[u32; 4]>,
+    given_pivot: Option<[f64; 2]>,
     ok_share: f64,
     /// (frame, time s, held for s) of a release from a held start.
     release: Option<(u64, f64, f64)>,
@@ -72,7 +83,22 @@ pub fn init(a: InitArgs) -> Result<String> {
     if a.video.extension().is_some_and(|e| e == "yaml") {
         bail!("{}: expected a video, not a YAML file", a.video.display());
     }
-    let found = measure(&a.video)?;
+    let mut opts = DetectOptions::default();
+    match a.roi.as_deref() {
+        None => {}
+        Some(&[x, y, w, h]) if w > 0 && h > 0 => {
+            opts.roi = Some(crate::video::Roi { x, y, w, h });
+        }
+        Some(v) => {
+            bail!("--roi: expected x,y,width,height (px, width and height at least 1), got {v:?}")
+        }
+    }
+    match a.pivot.as_deref() {
+        None => {}
+        Some(&[x, y]) if x.is_finite() && y.is_finite() => opts.pivot = Some([x, y]),
+        Some(v) => bail!("--pivot: expected x,y (px), got {v:?}"),
+    }
+    let found = measure(&a.video, &opts)?;
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty());
     let video_rel = relative_to(&a.video, dir.unwrap_or(Path::new(".")))?;
     let name = out
@@ -102,10 +128,11 @@ pub fn init(a: InitArgs) -> Result<String> {
     Ok(msg)
 }
 
-/// Measure the video as `build` would, with no options, and the series as `fit` would.
-fn measure(video: &Path) -> Result<Found> {
+/// Measure the video as `build` would (with `opts`: a region or a pivot, or none), and
+/// the series as `fit` would.
+fn measure(video: &Path, opts: &DetectOptions) -> Result<Found> {
     let file = detect::VideoFile::open(video)?;
-    let d = detect::detect_from(&file, &DetectOptions::default())?;
+    let d = detect::detect_from(&file, opts)?;
     let rows: Vec<_> = d
         .rows
         .iter()
@@ -133,6 +160,8 @@ fn measure(video: &Path) -> Result<Found> {
         dark: d.dark_wire,
         pivot: d.pivot_px,
         roi: d.roi,
+        given_roi: opts.roi.map(|r| [r.x, r.y, r.w, r.h]),
+        given_pivot: opts.pivot,
         ok_share: d.count(Status::Ok) as f64 / d.rows.len().max(1) as f64,
         release,
         period_s: m.map(|m| m.period_s),
@@ -232,6 +261,20 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
          # roi: {roi}",
         quoted(video)
     );
+    if let Some([x, yy, w, h]) = f.given_roi {
+        let _ = writeln!(
+            y,
+            "  # Given to `init` (--roi): the pendulum measured, of those in the frame.\n  \
+             roi: [{x}, {yy}, {w}, {h}]"
+        );
+    }
+    if let Some([px, py]) = f.given_pivot {
+        let _ = writeln!(
+            y,
+            "  # Given to `init` (--pivot): the pendulum measured, of those in the frame.\n  \
+             pivot: [{px}, {py}]"
+        );
+    }
     match f.release {
         Some((frame, t, held)) => {
             let _ = writeln!(
@@ -361,6 +404,8 @@ mod tests {
             dark: true,
             pivot: [320.5, -12.0],
             roi: [100, 0, 440, 400],
+            given_roi: None,
+            given_pivot: None,
             ok_share: 0.99,
             release: Some((31, 1.03, 1.0)),
             period_s: Some(1.334),

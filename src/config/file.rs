@@ -47,8 +47,15 @@ pub struct ExperimentFile {
 }
 
 /// The consistency checks' names, as `accept[].check` names them.
-pub const CHECKS: [&str; 7] = [
-    "period", "residual", "envelope", "halves", "interval", "outliers", "pivot",
+pub const CHECKS: [&str; 8] = [
+    "period",
+    "residual",
+    "envelope",
+    "halves",
+    "interval",
+    "outliers",
+    "pivot",
+    "detection",
 ];
 
 /// One accepted consistency warning.
@@ -56,7 +63,7 @@ pub const CHECKS: [&str; 7] = [
 #[serde(deny_unknown_fields)]
 pub struct Accept {
     /// The check's name: `period`, `residual`, `envelope`, `halves`, `interval`,
-    /// `outliers` or `pivot`.
+    /// `outliers`, `pivot` or `detection`.
     pub check: String,
     /// Why the warning does not invalidate the result.
     pub reason: String,

@@ -276,6 +276,7 @@ mod tests {
 
     fn detection(rows: Vec<AngleRow>, figure11: Option<Figure11>) -> Detection {
         Detection {
+            verdict: crate::detect::judge::judge(&rows, [50.0, -10.0], None, None),
             rows,
             pivot_px: [50.0, -10.0],
             roi: [10, 20, 60, 40],

@@ -64,7 +64,17 @@ pub struct WireGeometry {
     /// lower threshold, [`FAINT_STAGE`] the faint look. An earlier try needed less
     /// leniency to see a wire.
     pub stage: usize,
+    /// A second pendulum's pivot, when another line swings through a pivot of its own
+    /// (looked for only when neither `video.pivot` nor `video.roi` is given).
+    pub second: Option<Pt>,
 }
+
+/// A second pendulum ([`WireGeometry::second`]) counts when its pivot lies this share of
+/// the look's larger side away from the first's at least,
+const SECOND_APART: f64 = 0.1;
+/// and as many directions of lines (half-degree bins) point at it, and half the
+/// first's at least (a ball's or a hand's edges meet in many points, each with a few).
+const SECOND_MIN_DIRECTIONS: usize = 10;
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
 pub struct InitFrames {

@@ -43,6 +43,7 @@ mod fill;
 mod first_look;
 pub mod geometry;
 mod input;
+pub mod judge;
 mod light;
 mod line;
 mod morph;
@@ -246,6 +247,17 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let stream = look.stream.take();
     let continued = stream.is_some();
     let geo = &look.geo;
+    if let Some(q) = geo.second {
+        bail!(
+            "{name}: two pendulums swing in the frame, about pivots ({:.0}, {:.0}) px and \
+             ({:.0}, {:.0}) px: give `video.pivot` (--pivot) or `video.roi` (--roi) to say \
+             which one to measure",
+            geo.pivot.x,
+            geo.pivot.y,
+            q.x,
+            q.y
+        );
+    }
     let mut frame = Frame::default();
 
     // The region of interest: the first look's decoder going on (its frames cut to the
@@ -353,7 +365,8 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         let info = input.info();
         crate::lens::Lens::new(l.k1, l.u_k1, info.width, info.height)
     });
-    let pivot = tracker.refine_pivot(&mut rows, lens.as_ref());
+    let refined = tracker.refine_pivot(&mut rows, lens.as_ref());
+    let pivot = refined.pivot;
     flag_isolated(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(
@@ -387,7 +400,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     }
     let swing_scale = tracker.swing_scale(&rows, pivot, lens.as_ref());
     let figure11 = keeper.take(&rows);
+    let verdict = judge::judge(&rows, [pivot.x, pivot.y], refined.u_px, refined.drift_deg);
     Ok(Detection {
+        verdict,
         rows,
         pivot_px: [pivot.x, pivot.y],
         roi: [geo.roi.x, geo.roi.y, geo.roi.w, geo.roi.h],

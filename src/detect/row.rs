@@ -76,6 +76,8 @@ pub struct AngleRow {
 #[derive(Clone, Debug, Serialize)]
 pub struct Detection {
     pub rows: Vec<AngleRow>,
+    /// Whether what was followed is a pendulum's wire, and what it saw.
+    pub verdict: super::judge::DetectionVerdict,
     pub pivot_px: [f64; 2],
     pub roi: [u32; 4],
     pub dark_wire: bool,

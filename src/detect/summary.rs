@@ -47,6 +47,9 @@ pub struct DetectionSummary {
     /// The lens the angles were measured through (`video.lens`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lens: Option<crate::lens::SeenThrough>,
+    /// Whether what was followed is a pendulum's wire, with what it saw.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<super::judge::DetectionVerdict>,
 }
 
 impl DetectionSummary {
@@ -91,6 +94,7 @@ impl DetectionSummary {
                 lens,
                 band_px: d.band_px,
             }),
+            verdict: Some(d.verdict.clone()),
         }
     }
 }

@@ -570,7 +570,7 @@ impl Tracker {
     /// lines, chords of it, meet off the pivot: each is taken into the undistorted view
     /// (two of its points, half the visible band apart), they are intersected there,
     /// and the pivot is taken back into the image.
-    pub(super) fn refine_pivot(&self, rows: &mut [AngleRow], lens: Option<&Lens>) -> Pt {
+    pub(super) fn refine_pivot(&self, rows: &mut [AngleRow], lens: Option<&Lens>) -> RefinedPivot {
         let origin = Pt::new(self.roi_x, self.roi_y);
         let to_full = |p: Pt| shrunk_to_full(p, origin, self.scale);
         let undistort = |l: &Lens, p: Pt| {
@@ -579,22 +579,32 @@ impl Tracker {
             full_to_shrunk(Pt::new(u[0], u[1]), origin, self.scale)
         };
         let half = 0.25 * (self.r_hi - self.r_lo);
-        let lines: Vec<Line> = rows
+        let timed: Vec<(f64, Line)> = rows
             .iter()
             .filter(|r| r.flag.is_none())
-            .filter_map(|r| r.moments.as_ref().and_then(|m| m.free_line()))
-            .map(|ln| match lens {
-                Some(l) => Line::through(
-                    undistort(l, ln.point - ln.dir * half),
-                    undistort(l, ln.point + ln.dir * half),
+            .filter_map(|r| Some((r.t_s, r.moments.as_ref().and_then(|m| m.free_line())?)))
+            .map(|(t, ln)| match lens {
+                Some(l) => (
+                    t,
+                    Line::through(
+                        undistort(l, ln.point - ln.dir * half),
+                        undistort(l, ln.point + ln.dir * half),
+                    ),
                 ),
-                None => ln,
+                None => (t, ln),
             })
             .collect();
+        let lines: Vec<Line> = timed.iter().map(|l| l.1).collect();
         let start = lens.map_or(self.piv, |l| undistort(l, self.piv));
         let Some(p) = refined_pivot(&lines, start, 0.05 * (self.r_lo + self.r_hi)) else {
-            return to_full(self.piv);
+            return RefinedPivot {
+                pivot: to_full(self.piv),
+                u_px: None,
+                drift_deg: None,
+            };
         };
+        let u = pivot_uncertainty(&lines, p).map(|u| u * self.scale);
+        let drift_deg = pivot_drift(&timed, p, 0.5 * (self.r_lo + self.r_hi));
         let p = match lens {
             Some(l) => {
                 let f = to_full(p);
@@ -610,8 +620,92 @@ impl Tracker {
                 }
             }
         }
-        to_full(p)
+        RefinedPivot {
+            pivot: to_full(p),
+            u_px: u,
+            drift_deg,
+        }
     }
+}
+
+/// The pivot the pass's lines meet in ([`Tracker::refine_pivot`]).
+pub(super) struct RefinedPivot {
+    /// Full-frame px.
+    pub pivot: Pt,
+    /// Its standard uncertainty, px ([`pivot_uncertainty`]).
+    pub u_px: Option<f64>,
+    /// How far the wire's lines stray from it for a while ([`pivot_drift`]), deg.
+    pub drift_deg: Option<f64>,
+}
+
+/// How far the wire's free lines pass from the pivot `p` for a while, as an angle seen
+/// from the band's middle radius `r` (px, the lines' scale): the largest median signed
+/// distance over [`DRIFT_WINDOW_S`] windows, at `r`, deg. A camera that moved and was
+/// not followed moves the wire's lines off the pivot it found; the lines of a still
+/// camera pass through it all along (on either side of it by their noise).
+fn pivot_drift(timed: &[(f64, Line)], p: Pt, r: f64) -> Option<f64> {
+    let (t0, t1) = (timed.first()?.0, timed.last()?.0);
+    let windows = ((t1 - t0) / DRIFT_WINDOW_S).floor() as usize;
+    if windows < 2 || r <= 0.0 {
+        return None;
+    }
+    // Signed: the side of the wire (pointing away from the pivot) the pivot lies on.
+    let signed = |l: &Line| {
+        let out = if (l.point - p).dot(&l.dir) >= 0.0 {
+            l.dir
+        } else {
+            -l.dir
+        };
+        (p - l.point).dot(&Pt::new(-out.y, out.x))
+    };
+    let mut worst = 0.0f64;
+    for k in 0..windows {
+        let (a, b) = (
+            t0 + k as f64 * DRIFT_WINDOW_S,
+            t0 + (k + 1) as f64 * DRIFT_WINDOW_S,
+        );
+        let mut d: Vec<f64> = timed
+            .iter()
+            .filter(|(t, _)| *t >= a && *t < b)
+            .map(|(_, l)| signed(l))
+            .collect();
+        if d.len() < 10 {
+            continue;
+        }
+        d.sort_by(f64::total_cmp);
+        worst = worst.max(d[d.len() / 2].abs());
+    }
+    Some((worst / r).atan().to_degrees())
+}
+
+/// The windows [`pivot_drift`] takes the median of, s.
+const DRIFT_WINDOW_S: f64 = 2.0;
+
+/// The standard uncertainty of `p`, the least-squares intersection of `lines`, px (the
+/// radius along its worst direction): the lines' scatter about it (those within three
+/// times the median distance: the robust fit's own), through the normal equations,
+/// sigma^2 (sum n n^T)^-1, whose largest eigenvalue is taken.
+fn pivot_uncertainty(lines: &[Line], p: Pt) -> Option<f64> {
+    let mut d: Vec<f64> = lines.iter().map(|l| l.distance(p)).collect();
+    d.sort_by(f64::total_cmp);
+    let cut = 3.0 * d.get(d.len() / 2)?.max(1e-6);
+    let (mut a11, mut a12, mut a22, mut ss, mut k) = (0.0, 0.0, 0.0, 0.0, 0usize);
+    for l in lines.iter().filter(|l| l.distance(p) <= cut) {
+        let n = Pt::new(-l.dir.y, l.dir.x);
+        a11 += n.x * n.x;
+        a12 += n.x * n.y;
+        a22 += n.y * n.y;
+        ss += l.distance(p).powi(2);
+        k += 1;
+    }
+    if k < 3 {
+        return None;
+    }
+    let sigma2 = ss / (k - 2) as f64;
+    // The smallest eigenvalue of [[a11, a12], [a12, a22]] is the largest of its inverse.
+    let (tr, det) = (a11 + a22, a11 * a22 - a12 * a12);
+    let lmin = 0.5 * tr - (0.25 * tr * tr - det).max(0.0).sqrt();
+    (lmin > 0.0).then(|| (sigma2 / lmin).sqrt())
 }
 
 /// The robust intersection of the pass's free `lines` when it refines `piv`: at least
@@ -732,6 +826,7 @@ pub(super) fn test_tracker_over(bg: Mat, theta: (f64, f64)) -> Tracker {
         jumps: 0,
         roughness: 0.0,
         stage: 0,
+        second: None,
     };
     let flat = |v: f64| Mat::new_rows_cols_with_default(240, 320, CV_8UC1, Scalar::all(v));
     Tracker::new(

@@ -320,6 +320,26 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             pivot_rel: tol.pivot_rel,
         },
     );
+    // A suspect detection makes a suspect result: what was measured may not be the wire.
+    if let Some(dv) = angles
+        .detection
+        .as_ref()
+        .and_then(|d| d.verdict.as_ref())
+        .filter(|v| v.verdict == verdict::Status::Suspect)
+    {
+        let failed: Vec<String> = dv
+            .failed()
+            .map(|c| format!("{}: {}", c.check, c.reason))
+            .collect();
+        verdict.warnings.push(verdict::Warning {
+            check: "detection".into(),
+            value: failed.len() as f64,
+            limit: 0.0,
+            reason: format!("the detection is suspect ({})", failed.join("; ")),
+            accepted: None,
+        });
+        verdict.verdict = verdict::Status::Suspect;
+    }
     verdict.accept(
         exp.file
             .accept

@@ -335,6 +335,16 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             ),
             kv("Figure 11 frame", d.figure11_frame.to_string()),
         ]);
+        if let Some(v) = &d.verdict {
+            detection.push(kv("detection verdict", v.label()));
+            detection.push(kv("what the detector saw", v.seen.describe()));
+            for c in v.failed() {
+                detection.push(kv(
+                    &format!("detection check `{}`", c.check),
+                    c.reason.clone(),
+                ));
+            }
+        }
         if let Some(s) = d.swing_scale {
             detection.push(kv(
                 "swing of the wire's own direction / of its angle about the pivot",

@@ -143,6 +143,16 @@ pub(super) fn review_files(
     ctx.insert("flagged", &d.flagged.len());
     ctx.insert("limits", &data.limits);
     ctx.insert("camera", &d.camera.map(|c| c.describe()));
+    ctx.insert("verdict", &d.verdict.as_ref().map(|v| v.label()));
+    ctx.insert("seen", &d.verdict.as_ref().map(|v| v.seen.describe()));
+    ctx.insert(
+        "failed",
+        &d.verdict.as_ref().map_or(Vec::new(), |v| {
+            v.failed()
+                .map(|c| format!("{}: {}", c.check, c.reason))
+                .collect::<Vec<_>>()
+        }),
+    );
     let html = super::templates()?
         .render("review.html", &ctx)
         .context("template `review.html`")?;

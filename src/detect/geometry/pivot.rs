@@ -49,6 +49,11 @@ impl Seen {
 /// while the edges of a moving bob or hand are many but nearly parallel. Then least
 /// squares on the lines that point at it.
 pub(super) fn ransac_pivot(lines: &[Seen], center: Pt, base_tol: f64) -> Option<Pt> {
+    ransac(lines, center, base_tol).map(|(_, p)| p)
+}
+
+/// [`ransac_pivot`], with the pivot's score: how many directions point at it.
+fn ransac(lines: &[Seen], center: Pt, base_tol: f64) -> Option<(usize, Pt)> {
     let mut rng = crate::rng::Rng::new(0x5eed);
     let n = lines.len();
     if n < 2 {
@@ -100,7 +105,35 @@ pub(super) fn ransac_pivot(lines: &[Seen], center: Pt, base_tol: f64) -> Option<
         .filter(|l| l.points_at(p, tol))
         .map(|l| l.line)
         .collect();
-    intersect(&inl).ok()
+    intersect(&inl).ok().map(|q| (sc, q))
+}
+
+/// A second pendulum: the pivot the lines that do not point at `first` meet in, with
+/// how many directions point at it, and how many point at `first`.
+pub(super) fn second_pivot(
+    lines: &[Seen],
+    first: Pt,
+    center: Pt,
+    base_tol: f64,
+) -> Option<(Pt, usize, usize)> {
+    let tol = 2.0 * through_tol(first, center, base_tol);
+    let (at, rest): (Vec<Seen>, Vec<Seen>) = lines.iter().partition(|l| l.points_at(first, tol));
+    let dir_bins = |ls: &[Seen]| {
+        ls.iter()
+            .map(|l| {
+                (l.line
+                    .dir
+                    .y
+                    .atan2(l.line.dir.x)
+                    .rem_euclid(std::f64::consts::PI)
+                    .to_degrees()
+                    * 2.0) as i64
+            })
+            .collect::<std::collections::BTreeSet<_>>()
+            .len()
+    };
+    let (sc, p) = ransac(&rest, center, base_tol)?;
+    Some((p, sc, dir_bins(&at)))
 }
 
 /// Robust least-squares intersection of lines (Tukey-weighted, iterated).

@@ -3,6 +3,7 @@
 //! pivot they meet in, and the band and region of the wire.
 
 use super::faint::faint_frame_lines;
+use super::pivot::second_pivot;
 use super::*;
 
 /// The second polarity's look against the first's directions (`beat`): it is given up
@@ -213,19 +214,18 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
         },
     };
     // Per frame, the line through the pivot (if any).
-    let tol = 2.0 * through_tol(pivot_s, center, base_tol);
-    let per_frame: Vec<Option<&FrameLine>> = lines
-        .iter()
-        .map(|v| {
-            v.iter()
-                .filter(|f| Seen::of(f).points_at(pivot_s, tol))
-                .min_by(|a, b| {
-                    a.line
-                        .distance(pivot_s)
-                        .total_cmp(&b.line.distance(pivot_s))
-                })
-        })
-        .collect();
+    let through = |q: Pt| -> Vec<Option<&FrameLine>> {
+        let tol = 2.0 * through_tol(q, center, base_tol);
+        lines
+            .iter()
+            .map(|v| {
+                v.iter()
+                    .filter(|f| Seen::of(f).points_at(q, tol))
+                    .min_by(|a, b| a.line.distance(q).total_cmp(&b.line.distance(q)))
+            })
+            .collect()
+    };
+    let per_frame = through(pivot_s);
     let good: Vec<&FrameLine> = per_frame.iter().flatten().copied().collect();
     if good.len() < 3 {
         match pivot_given {
@@ -257,7 +257,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
     radii.sort_by(f64::total_cmp);
     let pct = |p: f64| radii[((radii.len() - 1) as f64 * p) as usize];
     let (r_lo, r_hi) = (pct(0.08) * 0.97, pct(0.98) * 1.02);
-    let angle_of = |f: &FrameLine| {
+    let angle_about = |f: &FrameLine, pivot_s: Pt| {
         let c = f.line.point - pivot_s;
         let d = if c.dot(&f.line.dir) >= 0.0 {
             f.line.dir
@@ -266,6 +266,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
         };
         d.y.atan2(d.x)
     };
+    let angle_of = |f: &FrameLine| angle_about(f, pivot_s);
     // The rest direction: the circular mean of the wire's directions. Every angle is
     // taken on its branch (within half a turn of it), so a wire that hangs towards -x
     // (a camera at any roll) sweeps a few degrees about 180, not 359 across +-180.
@@ -358,7 +359,60 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             good.len()
         );
     }
+    // A second pendulum: the lines that do not point at the pivot meet in another one,
+    // in as many directions as half the wire's at least, and swing as a wire does
+    // there (smoothly, without jumps). Only looked for when neither a pivot nor a
+    // region says which pendulum is measured.
+    let second = (pivot_given.is_none() && roi_given.is_none())
+        .then(|| second_pivot(&found, pivot_s, center, base_tol))
+        .flatten()
+        .filter(|&(q, sc, first)| {
+            let far = (q - pivot_s).norm() >= SECOND_APART * (w.max(h) as f64);
+            if !far || sc < SECOND_MIN_DIRECTIONS || 2 * sc < first {
+                return false;
+            }
+            let per = through(q);
+            let n = per.iter().flatten().count();
+            let angles: Vec<Option<f64>> =
+                per.iter().map(|l| l.map(|f| angle_about(f, q))).collect();
+            let (sin, cos) = angles
+                .iter()
+                .flatten()
+                .fold((0.0, 0.0), |(s, c), a| (s + a.sin(), c + a.cos()));
+            let mean = sin.atan2(cos);
+            let angles: Vec<Option<f64>> = angles
+                .iter()
+                .map(|a| a.map(|a| unwrap_near(a, mean)))
+                .collect();
+            let (lo, hi) = angles
+                .iter()
+                .flatten()
+                .fold((f64::MAX, f64::MIN), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+            let ok = n >= MIN_WIRE_LINES
+                && hi - lo >= 1f64.to_radians()
+                && jumps(&angles, stride, hi - lo) <= MAX_JUMPS
+                && roughness(&angles, stride) <= MAX_ROUGHNESS;
+            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                eprintln!(
+                    "geometry: a second pivot ({:.1}, {:.1}) px, {sc} directions (the first \
+                     {first}), {n} lines, sweep {:.1} deg, jumps {}, roughness {:.2}: {}",
+                    to_full(q).x,
+                    to_full(q).y,
+                    (hi - lo).to_degrees(),
+                    jumps(&angles, stride, hi - lo),
+                    roughness(&angles, stride),
+                    if ok {
+                        "a second pendulum"
+                    } else {
+                        "not a pendulum"
+                    }
+                );
+            }
+            ok
+        })
+        .map(|(q, _, _)| to_full(q));
     Ok(WireGeometry {
+        second,
         pivot,
         dark,
         r_lo: r_lo_f,

@@ -1,0 +1,625 @@
+//! Whether a detection saw a pendulum's wire: what it saw, in numbers (the period, the
+//! amplitude at the start and at the end, the pivot with its uncertainty, the share of
+//! frames found), and named checks on it, each with its figure and its limit. A failed
+//! check makes the detection `suspect`; the fit's verdict takes it over.
+
+use super::{AngleRow, Status};
+use crate::verdict::Status as Verdict;
+use serde::{Deserialize, Serialize};
+
+/// What the detector saw, without any geometry.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Seen {
+    /// The median period of the swing (between crossings of the rest angle in the same
+    /// sense), s; `None` with fewer than two whole swings.
+    pub period_s: Option<f64>,
+    /// Whole swings seen.
+    pub swings: usize,
+    /// The swing's amplitude about the rest angle, deg: the mean of the first two and of
+    /// the last two turning points.
+    pub amplitude_start_deg: Option<f64>,
+    pub amplitude_end_deg: Option<f64>,
+    /// The rest angle (from the image's x axis), deg.
+    pub rest_deg: Option<f64>,
+    /// The pivot, px, and the radius of its standard uncertainty, px (from the scatter
+    /// of the wire's lines about it).
+    pub pivot_px: [f64; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pivot_u_px: Option<f64>,
+    /// How far the wire's lines pass the pivot over a couple of seconds at most, as an
+    /// angle seen from the middle of the wire's visible band, deg (a camera that moved
+    /// unfollowed makes it large; real strings, which bow, give up to 0.3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pivot_drift_deg: Option<f64>,
+    /// The share of frames the wire was found in (`ok`).
+    pub ok_share: f64,
+    /// The angle's noise from frame to frame, deg (the fourth differences of runs of
+    /// five found frames, a robust RMS); `None` with fewer than twenty such runs.
+    pub noise_deg: Option<f64>,
+}
+
+/// One check of a detection.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DetectionCheck {
+    /// `found`, `period`, `smooth`, `stalls`, `rest` or `envelope`.
+    pub check: String,
+    pub value: f64,
+    pub limit: f64,
+    pub passed: bool,
+    /// One line: what was measured against what.
+    pub reason: String,
+}
+
+/// A detection's verdict: `suspect` when a check failed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DetectionVerdict {
+    pub verdict: Verdict,
+    pub checks: Vec<DetectionCheck>,
+    pub seen: Seen,
+}
+
+impl DetectionVerdict {
+    /// The failed checks.
+    pub fn failed(&self) -> impl Iterator<Item = &DetectionCheck> {
+        self.checks.iter().filter(|c| !c.passed)
+    }
+
+    /// `ok` or `suspect (period, smooth)`.
+    pub fn label(&self) -> String {
+        let names: Vec<&str> = self.failed().map(|c| c.check.as_str()).collect();
+        if names.is_empty() {
+            "ok".into()
+        } else {
+            format!("suspect ({})", names.join(", "))
+        }
+    }
+}
+
+impl Seen {
+    /// One line: `period 1.333 s (8 swings), amplitude 29.00 -> 25.27 deg, pivot (570.0,
+    /// 105.0) px +- 0.2, 100 % of frames ok, noise 0.0489 deg`.
+    pub fn describe(&self) -> String {
+        format!(
+            "period {}, amplitude {} -> {} deg, pivot ({:.1}, {:.1}) px{}, {:.0} % of frames \
+             ok, noise {} deg",
+            self.period_s
+                .map_or("-".into(), |p| format!("{p:.3} s ({} swings)", self.swings)),
+            self.amplitude_start_deg
+                .map_or("-".into(), |a| format!("{a:.2}")),
+            self.amplitude_end_deg
+                .map_or("-".into(), |a| format!("{a:.2}")),
+            self.pivot_px[0],
+            self.pivot_px[1],
+            self.pivot_u_px
+                .map_or(String::new(), |u| format!(" +- {u:.1}")),
+            100.0 * self.ok_share,
+            self.noise_deg.map_or("-".into(), |n| format!("{n:.4}"))
+        )
+    }
+}
+
+/// Least share of frames found (`ok`) for a detection to be trusted.
+pub const FOUND_MIN: f64 = 0.6;
+/// Largest spread of the periods from swing to swing (robust, relative to their median).
+pub const PERIOD_SPREAD_MAX: f64 = 0.05;
+/// Largest noise from frame to frame, as a share of the swing's amplitude.
+pub const NOISE_SHARE_MAX: f64 = 0.02;
+/// A stall: the angle stays within this share of the amplitude over [`STALL_WINDOW`] of
+/// a period (a turning point moves by 5 % of the amplitude over a tenth of a period
+/// centred on it, more off centre).
+pub const STALL_RANGE: f64 = 0.02;
+/// The stretch a stall is judged over, in periods.
+pub const STALL_WINDOW: f64 = 0.1;
+/// Largest share of frames in stalls.
+pub const STALL_SHARE_MAX: f64 = 0.02;
+/// Largest wander of the rest angle about its trend from turning point to turning point
+/// (RMS), deg, at a low noise,
+pub const REST_WANDER_MAX_DEG: f64 = 0.04;
+/// and in multiples of what the angle noise alone gives it.
+pub const REST_NOISE_FACTOR: f64 = 4.0;
+/// Largest scatter of the swings from turning point to turning point about a smooth
+/// decay (RMS), deg, at a low noise,
+pub const ENVELOPE_MAX_DEG: f64 = 0.1;
+/// or this share of the mean swing (real strings scatter so: a swing of 47 deg by 0.08
+/// deg, one of 21 deg at 480x360 and 30 frames/s by 0.07: a ball that swings a little
+/// out of the plane; the sweep's worst twin measured well, by 0.04),
+pub const ENVELOPE_SHARE: f64 = 0.003;
+/// or this many times what the angle noise alone gives it.
+pub const ENVELOPE_NOISE_FACTOR: f64 = 4.0;
+/// The longest gap between found frames a crossing of the rest angle is timed across,
+/// s (a person passing hides the wire for a second or two).
+const MAX_GAP_S: f64 = 0.2;
+/// The hysteresis of a crossing of the rest angle, as a share of the amplitude.
+const HYSTERESIS: f64 = 0.3;
+
+/// The swing's crossings of `rest` and its turning points.
+struct Swing {
+    /// Times of upward and of downward crossings, s, and the run of found frames (no
+    /// gap of more than [`MAX_GAP_S`]) each lies in.
+    up: Vec<(f64, usize)>,
+    down: Vec<(f64, usize)>,
+    /// The turning points between crossings: (time, angle).
+    turns: Vec<(f64, f64)>,
+}
+
+/// Crossings of `rest` with hysteresis `h` (the angle must go beyond `rest +- h` to count
+/// as on that side), each timed where the angle crosses `rest` (interpolated between the
+/// frames about its last crossing), and the extremes between them.
+fn swing(t: &[f64], a: &[f64], rest: f64, h: f64) -> Swing {
+    let mut s = Swing {
+        up: Vec::new(),
+        down: Vec::new(),
+        turns: Vec::new(),
+    };
+    let mut side = 0i8;
+    let mut last_cross: Option<f64> = None;
+    let mut ext: Option<(f64, f64)> = None;
+    let mut whole = false;
+    let step = median(t.windows(2).map(|w| w[1] - w[0]).collect());
+    let mut run = 0usize;
+    for i in 0..a.len() {
+        // A gap: no crossing is timed across it, and none after pairs with one before.
+        let gap = i > 0 && t[i] - t[i - 1] > (1.5 * step).max(MAX_GAP_S);
+        if gap {
+            run += 1;
+            last_cross = None;
+        }
+        if i > 0 && (a[i - 1] - rest) * (a[i] - rest) <= 0.0 && a[i] != a[i - 1] && !gap {
+            let f = (rest - a[i - 1]) / (a[i] - a[i - 1]);
+            last_cross = Some(t[i - 1] + f * (t[i] - t[i - 1]));
+        }
+        let now = if a[i] > rest + h {
+            1
+        } else if a[i] < rest - h {
+            -1
+        } else {
+            0
+        };
+        if now != 0 && now != side {
+            if side != 0 {
+                if let Some(tc) = last_cross {
+                    if now > 0 { &mut s.up } else { &mut s.down }.push((tc, run));
+                }
+                // The first side's extreme may be where the video starts, not a turn.
+                if let Some(e) = ext.take().filter(|_| whole) {
+                    s.turns.push(e);
+                }
+                whole = true;
+            }
+            side = now;
+            ext = None;
+        }
+        if side != 0 {
+            let beyond = ext.is_none_or(|(_, v)| (a[i] - v) * side as f64 > 0.0);
+            if beyond {
+                ext = Some((t[i], a[i]));
+            }
+        }
+    }
+    s
+}
+
+/// The median of `v` (NaN when empty).
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// The periods between successive crossings in the same sense, in one run of found
+/// frames (a person passing in front of the wire hides crossings).
+fn periods(s: &Swing) -> Vec<f64> {
+    let diffs = |v: &[(f64, usize)]| {
+        v.windows(2)
+            .filter(|w| w[0].1 == w[1].1)
+            .map(|w| w[1].0 - w[0].0)
+            .collect::<Vec<_>>()
+    };
+    let mut p = diffs(&s.up);
+    p.extend(diffs(&s.down));
+    p
+}
+
+/// Fourth differences of the angles over runs of five consecutive found frames, and the
+/// index of each run's middle frame.
+fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
+    rows.windows(5)
+        .enumerate()
+        .filter_map(|(i, w)| {
+            let ok = w
+                .iter()
+                .all(|r| r.status == Status::Ok && r.angle_rad.is_some())
+                && w.windows(2).all(|p| p[1].frame == p[0].frame + 1);
+            ok.then(|| {
+                let a: Vec<f64> = w.iter().map(|r| r.angle_rad.unwrap_or(0.0)).collect();
+                (i + 2, a[0] - 4.0 * a[1] + 6.0 * a[2] - 4.0 * a[3] + a[4])
+            })
+        })
+        .collect()
+}
+
+/// Frames within `span` (times, s) that lie in a run of `window` frames whose angles
+/// stay within [`STALL_RANGE`] of the local amplitude about `rest` (the largest swing
+/// within five windows either side: about half a period), in the middle half of the
+/// swing, where a pendulum moves fastest. Not at its turning points: there rolling
+/// friction holds a ball whose swing nears the friction's dead band for a while (the
+/// restoring force barely beats the friction once the ball has turned).
+fn stalled_frames(t: &[f64], a: &[f64], window: usize, rest: f64, span: (f64, f64)) -> usize {
+    let mut stalled = vec![false; a.len()];
+    let reach = 5 * window;
+    for (i, w) in a.windows(window).enumerate() {
+        if t[i] < span.0 || t[i + window - 1] > span.1 {
+            continue;
+        }
+        let (lo, hi) = w
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                (lo.min(x), hi.max(x))
+            });
+        let around = &a[i.saturating_sub(reach)..(i + window + reach).min(a.len())];
+        let amplitude = around.iter().fold(0.0f64, |m, &x| m.max((x - rest).abs()));
+        let mid = 0.5 * (lo + hi);
+        if hi - lo < STALL_RANGE * amplitude && (mid - rest).abs() < 0.5 * amplitude {
+            stalled[i..i + window].iter_mut().for_each(|s| *s = true);
+        }
+    }
+    stalled.iter().filter(|&&s| s).count()
+}
+
+/// The RMS of `(time, value)` pairs about their least-squares parabola.
+fn quadratic_rms(v: &[(f64, f64)]) -> f64 {
+    let mid = v.iter().map(|p| p.0).sum::<f64>() / v.len() as f64;
+    let rows = v.iter().map(|p| {
+        let x = p.0 - mid;
+        ([1.0, x, x * x], p.1)
+    });
+    let Some(c) = crate::numerics::least_squares3(rows) else {
+        return 0.0;
+    };
+    let ss: f64 = v
+        .iter()
+        .map(|p| {
+            let x = p.0 - mid;
+            (p.1 - c[0] - c[1] * x - c[2] * x * x).powi(2)
+        })
+        .sum();
+    (ss / (v.len() as f64 - 3.0).max(1.0)).sqrt()
+}
+
+/// The RMS of `(time, value)` pairs about their least-squares line.
+fn detrended_rms(v: &[(f64, f64)]) -> f64 {
+    let n = v.len() as f64;
+    let (mt, my) = v
+        .iter()
+        .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
+    let (sty, stt) = v.iter().fold((0.0, 0.0), |(a, b), p| {
+        (a + (p.0 - mt) * (p.1 - my), b + (p.0 - mt).powi(2))
+    });
+    let slope = if stt > 0.0 { sty / stt } else { 0.0 };
+    let ss: f64 = v
+        .iter()
+        .map(|p| (p.1 - my - slope * (p.0 - mt)).powi(2))
+        .sum();
+    (ss / (n - 2.0).max(1.0)).sqrt()
+}
+
+/// Each turning point refined by a parabola through the angles within `half` frames
+/// of it, and (at the middle one's time) the rest angle of each three successive ones, half a
+/// swing apart: `(x0 + 2 x1 + x2) / 4`, exact for a linearly decaying swing.
+fn rest_from_turns(t: &[f64], a: &[f64], turns: &[(f64, f64)], half: usize) -> Vec<(f64, f64)> {
+    let refined = refined_turns(t, a, turns, half);
+    // Three turning points one half swing apart each (none lost in between).
+    let half_swing = median(turns.windows(2).map(|w| w[1].0 - w[0].0).collect());
+    let apart = |a: (f64, f64), b: (f64, f64)| ((b.0 - a.0) / half_swing - 1.0).abs() < 0.3;
+    refined
+        .windows(3)
+        .filter_map(|w| {
+            let (x0, x1, x2) = (w[0]?, w[1]?, w[2]?);
+            (apart(x0, x1) && apart(x1, x2)).then_some((x1.0, 0.25 * (x0.1 + 2.0 * x1.1 + x2.1)))
+        })
+        .collect()
+}
+
+/// The swing from each refined turning point to the next, half a swing apart: (the
+/// time between them, the angle between them).
+fn spans(t: &[f64], a: &[f64], turns: &[(f64, f64)], half: usize) -> Vec<(f64, f64)> {
+    let refined = refined_turns(t, a, turns, half);
+    let half_swing = median(turns.windows(2).map(|w| w[1].0 - w[0].0).collect());
+    refined
+        .windows(2)
+        .filter_map(|w| {
+            let (x0, x1) = (w[0]?, w[1]?);
+            (((x1.0 - x0.0) / half_swing - 1.0).abs() < 0.3)
+                .then(|| (0.5 * (x0.0 + x1.0), (x1.1 - x0.1).abs()))
+        })
+        .collect()
+}
+
+/// Each turning point refined by a parabola through the found angles within `half`
+/// frames of it: (time, angle), `None` where frames are missing about it.
+fn refined_turns(
+    t: &[f64],
+    a: &[f64],
+    turns: &[(f64, f64)],
+    half: usize,
+) -> Vec<Option<(f64, f64)>> {
+    turns
+        .iter()
+        .map(|&(tt, _)| {
+            let i = t.iter().position(|&x| x == tt)?;
+            let (lo, hi) = (i.checked_sub(half)?, i + half);
+            // Found frames only, one after the other (none filled in between).
+            let step = t.get(lo + 1)? - t[lo];
+            if hi >= a.len() || t[hi] - t[lo] > 2.0 * half as f64 * step * 1.5 {
+                return None;
+            }
+            let rows = (lo..=hi).map(|j| {
+                let x = t[j] - tt;
+                ([1.0, x, x * x], a[j])
+            });
+            let c = crate::numerics::least_squares3(rows)?;
+            (c[2] != 0.0).then(|| (tt, c[0] - c[1] * c[1] / (4.0 * c[2])))
+        })
+        .collect()
+}
+
+/// A check: `measured` says what was measured against what; `meaning`, what a failure
+/// means, is added to it when the check failed.
+fn check(
+    name: &str,
+    value: f64,
+    limit: f64,
+    passed: bool,
+    measured: String,
+    meaning: &str,
+) -> DetectionCheck {
+    DetectionCheck {
+        check: name.into(),
+        value,
+        limit,
+        passed,
+        reason: if passed {
+            measured
+        } else {
+            format!("{measured}: {meaning}")
+        },
+    }
+}
+
+/// A fourth difference's standard deviation over that of one frame's noise: sqrt(70).
+const D4_GAIN: f64 = 8.366_600_265_340_756;
+
+/// What the rows saw, and the checks on it. `pivot_u_px` is the pivot's uncertainty,
+/// `pivot_drift_deg` how far the wire's lines stray from it for a while, if known.
+pub fn judge(
+    rows: &[AngleRow],
+    pivot_px: [f64; 2],
+    pivot_u_px: Option<f64>,
+    pivot_drift_deg: Option<f64>,
+) -> DetectionVerdict {
+    let n = rows.len().max(1);
+    let ok_share = rows.iter().filter(|r| r.status == Status::Ok).count() as f64 / n as f64;
+    // The found frames' angles (the filled ones are the detector's guesses).
+    let (t, a): (Vec<f64>, Vec<f64>) = rows
+        .iter()
+        .filter(|r| r.status == Status::Ok)
+        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
+        .unzip();
+    // The amplitude's scale: half the range of the central 90 % of the angles.
+    let mut sorted = a.clone();
+    sorted.sort_by(f64::total_cmp);
+    let pct = |p: f64| sorted[((sorted.len() - 1) as f64 * p).round() as usize];
+    let (rest0, scale) = if sorted.is_empty() {
+        (f64::NAN, f64::NAN)
+    } else {
+        (0.5 * (pct(0.05) + pct(0.95)), 0.5 * (pct(0.95) - pct(0.05)))
+    };
+    let first = swing(&t, &a, rest0, HYSTERESIS * scale);
+    // The rest angle: the median midpoint of successive turning points.
+    let rest = if first.turns.len() >= 2 {
+        median(
+            first
+                .turns
+                .windows(2)
+                .map(|w| 0.5 * (w[0].1 + w[1].1))
+                .collect(),
+        )
+    } else {
+        rest0
+    };
+    let sw = swing(&t, &a, rest, HYSTERESIS * scale);
+    let p = periods(&sw);
+    let swings = sw.up.len().min(sw.down.len()).saturating_sub(1);
+    let period = (swings >= 2 && !p.is_empty()).then(|| median(p.clone()));
+    let amp = |turns: &[(f64, f64)]| {
+        (turns.len() == 2).then(|| {
+            turns
+                .iter()
+                .map(|e| (e.1 - rest).abs())
+                .sum::<f64>()
+                .to_degrees()
+                / 2.0
+        })
+    };
+    let k = sw.turns.len();
+    let (amp_start, amp_end) = if k >= 4 {
+        (amp(&sw.turns[..2]), amp(&sw.turns[k - 2..]))
+    } else {
+        (None, None)
+    };
+    // The noise, from runs of five found frames (at least twenty of them).
+    let d4 = fourth_differences(rows);
+    let noise =
+        (d4.len() >= 20).then(|| 1.4826 * median(d4.iter().map(|d| d.1.abs()).collect()) / D4_GAIN);
+    let noise0 = noise.unwrap_or(0.0);
+    let seen = Seen {
+        period_s: period,
+        swings,
+        amplitude_start_deg: amp_start,
+        amplitude_end_deg: amp_end,
+        rest_deg: rest.is_finite().then(|| rest.to_degrees()),
+        pivot_px,
+        pivot_u_px,
+        pivot_drift_deg,
+        ok_share,
+        noise_deg: noise.map(f64::to_degrees),
+    };
+    let mut checks = vec![check(
+        "found",
+        ok_share,
+        FOUND_MIN,
+        ok_share >= FOUND_MIN,
+        format!(
+            "the wire was found in {:.0} % of the frames (at least {:.0} % expected)",
+            100.0 * ok_share,
+            100.0 * FOUND_MIN
+        ),
+        "the detector lost it, or followed something it often lost",
+    )];
+    // period: a pendulum's period holds from swing to swing (judged on four periods or
+    // more).
+    if let Some(m) = period.filter(|_| p.len() >= 4) {
+        let spread = 1.4826 * median(p.iter().map(|x| (x - m).abs()).collect()) / m;
+        checks.push(check(
+            "period",
+            spread,
+            PERIOD_SPREAD_MAX,
+            spread <= PERIOD_SPREAD_MAX,
+            format!(
+                "the period is {m:.3} s and varies by {:.1} % from swing to swing (a \
+                 pendulum's holds within {:.0} %)",
+                100.0 * spread,
+                100.0 * PERIOD_SPREAD_MAX
+            ),
+            "what was followed does not swing as a wire does (no wire seen: a ball's edge, a \
+             shadow?)",
+        ));
+    }
+    // smooth: the frame-to-frame noise is small against the swing.
+    if let Some(noise) = noise {
+        let share = noise / scale;
+        let share = if share.is_finite() {
+            share
+        } else {
+            f64::INFINITY
+        };
+        checks.push(check(
+            "smooth",
+            share,
+            NOISE_SHARE_MAX,
+            share <= NOISE_SHARE_MAX,
+            format!(
+                "the angle's noise from frame to frame is {:.4} deg, {:.2} % of the swing's \
+                 {:.2} deg (a wire's is under {:.0} %)",
+                noise.to_degrees(),
+                100.0 * share,
+                scale.to_degrees(),
+                100.0 * NOISE_SHARE_MAX
+            ),
+            "what was followed jitters, as a faint or broken line does",
+        ));
+    }
+    // stalls: a wire swinging through holds still only at its turning points, and
+    // there for a moment; an angle that holds over a tenth of a period between the
+    // first and the last frame of the swing (away from a held start and a stop at the
+    // end) is the track resting on something static.
+    let per_frame = median(t.windows(2).map(|w| w[1] - w[0]).collect());
+    let h = HYSTERESIS * scale;
+    let swinging = |x: &&f64| (*x - rest).abs() > h;
+    let span = (
+        a.iter()
+            .position(|x| swinging(&x))
+            .map_or(f64::INFINITY, |i| t[i]),
+        a.iter()
+            .rposition(|x| swinging(&x))
+            .map_or(f64::NEG_INFINITY, |i| t[i]),
+    );
+    let window = ((STALL_WINDOW * period.unwrap_or(1.0) / per_frame).round() as usize).max(3);
+    let stall_share = if a.len() > window {
+        stalled_frames(&t, &a, window, rest, span) as f64 / n as f64
+    } else {
+        0.0
+    };
+    checks.push(check(
+        "stalls",
+        stall_share,
+        STALL_SHARE_MAX,
+        stall_share <= STALL_SHARE_MAX,
+        format!(
+            "the angle holds still (within {:.0} % of the swing's amplitude over {window} \
+             frames) in {:.1} % of the frames while it swings (at most {:.0} %)",
+            100.0 * STALL_RANGE,
+            100.0 * stall_share,
+            100.0 * STALL_SHARE_MAX
+        ),
+        "the track rests on something static for a while",
+    ));
+    // rest: the rest angle, from each three successive turning points (where rolling
+    // friction's linear decay cancels), holds, or drifts slowly and evenly (a swing
+    // measured a little asymmetrically, whose asymmetry shrinks with it: real footage
+    // drifts by up to 0.04 deg/s); a camera that turns, or a pivot that moves, makes it
+    // wander about its trend. The limit grows with what the angle noise alone gives.
+    let half = ((0.05 * period.unwrap_or(1.0) / per_frame).round() as usize).max(2);
+    let rests = rest_from_turns(&t, &a, &sw.turns, half);
+    if rests.len() >= 4 {
+        let wander = detrended_rms(&rests).to_degrees();
+        let limit = REST_WANDER_MAX_DEG
+            .max(REST_NOISE_FACTOR * noise0.to_degrees() * 0.92 / ((2 * half + 1) as f64).sqrt());
+        checks.push(check(
+            "rest",
+            wander,
+            limit,
+            wander <= limit,
+            format!(
+                "the rest angle, from each three successive turning points, wanders about its \
+                 trend by {wander:.3} deg RMS (at most {limit:.3} deg at this noise)"
+            ),
+            "the camera turned or the pivot moved, and the detector did not follow",
+        ));
+    }
+    // envelope: the swing from turning point to turning point shrinks smoothly (a
+    // parabola in time holds any rolling-friction law and the air); a track that
+    // leaves the wire for a while, or a camera that sways unfollowed, scatters it.
+    let sp = spans(&t, &a, &sw.turns, half);
+    if sp.len() >= 6 {
+        let scatter = quadratic_rms(&sp).to_degrees();
+        let mean_span = sp.iter().map(|p| p.1).sum::<f64>() / sp.len() as f64;
+        let limit = ENVELOPE_MAX_DEG
+            .max(ENVELOPE_SHARE * mean_span.to_degrees())
+            .max(
+                ENVELOPE_NOISE_FACTOR * noise0.to_degrees() * 1.5 * 2f64.sqrt()
+                    / ((2 * half + 1) as f64).sqrt(),
+            );
+        checks.push(check(
+            "envelope",
+            scatter,
+            limit,
+            scatter <= limit,
+            format!(
+                "the swings from turning point to turning point scatter about a smooth decay \
+                 by {scatter:.3} deg RMS (at most {limit:.3} deg at this noise and swing)"
+            ),
+            "for a while the track left the wire, or the camera swayed unfollowed",
+        ));
+    }
+    let verdict = if checks.iter().all(|c| c.passed) {
+        Verdict::Ok
+    } else {
+        Verdict::Suspect
+    };
+    DetectionVerdict {
+        verdict,
+        checks,
+        seen,
+    }
+}
+
+#[cfg(test)]
+mod tests;

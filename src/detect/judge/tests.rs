@@ -1,0 +1,138 @@
+use super::*;
+use crate::rng::Rng;
+
+const FPS: f64 = 50.0;
+const PERIOD: f64 = 2.0;
+
+/// A pendulum's angle under rolling friction (Eq. 33: the amplitude falls linearly),
+/// about a rest of 90 deg from the x axis: 10 deg at first, 0.2 deg less each half
+/// swing, 20 s at 50 frames/s, with 0.005 deg of noise.
+fn swinging() -> Vec<AngleRow> {
+    let mut rng = Rng::new(7);
+    (0..(20.0 * FPS) as usize)
+        .map(|k| {
+            let t = k as f64 / FPS;
+            let amp = 10.0 - 0.2 * (2.0 * t / PERIOD);
+            let a = 90.0 + amp * (std::f64::consts::TAU * t / PERIOD).cos() + 0.005 * rng.normal();
+            AngleRow {
+                frame: k as u64,
+                t_s: t,
+                angle_rad: Some(a.to_radians()),
+                status: Status::Ok,
+                quality: 1.0,
+                flag: None,
+                moments: None,
+            }
+        })
+        .collect()
+}
+
+fn failed(v: &DetectionVerdict) -> Vec<&str> {
+    v.failed().map(|c| c.check.as_str()).collect()
+}
+
+#[test]
+fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
+    let v = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
+    assert_eq!(v.verdict, Verdict::Ok, "{:?}", v.checks);
+    let s = &v.seen;
+    let p = s.period_s.unwrap();
+    assert!((p - PERIOD).abs() < 0.002, "period {p}");
+    // Ten whole swings in 20 s, of which nine lie between crossings in the same sense.
+    assert_eq!(s.swings, 9);
+    // The first turning points: 10 at t = 0 is no turn (no crossing before it); the
+    // first two are the half swings at t = 1 and 2 s: 9.8 and 9.6 deg, mean 9.7.
+    let (a0, a1) = (s.amplitude_start_deg.unwrap(), s.amplitude_end_deg.unwrap());
+    assert!((a0 - 9.7).abs() < 0.02, "start {a0}");
+    // The last two before 20 s (t = 18, 19 s): 6.4 and 6.2, mean 6.3.
+    assert!((a1 - 6.3).abs() < 0.02, "end {a1}");
+    assert!((s.rest_deg.unwrap() - 90.0).abs() < 0.01);
+    let noise = s.noise_deg.unwrap();
+    assert!((noise - 0.005).abs() < 0.001, "noise {noise}");
+    assert_eq!(s.ok_share, 1.0);
+    for c in ["found", "period", "smooth", "stalls", "rest", "envelope"] {
+        assert!(v.checks.iter().any(|x| x.check == c), "no `{c}` check");
+    }
+}
+
+#[test]
+fn a_track_resting_on_a_static_line_stalls() {
+    // From 5 s on, for 0.3 s of each swing the angle holds at 91 deg (an edge near the
+    // rest the track falls onto), as the two-rod clip's did.
+    let mut rows = swinging();
+    for r in rows.iter_mut().filter(|r| r.t_s > 5.0) {
+        let phase = (r.t_s / PERIOD).fract();
+        if (0.2..0.35).contains(&phase) {
+            r.angle_rad = Some(91f64.to_radians());
+        }
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert!(failed(&v).contains(&"stalls"), "{:?}", v.checks);
+}
+
+#[test]
+fn a_camera_that_turned_unfollowed_moves_the_rest() {
+    // For 6 s in the middle, every angle is 0.3 deg off: the rest steps there and back.
+    let mut rows = swinging();
+    for r in rows.iter_mut().filter(|r| (7.0..13.0).contains(&r.t_s)) {
+        r.angle_rad = r.angle_rad.map(|a| a + 0.3f64.to_radians());
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert!(failed(&v).contains(&"rest"), "{:?}", v.checks);
+    // A slow, even drift of the same size is not a step: a swing measured a little
+    // asymmetrically drifts so.
+    let mut rows = swinging();
+    for r in rows.iter_mut() {
+        r.angle_rad = r.angle_rad.map(|a| a + (0.3 * r.t_s / 20.0).to_radians());
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert_eq!(v.verdict, Verdict::Ok, "{:?}", v.checks);
+}
+
+#[test]
+fn a_motion_that_is_not_a_pendulums_fails_the_period() {
+    // The track alternates between two things every 1.7 s: one swings with a period of
+    // 2 s, the other of 0.7 s (a ball's edge seen now and then).
+    let mut rows = swinging();
+    for r in rows.iter_mut() {
+        if (r.t_s / 1.7) as usize % 2 == 1 {
+            let a = 90.0 + 6.0 * (std::f64::consts::TAU * r.t_s / 0.7).sin();
+            r.angle_rad = Some(a.to_radians());
+        }
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert!(failed(&v).contains(&"period"), "{:?}", v.checks);
+}
+
+#[test]
+fn a_wire_found_in_few_frames_is_suspect() {
+    let mut rows = swinging();
+    for r in rows.iter_mut().step_by(2) {
+        r.status = Status::Corrected;
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert_eq!(failed(&v), ["found"], "{:?}", v.checks);
+    assert_eq!(v.seen.ok_share, 0.5);
+    // No five found frames in a row: the noise cannot be told, and is not judged.
+    assert_eq!(v.seen.noise_deg, None);
+    assert!(!v.checks.iter().any(|c| c.check == "smooth"));
+    assert_eq!(v.label(), "suspect (found)");
+}
+
+#[test]
+fn a_person_passing_in_front_of_the_wire_hides_crossings_but_not_the_period() {
+    // 1.5 s of frames missing, then 0.1 s: no period is timed across the first gap, the
+    // second is bridged.
+    let mut rows = swinging();
+    for r in rows
+        .iter_mut()
+        .filter(|r| (6.3..7.8).contains(&r.t_s) || (12.0..12.1).contains(&r.t_s))
+    {
+        r.status = Status::Missing;
+        r.angle_rad = None;
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert_eq!(v.verdict, Verdict::Ok, "{:?}", v.checks);
+    let p = v.seen.period_s.unwrap();
+    assert!((p - PERIOD).abs() < 0.002, "period {p}");
+}

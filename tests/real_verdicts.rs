@@ -1,0 +1,183 @@
+//! The detection's verdict on the seven real clips of `../shared/fixtures/real/`, with
+//! no options, against the outcome their README states: measured (`ok`, within the
+//! stated period and amplitude), or `suspect` / refused with the stated reason. Read
+//! through `detect --json`, as a CI job would.
+
+mod common;
+
+use common::{fixture, rollfric};
+use std::ffi::OsStr;
+
+/// `detect VIDEO --json` with `extra` flags: the summary's JSON, and whether the
+/// command succeeded.
+fn detect_json(video: &str, extra: &[&str]) -> Option<(serde_json::Value, bool)> {
+    let v = fixture(video)?;
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, json) = (dir.path().join("a.csv"), dir.path().join("a.json"));
+    let mut args = vec![
+        OsStr::new("detect"),
+        v.as_os_str(),
+        OsStr::new("-o"),
+        csv.as_os_str(),
+        OsStr::new("--json"),
+        json.as_os_str(),
+    ];
+    args.extend(extra.iter().map(OsStr::new));
+    let out = rollfric(&args, dir.path());
+    let text = std::fs::read_to_string(&json).expect("the JSON summary is written");
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(value["kind"], "rollfric detect");
+    Some((value, out.status.success()))
+}
+
+fn num(v: &serde_json::Value, path: &[&str]) -> f64 {
+    let mut x = v;
+    for p in path {
+        x = &x[*p];
+    }
+    x.as_f64().unwrap_or_else(|| panic!("{path:?} in {v}"))
+}
+
+fn failed(v: &serde_json::Value) -> Vec<String> {
+    v["checks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["passed"] == false)
+        .map(|c| c["check"].as_str().unwrap().to_string())
+        .collect()
+}
+
+/// A measured clip: `ok`, its period and its amplitude at the start and at the end
+/// within the README's figures (period within 2 %, amplitudes within 1.5 deg).
+fn measured(video: &str, extra: &[&str], period: f64, start: f64, end: f64) {
+    let Some((v, ok)) = detect_json(video, extra) else {
+        return;
+    };
+    assert!(ok, "{video}: refused: {}", v["reason"]);
+    assert_eq!(v["verdict"], "ok", "{video}: {}", v["checks"]);
+    let (p, a0, a1) = (
+        num(&v, &["seen", "period_s"]),
+        num(&v, &["seen", "amplitude_start_deg"]),
+        num(&v, &["seen", "amplitude_end_deg"]),
+    );
+    eprintln!("{video}: period {p:.3} s, amplitude {a0:.2} -> {a1:.2} deg");
+    assert!((p / period - 1.0).abs() < 0.02, "{video}: period {p}");
+    assert!(
+        (a0 - start).abs() <= 1.5 && (a1 - end).abs() <= 1.5,
+        "{video}: amplitude {a0:.2} -> {a1:.2} deg, README {start} -> {end}"
+    );
+}
+
+#[test]
+fn greenscreen_is_measured() {
+    // README: period about 1.33 s; about ±29 deg at the start, ±25 at 11.6 s.
+    measured("sborquez_video1_greenscreen.mp4", &[], 1.33, 29.0, 25.0);
+}
+
+#[test]
+fn off_screen_pivot_clip_is_measured() {
+    // README: period about 1.02 s; ±12 (+10.7/-12.8) at the start, ±10 (+9.3/-11.1) at
+    // 25 s.
+    measured("bartekpacia_film1_fhd.mp4", &[], 1.02, 11.75, 10.2);
+}
+
+#[test]
+fn red_apple_is_measured() {
+    // README: period 2.07-2.09 s; ±25 deg at the start, ±18-21 after 20 s.
+    measured("christianausb_redapple_480p.mov", &[], 2.08, 25.0, 21.0);
+}
+
+#[test]
+fn split_screen_is_refused_without_a_panel_and_measured_with_one() {
+    let Some((v, ok)) = detect_json("sborquez_video2_splitscreen.mp4", &[]) else {
+        return;
+    };
+    // Two pendulums, neither chosen: refused, naming both pivots (README: about (128,
+    // 48) and (370, 48)).
+    assert!(!ok);
+    assert_eq!(v["verdict"], "refused");
+    let reason = v["reason"].as_str().unwrap();
+    assert!(reason.contains("two pendulums"), "{reason}");
+    for p in ["(128, 48)", "(370, 48)"] {
+        assert!(reason.contains(p), "{p} not in: {reason}");
+    }
+    // A region says which: the right panel, measured (frames before the splice; period
+    // about 1.6 s, ±11.5 -> ±10.2-11.3 deg).
+    measured(
+        "sborquez_video2_splitscreen.mp4",
+        &["--roi", "240,0,240,360", "--frames", "0,366"],
+        1.58,
+        11.5,
+        10.75,
+    );
+}
+
+#[test]
+fn invisible_rope_is_not_called_good() {
+    // README: the rope cannot be seen; what is followed is the ball's edge. Correct:
+    // refused, or suspect saying no wire was seen.
+    let Some((v, ok)) = detect_json("bartekpacia_film2_vga.mp4", &[]) else {
+        return;
+    };
+    if ok {
+        assert_eq!(v["verdict"], "suspect", "{}", v["checks"]);
+        let f = failed(&v);
+        assert!(f.contains(&"period".to_string()), "{f:?}");
+        let reason = v["checks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["check"] == "period")
+            .unwrap()["reason"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        assert!(reason.contains("no wire seen"), "{reason}");
+    } else {
+        assert_eq!(v["verdict"], "refused");
+    }
+}
+
+#[test]
+fn two_rods_are_never_a_silent_mixture() {
+    // README: one rod measured (and said which, by its pivot: near x = 330 for the
+    // right one, 240 for the left), or refused as two pendulums; never a mixture. The
+    // track rests on the column for part of each swing: suspect, by its stalls.
+    let Some((v, ok)) = detect_json("katiebutler_pendulum.mov", &[]) else {
+        return;
+    };
+    if !ok {
+        assert!(v["reason"].as_str().unwrap().contains("two pendulums"));
+        return;
+    }
+    let pivot_x = v["seen"]["pivot_px"][0].as_f64().unwrap();
+    assert!(
+        (pivot_x - 330.0).abs() < 20.0 || (pivot_x - 240.0).abs() < 20.0,
+        "pivot x {pivot_x}: neither rod's"
+    );
+    match v["verdict"].as_str().unwrap() {
+        "ok" => {
+            let p = num(&v, &["seen", "period_s"]);
+            assert!((1.13..=1.17).contains(&p), "period {p}");
+        }
+        _ => assert!(
+            failed(&v).contains(&"stalls".to_string()),
+            "{}",
+            v["checks"]
+        ),
+    }
+}
+
+#[test]
+fn a_rod_knocked_far_and_held_is_refused_with_a_reason() {
+    // README: follow the rod through the ±100 deg swing and hold 123 deg, or refuse
+    // saying why (not a pendulum's motion); never a silently wrong track.
+    let Some((v, ok)) = detect_json("dfki_rvDIST35.mp4", &[]) else {
+        return;
+    };
+    assert!(!ok, "measured: {}", v["checks"]);
+    assert_eq!(v["verdict"], "refused");
+    let reason = v["reason"].as_str().unwrap();
+    assert!(reason.contains("unlike a pendulum's wire"), "{reason}");
+}

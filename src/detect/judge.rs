@@ -3,9 +3,12 @@
 //! frames found), and named checks on it, each with its figure and its limit. A failed
 //! check makes the detection `suspect`; the fit's verdict takes it over.
 
+mod swing;
+
 use super::{AngleRow, Status};
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
+use swing::*;
 
 /// What the detector saw, without any geometry.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -132,244 +135,6 @@ const MAX_GAP_S: f64 = 0.2;
 /// The hysteresis of a crossing of the rest angle, as a share of the amplitude.
 const HYSTERESIS: f64 = 0.3;
 
-/// The swing's crossings of `rest` and its turning points.
-struct Swing {
-    /// Times of upward and of downward crossings, s, and the run of found frames (no
-    /// gap of more than [`MAX_GAP_S`]) each lies in.
-    up: Vec<(f64, usize)>,
-    down: Vec<(f64, usize)>,
-    /// The turning points between crossings: (time, angle).
-    turns: Vec<(f64, f64)>,
-}
-
-/// Crossings of `rest` with hysteresis `h` (the angle must go beyond `rest +- h` to count
-/// as on that side), each timed where the angle crosses `rest` (interpolated between the
-/// frames about its last crossing), and the extremes between them.
-fn swing(t: &[f64], a: &[f64], rest: f64, h: f64) -> Swing {
-    let mut s = Swing {
-        up: Vec::new(),
-        down: Vec::new(),
-        turns: Vec::new(),
-    };
-    let mut side = 0i8;
-    let mut last_cross: Option<f64> = None;
-    let mut ext: Option<(f64, f64)> = None;
-    let mut whole = false;
-    let step = median(t.windows(2).map(|w| w[1] - w[0]).collect());
-    let mut run = 0usize;
-    for i in 0..a.len() {
-        // A gap: no crossing is timed across it, and none after pairs with one before.
-        let gap = i > 0 && t[i] - t[i - 1] > (1.5 * step).max(MAX_GAP_S);
-        if gap {
-            run += 1;
-            last_cross = None;
-        }
-        if i > 0 && (a[i - 1] - rest) * (a[i] - rest) <= 0.0 && a[i] != a[i - 1] && !gap {
-            let f = (rest - a[i - 1]) / (a[i] - a[i - 1]);
-            last_cross = Some(t[i - 1] + f * (t[i] - t[i - 1]));
-        }
-        let now = if a[i] > rest + h {
-            1
-        } else if a[i] < rest - h {
-            -1
-        } else {
-            0
-        };
-        if now != 0 && now != side {
-            if side != 0 {
-                if let Some(tc) = last_cross {
-                    if now > 0 { &mut s.up } else { &mut s.down }.push((tc, run));
-                }
-                // The first side's extreme may be where the video starts, not a turn.
-                if let Some(e) = ext.take().filter(|_| whole) {
-                    s.turns.push(e);
-                }
-                whole = true;
-            }
-            side = now;
-            ext = None;
-        }
-        if side != 0 {
-            let beyond = ext.is_none_or(|(_, v)| (a[i] - v) * side as f64 > 0.0);
-            if beyond {
-                ext = Some((t[i], a[i]));
-            }
-        }
-    }
-    s
-}
-
-/// The median of `v` (NaN when empty).
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
-/// The periods between successive crossings in the same sense, in one run of found
-/// frames (a person passing in front of the wire hides crossings).
-fn periods(s: &Swing) -> Vec<f64> {
-    let diffs = |v: &[(f64, usize)]| {
-        v.windows(2)
-            .filter(|w| w[0].1 == w[1].1)
-            .map(|w| w[1].0 - w[0].0)
-            .collect::<Vec<_>>()
-    };
-    let mut p = diffs(&s.up);
-    p.extend(diffs(&s.down));
-    p
-}
-
-/// Fourth differences of the angles over runs of five consecutive found frames, and the
-/// index of each run's middle frame.
-fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
-    rows.windows(5)
-        .enumerate()
-        .filter_map(|(i, w)| {
-            let ok = w
-                .iter()
-                .all(|r| r.status == Status::Ok && r.angle_rad.is_some())
-                && w.windows(2).all(|p| p[1].frame == p[0].frame + 1);
-            ok.then(|| {
-                let a: Vec<f64> = w.iter().map(|r| r.angle_rad.unwrap_or(0.0)).collect();
-                (i + 2, a[0] - 4.0 * a[1] + 6.0 * a[2] - 4.0 * a[3] + a[4])
-            })
-        })
-        .collect()
-}
-
-/// Frames within `span` (times, s) that lie in a run of `window` frames whose angles
-/// stay within [`STALL_RANGE`] of the local amplitude about `rest` (the largest swing
-/// within five windows either side: about half a period), in the middle half of the
-/// swing, where a pendulum moves fastest. Not at its turning points: there rolling
-/// friction holds a ball whose swing nears the friction's dead band for a while (the
-/// restoring force barely beats the friction once the ball has turned).
-fn stalled_frames(t: &[f64], a: &[f64], window: usize, rest: f64, span: (f64, f64)) -> usize {
-    let mut stalled = vec![false; a.len()];
-    let reach = 5 * window;
-    for (i, w) in a.windows(window).enumerate() {
-        if t[i] < span.0 || t[i + window - 1] > span.1 {
-            continue;
-        }
-        let (lo, hi) = w
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-                (lo.min(x), hi.max(x))
-            });
-        let around = &a[i.saturating_sub(reach)..(i + window + reach).min(a.len())];
-        let amplitude = around.iter().fold(0.0f64, |m, &x| m.max((x - rest).abs()));
-        let mid = 0.5 * (lo + hi);
-        if hi - lo < STALL_RANGE * amplitude && (mid - rest).abs() < 0.5 * amplitude {
-            stalled[i..i + window].iter_mut().for_each(|s| *s = true);
-        }
-    }
-    stalled.iter().filter(|&&s| s).count()
-}
-
-/// The RMS of `(time, value)` pairs about their least-squares parabola.
-fn quadratic_rms(v: &[(f64, f64)]) -> f64 {
-    let mid = v.iter().map(|p| p.0).sum::<f64>() / v.len() as f64;
-    let rows = v.iter().map(|p| {
-        let x = p.0 - mid;
-        ([1.0, x, x * x], p.1)
-    });
-    let Some(c) = crate::numerics::least_squares3(rows) else {
-        return 0.0;
-    };
-    let ss: f64 = v
-        .iter()
-        .map(|p| {
-            let x = p.0 - mid;
-            (p.1 - c[0] - c[1] * x - c[2] * x * x).powi(2)
-        })
-        .sum();
-    (ss / (v.len() as f64 - 3.0).max(1.0)).sqrt()
-}
-
-/// The RMS of `(time, value)` pairs about their least-squares line.
-fn detrended_rms(v: &[(f64, f64)]) -> f64 {
-    let n = v.len() as f64;
-    let (mt, my) = v
-        .iter()
-        .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + p.1 / n));
-    let (sty, stt) = v.iter().fold((0.0, 0.0), |(a, b), p| {
-        (a + (p.0 - mt) * (p.1 - my), b + (p.0 - mt).powi(2))
-    });
-    let slope = if stt > 0.0 { sty / stt } else { 0.0 };
-    let ss: f64 = v
-        .iter()
-        .map(|p| (p.1 - my - slope * (p.0 - mt)).powi(2))
-        .sum();
-    (ss / (n - 2.0).max(1.0)).sqrt()
-}
-
-/// Each turning point refined by a parabola through the angles within `half` frames
-/// of it, and (at the middle one's time) the rest angle of each three successive ones, half a
-/// swing apart: `(x0 + 2 x1 + x2) / 4`, exact for a linearly decaying swing.
-fn rest_from_turns(t: &[f64], a: &[f64], turns: &[(f64, f64)], half: usize) -> Vec<(f64, f64)> {
-    let refined = refined_turns(t, a, turns, half);
-    // Three turning points one half swing apart each (none lost in between).
-    let half_swing = median(turns.windows(2).map(|w| w[1].0 - w[0].0).collect());
-    let apart = |a: (f64, f64), b: (f64, f64)| ((b.0 - a.0) / half_swing - 1.0).abs() < 0.3;
-    refined
-        .windows(3)
-        .filter_map(|w| {
-            let (x0, x1, x2) = (w[0]?, w[1]?, w[2]?);
-            (apart(x0, x1) && apart(x1, x2)).then_some((x1.0, 0.25 * (x0.1 + 2.0 * x1.1 + x2.1)))
-        })
-        .collect()
-}
-
-/// The swing from each refined turning point to the next, half a swing apart: (the
-/// time between them, the angle between them).
-fn spans(t: &[f64], a: &[f64], turns: &[(f64, f64)], half: usize) -> Vec<(f64, f64)> {
-    let refined = refined_turns(t, a, turns, half);
-    let half_swing = median(turns.windows(2).map(|w| w[1].0 - w[0].0).collect());
-    refined
-        .windows(2)
-        .filter_map(|w| {
-            let (x0, x1) = (w[0]?, w[1]?);
-            (((x1.0 - x0.0) / half_swing - 1.0).abs() < 0.3)
-                .then(|| (0.5 * (x0.0 + x1.0), (x1.1 - x0.1).abs()))
-        })
-        .collect()
-}
-
-/// Each turning point refined by a parabola through the found angles within `half`
-/// frames of it: (time, angle), `None` where frames are missing about it.
-fn refined_turns(
-    t: &[f64],
-    a: &[f64],
-    turns: &[(f64, f64)],
-    half: usize,
-) -> Vec<Option<(f64, f64)>> {
-    turns
-        .iter()
-        .map(|&(tt, _)| {
-            let i = t.iter().position(|&x| x == tt)?;
-            let (lo, hi) = (i.checked_sub(half)?, i + half);
-            // Found frames only, one after the other (none filled in between).
-            let step = t.get(lo + 1)? - t[lo];
-            if hi >= a.len() || t[hi] - t[lo] > 2.0 * half as f64 * step * 1.5 {
-                return None;
-            }
-            let rows = (lo..=hi).map(|j| {
-                let x = t[j] - tt;
-                ([1.0, x, x * x], a[j])
-            });
-            let c = crate::numerics::least_squares3(rows)?;
-            (c[2] != 0.0).then(|| (tt, c[0] - c[1] * c[1] / (4.0 * c[2])))
-        })
-        .collect()
-}
-
 /// A check: `measured` says what was measured against what; `meaning`, what a failure
 /// means, is added to it when the check failed.
 fn check(
@@ -392,9 +157,6 @@ fn check(
         },
     }
 }
-
-/// A fourth difference's standard deviation over that of one frame's noise: sqrt(70).
-const D4_GAIN: f64 = 8.366_600_265_340_756;
 
 /// What the rows saw, and the checks on it. `pivot_u_px` is the pivot's uncertainty,
 /// `pivot_drift_deg` how far the wire's lines stray from it for a while, if known.

@@ -338,6 +338,16 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
         if let Some(v) = &d.verdict {
             detection.push(kv("detection verdict", v.label()));
             detection.push(kv("what the detector saw", v.seen.describe()));
+            if let Some(p) = v.seen.period_s {
+                detection.push(kv(
+                    "period seen / the geometry's d implies (small-angle)",
+                    format!(
+                        "{p:.4} s / {:.4} s ({:+.1} %)",
+                        g.period_small_angle_s,
+                        100.0 * (p / g.period_small_angle_s - 1.0)
+                    ),
+                ));
+            }
             for c in v.failed() {
                 detection.push(kv(
                     &format!("detection check `{}`", c.check),

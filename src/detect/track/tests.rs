@@ -1,5 +1,6 @@
 //! The unit tests of `detect/track.rs`.
 
+use super::pivot::central_spread;
 use super::*;
 
 /// A line through `p` at `deg` (from +x towards +y), moved `off` px across itself.

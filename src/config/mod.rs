@@ -17,9 +17,11 @@ use std::path::{Path, PathBuf};
 
 mod file;
 pub mod schema;
+mod synthetic;
 mod values;
 
 pub use file::*;
+pub use synthetic::*;
 use values::{bounded, in_range, non_negative, positive, within};
 pub use values::{noise_deg, s_r, shown, work_side, MAX_NOISE_DEG, MAX_S_R_M};
 

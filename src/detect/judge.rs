@@ -94,7 +94,7 @@ impl Seen {
             self.pivot_px[0],
             self.pivot_px[1],
             self.pivot_u_px
-                .map_or(String::new(), |u| format!(" +- {u:.1}")),
+                .map_or(String::new(), |u| format!(" +- {u:.2}")),
             100.0 * self.ok_share,
             self.noise_deg.map_or("-".into(), |n| format!("{n:.4}"))
         )

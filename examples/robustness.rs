@@ -10,7 +10,9 @@
 //! `suspect`) against their s_r error, the same figures per condition, and every
 //! failure with its scene's settings and verdict.
 //! A scene whose off-frame fulcrum leaves the swing no room in the frame (the twin
-//! refuses to place it) is drawn again.
+//! refuses to place it) is drawn again. A scene refused as two pendulums (a second
+//! string) is detected again with the named pivot nearest its fulcrum given, as a user
+//! would after that refusal.
 //!
 //! `cargo run --release --example robustness -- [SCENES] [SEED] [DURATION_S]`
 //! (defaults 60, 1 and 40); a fourth argument, a scene's number, runs that scene alone and
@@ -262,6 +264,25 @@ enum Outcome {
     Refused(String),
 }
 
+/// The pivots a refusal of two pendulums names (`... about pivots (x1, y1) px and (x2,
+/// y2) px ...`); none for another refusal.
+fn named_pivots(message: &str) -> Vec<[f64; 2]> {
+    if !message.contains("two pendulums") {
+        return Vec::new();
+    }
+    message
+        .split(" px")
+        .filter_map(|p| {
+            let (x, y) = p
+                .rsplit_once('(')?
+                .1
+                .trim_end_matches(')')
+                .split_once(", ")?;
+            Some([x.parse().ok()?, y.parse().ok()?])
+        })
+        .collect()
+}
+
 /// A measured scene's detection (whether or not its fit was refused): its angle RMS
 /// against the truth, and the detection's own verdict.
 struct DetectionSeen {
@@ -340,20 +361,39 @@ fn run(
     }
     let opts = &opts;
     let video = dir.join(format!("scene.{}", scene.ext));
-    rollfric::synth::render(&exp, &video, None, &mut |_, _| {})?;
+    let rendered = rollfric::synth::render(&exp, &video, None, &mut |_, _| {})?;
     let truth = rollfric::synth::truth(&exp, None)?;
     // Detected as the tool detects a video (`pipeline::detect`), so that the result's
     // verdict weighs the detector's own checks too (its pivot check, and the swing
     // scale's share of the angle uncertainty).
-    let (angles, d) = match pipeline::detect(
-        &video,
-        opts,
-        video.display().to_string(),
-        String::new(),
-        Source::Twin,
-    ) {
+    let detect = |opts: &DetectOptions| {
+        pipeline::detect(
+            &video,
+            opts,
+            video.display().to_string(),
+            String::new(),
+            Source::Twin,
+        )
+    };
+    let (angles, d) = match detect(opts) {
         Ok(found) => found,
-        Err(e) => return Ok(Outcome::Refused(format!("{e:#}"))),
+        // Two pendulums (a second string): refused, naming both pivots; a user gives
+        // the one of their pendulum (`video.pivot`), as here the named pivot nearest
+        // the twin's fulcrum.
+        Err(e) => match named_pivots(&format!("{e:#}")).into_iter().min_by(|a, b| {
+            let d = |p: &[f64; 2]| (p[0] - rendered.pivot_px[0]).hypot(p[1] - rendered.pivot_px[1]);
+            d(a).total_cmp(&d(b))
+        }) {
+            Some(p) => {
+                let mut given = opts.clone();
+                given.pivot = Some(p);
+                match detect(&given) {
+                    Ok(found) => found,
+                    Err(e) => return Ok(Outcome::Refused(format!("{e:#}"))),
+                }
+            }
+            None => return Ok(Outcome::Refused(format!("{e:#}"))),
+        },
     };
     // Beside the video: the detector's angles and the truth, frame by frame.
     std::fs::write(dir.join("angles.csv"), d.to_csv())?;

@@ -264,25 +264,6 @@ enum Outcome {
     Refused(String),
 }
 
-/// The pivots a refusal of two pendulums names (`... about pivots (x1, y1) px and (x2,
-/// y2) px ...`); none for another refusal.
-fn named_pivots(message: &str) -> Vec<[f64; 2]> {
-    if !message.contains("two pendulums") {
-        return Vec::new();
-    }
-    message
-        .split(" px")
-        .filter_map(|p| {
-            let (x, y) = p
-                .rsplit_once('(')?
-                .1
-                .trim_end_matches(')')
-                .split_once(", ")?;
-            Some([x.parse().ok()?, y.parse().ok()?])
-        })
-        .collect()
-}
-
 /// A measured scene's detection (whether or not its fit was refused): its angle RMS
 /// against the truth, and the detection's own verdict.
 struct DetectionSeen {
@@ -380,10 +361,13 @@ fn run(
         // Two pendulums (a second string): refused, naming both pivots; a user gives
         // the one of their pendulum (`video.pivot`), as here the named pivot nearest
         // the twin's fulcrum.
-        Err(e) => match named_pivots(&format!("{e:#}")).into_iter().min_by(|a, b| {
-            let d = |p: &[f64; 2]| (p[0] - rendered.pivot_px[0]).hypot(p[1] - rendered.pivot_px[1]);
-            d(a).total_cmp(&d(b))
-        }) {
+        Err(e) => match rollfric::detect::pivots_named(&format!("{e:#}"))
+            .into_iter()
+            .min_by(|a, b| {
+                let d =
+                    |p: &[f64; 2]| (p[0] - rendered.pivot_px[0]).hypot(p[1] - rendered.pivot_px[1]);
+                d(a).total_cmp(&d(b))
+            }) {
             Some(p) => {
                 let mut given = opts.clone();
                 given.pivot = Some(p);

@@ -558,24 +558,14 @@ fn a_twin_in_a_busy_room_is_measured_and_its_occluded_frames_are_not_ok() {
         !out.status.success() && err.contains("two pendulums"),
         "{err}"
     );
-    let pivots: Vec<(f64, f64)> = err
-        .split(" px")
-        .filter_map(|p| {
-            let (x, y) = p
-                .rsplit_once('(')?
-                .1
-                .trim_end_matches(')')
-                .split_once(", ")?;
-            Some((x.parse().ok()?, y.parse().ok()?))
-        })
-        .collect();
+    let pivots = rollfric::detect::pivots_named(&err);
     assert_eq!(pivots.len(), 2, "{err}");
     let first = pivots
         .iter()
-        .min_by(|a, b| (a.0 - 480.0).abs().total_cmp(&(b.0 - 480.0).abs()))
+        .min_by(|a, b| (a[0] - 480.0).abs().total_cmp(&(b[0] - 480.0).abs()))
         .unwrap();
-    assert!((first.0 - 480.0).abs() < 20.0, "{err}");
-    let pivot = format!("{},{}", first.0, first.1);
+    assert!((first[0] - 480.0).abs() < 20.0, "{err}");
+    let pivot = format!("{},{}", first[0], first[1]);
     rollfric_ok(
         &["detect", "room.mp4", "-o", "angles.csv", "--pivot", &pivot],
         d,

@@ -129,6 +129,28 @@ pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     detect_from(&VideoFile::open(path)?, opts)
 }
 
+/// The pivots a refusal of two pendulums names (`... about pivots (x1, y1) px and (x2,
+/// y2) px ...`, as [`streaming_pass`] words it), px; none for another message.
+pub fn pivots_named(message: &str) -> Vec<[f64; 2]> {
+    if !message.contains(TWO_PENDULUMS) {
+        return Vec::new();
+    }
+    message
+        .split(" px")
+        .filter_map(|p| {
+            let (x, y) = p
+                .rsplit_once('(')?
+                .1
+                .trim_end_matches(')')
+                .split_once(", ")?;
+            Some([x.parse().ok()?, y.parse().ok()?])
+        })
+        .collect()
+}
+
+/// How a refusal of two pendulums begins (after the video's name).
+const TWO_PENDULUMS: &str = "two pendulums swing in the frame";
+
 /// Detect the wire angle in every frame of `input` (the input decides how it
 /// decodes).
 pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detection> {
@@ -249,9 +271,8 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let geo = &look.geo;
     if let Some(q) = geo.second {
         bail!(
-            "{name}: two pendulums swing in the frame, about pivots ({:.0}, {:.0}) px and \
-             ({:.0}, {:.0}) px: give `video.pivot` (--pivot) or `video.roi` (--roi) to say \
-             which one to measure",
+            "{name}: {TWO_PENDULUMS}, about pivots ({:.0}, {:.0}) px and ({:.0}, {:.0}) px: \
+             give `video.pivot` (--pivot) or `video.roi` (--roi) to say which one to measure",
             geo.pivot.x,
             geo.pivot.y,
             q.x,

@@ -65,7 +65,7 @@ pub fn record(exp: &Experiment, cam: &Camera) -> Result<Recording> {
         .synthetic_law()
         .with_context(|| format!("{}: `synthetic.beta` must be a number", exp.path.display()))?;
     let psi0 = s.psi0_deg.to_radians();
-    let p = &exp.pendulum;
+    let p = &exp.twin_pendulum();
     let full = OdeOptions {
         t_end: cam.duration_s.unwrap_or(MAX_DEFAULT_DURATION_S),
         ..OdeOptions::default()

@@ -304,8 +304,9 @@ fn a_pivot_given_a_few_pixels_off_is_refined_onto_the_wire() {
             d,
         );
         let got = pivot_in(&detected);
+        // Both printed to 0.1 px: 0.25 px holds a refinement within 0.15 px of the truth.
         assert!(
-            (got.0 - want.0).abs() <= 0.2 && (got.1 - want.1).abs() <= 0.2,
+            (got.0 - want.0).abs() <= 0.25 && (got.1 - want.1).abs() <= 0.25,
             "{what}: given {given}, refined to {got:?} px, rendered at {want:?}"
         );
         // The swing's scale: detected angles regressed on the true ones.

@@ -285,6 +285,21 @@ fn text(exp: &Experiment, r: &FitReport) -> String {
             mc.draws, mc.u_m, mc.u_ratio, mc.interval95_m[0], mc.interval95_m[1]
         );
     }
+    match &f.air {
+        Some(a) => {
+            let scale = a.drag_scale_se.map_or(String::new(), |se| {
+                format!("; drag scale {:.3} +- {:.3}", a.drag_scale, se)
+            });
+            let _ = writeln!(
+                o,
+                "  without air    {:.4e} m (the air modelled changes s_r by {:+.3} %; it takes {:.3} % of the energy, Re up to {:.0}{scale})",
+                a.s_r_without_air_m, a.correction_pct, a.energy_share_pct, a.reynolds_max
+            );
+        }
+        None => {
+            let _ = writeln!(o, "  the air        not modelled (`air.model: none`)");
+        }
+    }
     if let Some(t) = r.truth_s_r_m {
         let _ = writeln!(
             o,

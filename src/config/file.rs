@@ -1,6 +1,7 @@
 //! The experiment file's keys: serde structs with their units, defaults and docs. Unknown
 //! keys are errors; [`super::Experiment::parse`] validates the values.
 
+use super::air::AirFile;
 use super::synthetic::Synthetic;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -21,6 +22,10 @@ pub struct ExperimentFile {
     /// The rolling-resistance law to fit. Default: `beta` 1.
     #[serde(default)]
     pub model: Model,
+    /// The air the ball moves through, whose drag joins the equation of motion.
+    /// Default: still air at 20 degC and 101.325 kPa; `{ model: none }` leaves it out.
+    #[serde(default, skip_serializing_if = "is_default_air")]
+    pub air: AirFile,
     /// Wire-torsion test (Appendix A). Optional.
     pub torsion: Option<Torsion>,
     /// Sliding friction between ball and plate, for the pure-rolling check (Eq. 34).
@@ -45,6 +50,10 @@ pub struct ExperimentFile {
     /// `suspect`, and its page says the warning was accepted and why).
     #[serde(default)]
     pub accept: Vec<Accept>,
+}
+
+fn is_default_air(a: &AirFile) -> bool {
+    *a == AirFile::default()
 }
 
 /// The consistency checks' names, as `accept[].check` names them.

@@ -15,11 +15,13 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+mod air;
 mod file;
 pub mod schema;
 mod synthetic;
 mod values;
 
+pub use air::*;
 pub use file::*;
 pub use synthetic::*;
 use values::{bounded, in_range, non_negative, positive, within};
@@ -82,6 +84,7 @@ const EXPERIMENT_KEYS: &[&str] = &[
     "name",
     "material",
     "geometry",
+    "air",
     "video",
     "angles",
     "synthetic",
@@ -312,7 +315,11 @@ impl Experiment {
                 );
             }
         }
-        let pendulum = pendulum_of(&file.geometry)?;
+        file.air.check("air")?;
+        if let Some(a) = file.synthetic.as_ref().and_then(|s| s.air.as_ref()) {
+            a.check("synthetic.air")?;
+        }
+        let pendulum = pendulum_of(&file.geometry)?.with_air(file.air.air());
         ball_density(&file.geometry.ball, pendulum.m, pendulum.r)?;
         let beta = parse_beta(&file.model.beta, "model.beta")?;
         let u = &file.geometry.uncertainty;
@@ -529,6 +536,18 @@ impl Experiment {
             Ok(BetaChoice::Fixed(b)) => Some(FrictionLaw::new(s.s_r_m, b)),
             _ => None,
         }
+    }
+
+    /// The twin's pendulum: the experiment's, in the air `synthetic.air` names (the
+    /// experiment's own `air` when it names none).
+    pub fn twin_pendulum(&self) -> Pendulum {
+        let air = self
+            .file
+            .synthetic
+            .as_ref()
+            .and_then(|s| s.air.as_ref())
+            .unwrap_or(&self.file.air);
+        self.pendulum.with_air(air.air())
     }
 
     /// A path given in the file, resolved against the file's folder.

@@ -1,6 +1,7 @@
 //! The `synthetic:` block of an experiment file: the digital twin's truth, its camera
 //! and its room (serde structs with their units, defaults and docs).
 
+use super::air::AirFile;
 use super::file::{default_beta, BetaSpec};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -14,6 +15,10 @@ pub struct Synthetic {
     /// True exponent. Default 1.
     #[serde(default = "default_beta")]
     pub beta: BetaSpec,
+    /// The air the twin's ball moves through (its own `model`, temperature, pressure,
+    /// wall factor, or a constant `drag_coefficient`). Default: the experiment's `air`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub air: Option<AirFile>,
     /// Release amplitude `psi_0`, degrees. Default 10.
     #[serde(default = "default_psi0")]
     pub psi0_deg: f64,

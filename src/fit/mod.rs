@@ -29,8 +29,10 @@ use crate::stats::student_t_quantile;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
+mod air;
 mod measure;
 
+pub use air::{fit_drag_scale, AirShare, MAX_DRAG_SCALE};
 pub use measure::{analyze, from_extremes, measure, refine, Measurement, MIN_EXTREMES};
 
 /// Model turning amplitudes `|psi_j|`, `j = 0..=j_max`, starting from a turning point of
@@ -133,6 +135,10 @@ pub struct FitResult {
     /// the fit, or kept in it when more than the cap were found.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outliers: Vec<Outlier>,
+    /// The air's share, when the pendulum moves through air: `s_r` without it, the
+    /// correction, the share of the energy.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub air: Option<AirShare>,
 }
 
 /// A turning point whose amplitude residual is an outlier.
@@ -201,6 +207,9 @@ pub struct FitOptions {
     pub compare_betas: bool,
     /// Relative tolerance of the model integration.
     pub rtol: f64,
+    /// The standard error of the drag's scale, when it was fitted
+    /// ([`fit_drag_scale`]) into the pendulum's air.
+    pub drag_scale_se: Option<f64>,
 }
 
 impl Default for FitOptions {
@@ -209,6 +218,7 @@ impl Default for FitOptions {
             beta: BetaChoice::Fixed(1.0),
             compare_betas: false,
             rtol: 1e-7,
+            drag_scale_se: None,
         }
     }
 }
@@ -485,6 +495,15 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
     } else {
         f64::NAN
     };
+    let air = air::air_share(
+        p,
+        m,
+        beta,
+        opts.rtol,
+        [core.s_r, core.a0],
+        &model,
+        opts.drag_scale_se,
+    )?;
     let mean_amp = m.amplitudes.iter().sum::<f64>() / n as f64;
     // Finite-amplitude correction of the period (T = T_0 (1 + A^2/16 + ...)).
     let t0 = m.period_s / (1.0 + mean_amp * mean_amp / 16.0);
@@ -513,6 +532,7 @@ pub fn fit(p: &Pendulum, m: &Measurement, opts: &FitOptions) -> Result<FitResult
         release: m.release,
         stop: m.stop,
         outliers: Vec::new(),
+        air,
     })
 }
 

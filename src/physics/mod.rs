@@ -12,12 +12,18 @@
 //! * Equation of motion, Eq. 33 (missing from the text; ERRATA §2), from Eq. 29 and 32:
 //!   `psi'' = -(m g r^2 sin(alpha) / (J_C L)) sin(psi) - (r s_r N^beta / (J_C L)) sgn(psi')`.
 //! * Pure rolling holds while `|T| / N < mu` (Eq. 34).
+//! * Beyond the paper, the air's drag on the ball adds `-(r^2 F_d / (J_C L)) sgn(psi')`
+//!   to Eq. 33 and `(J_z / J_C) F_d sgn(psi')` to Eq. 31 ([`air`]), when the pendulum has
+//!   air ([`Pendulum::with_air`]).
 //!
 //! The integrator lives in [`ode`]; the torsion appendix (A1–A5) in [`torsion`].
 //! All quantities are SI: metres, kilograms, seconds, radians.
 
+pub mod air;
 pub mod ode;
 pub mod torsion;
+
+pub use air::Air;
 
 use anyhow::{ensure, Result};
 use serde::Serialize;
@@ -78,6 +84,8 @@ pub struct Pendulum {
     pub l: f64,
     /// Moment of inertia about the contact axis `J_C = J_z + m r^2`, kg·m^2.
     pub j_c: f64,
+    /// The air the ball moves through (`None`: the paper's model, in a vacuum).
+    pub air: Option<Air>,
     /// Constants of the hot path, computed once.
     c: Cached,
 }
@@ -87,6 +95,8 @@ struct Cached {
     /// `m g r^2 sin(alpha) / (J_C L)` and `r / (J_C L)` of Eq. 33.
     k_grav: f64,
     k_fric: f64,
+    /// `r^2 / (J_C L)`: the drag force's share of `psi''`.
+    k_air: f64,
 }
 
 impl Pendulum {
@@ -123,11 +133,26 @@ impl Pendulum {
             delta,
             l,
             j_c,
+            air: None,
             c: Cached {
                 k_grav: m * g * r * r * alpha.sin() / (j_c * l),
                 k_fric: r / (j_c * l),
+                k_air: r * r / (j_c * l),
             },
         })
+    }
+
+    /// The same pendulum moving through `air` (`None`: in a vacuum, as the paper).
+    pub fn with_air(self, air: Option<Air>) -> Self {
+        Self { air, ..self }
+    }
+
+    /// The drag force on the ball at the rate `psi_dot`, N (0 without air).
+    #[inline]
+    pub fn drag_force(&self, psi_dot: f64) -> f64 {
+        self.air
+            .as_ref()
+            .map_or(0.0, |a| a.force(self.r, self.l * psi_dot))
     }
 
     /// Small-angle angular frequency `omega_0 = sqrt(m g r^2 sin(alpha) / (J_C L))`, rad/s.
@@ -152,11 +177,14 @@ impl Pendulum {
             + self.m * self.g * (self.alpha.cos() + self.alpha.sin() * self.delta.tan() * psi.cos())
     }
 
-    /// In-plane friction force `T` (Eq. 31 with `sgn(psi')`, ERRATA §3), N.
+    /// In-plane friction force `T` (Eq. 31 with `sgn(psi')`, ERRATA §3; with the air's
+    /// drag `F_d`, [`air`]), N.
     pub fn friction_force(&self, law: &FrictionLaw, psi: f64, psi_dot: f64) -> f64 {
         let n = self.normal_force(psi, psi_dot);
-        self.j_z / self.j_c * self.m * self.g * self.alpha.sin() * psi.sin()
-            - self.m * self.r / self.j_c * law.torque(n) * sign(psi_dot)
+        let s = sign(psi_dot);
+        self.j_z / self.j_c
+            * (self.m * self.g * self.alpha.sin() * psi.sin() + self.drag_force(psi_dot) * s)
+            - self.m * self.r / self.j_c * law.torque(n) * s
     }
 
     /// Angular acceleration `psi''` (Eq. 33, ERRATA §2) while the wire moves in the
@@ -164,7 +192,10 @@ impl Pendulum {
     /// swing so that the right-hand side stays smooth.
     #[inline]
     pub fn psi_ddot(&self, law: &FrictionLaw, psi: f64, psi_dot: f64, dir: f64) -> f64 {
-        let friction = self.c.k_fric * law.torque(self.normal_force(psi, psi_dot));
+        let mut friction = self.c.k_fric * law.torque(self.normal_force(psi, psi_dot));
+        if self.air.is_some() {
+            friction += self.c.k_air * self.drag_force(psi_dot);
+        }
         -(self.c.k_grav * psi.sin() + friction * dir)
     }
 

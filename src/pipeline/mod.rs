@@ -241,10 +241,27 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         return Err(anyhow::anyhow!(why)).with_context(what);
     }
     let m = fit::analyze(p, &series, beta).with_context(what)?;
-    let opts = FitOptions {
+    let mut opts = FitOptions {
         beta,
         compare_betas: o.compare_betas || exp.file.model.compare_betas,
         ..FitOptions::default()
+    };
+    // `air.fit_scale`: the drag's scale from the turning points, into the pendulum.
+    let scaled;
+    let p = match p.air {
+        Some(air) if exp.file.air.fit_scale => {
+            let fixed = match beta {
+                fit::BetaChoice::Fixed(b) => b,
+                fit::BetaChoice::Free => 1.0,
+            };
+            let (k, se) = fit::fit_drag_scale(p, &m, fixed, opts.rtol)
+                .context("fitting the drag's scale (`air.fit_scale`)")
+                .with_context(what)?;
+            opts.drag_scale_se = Some(se);
+            scaled = p.with_air(Some(crate::physics::Air { scale: k, ..air }));
+            &scaled
+        }
+        _ => p,
     };
     // The turning points that were fitted (outliers dropped) and the fit.
     let frame_noise_rad = crate::signal::noise_sigma(&series.angle);

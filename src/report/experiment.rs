@@ -83,6 +83,58 @@ fn s_r_expanded(r: &ExperimentResult) -> Kv {
     )
 }
 
+/// The air's rows of the fit table: the drag modelled, `s_r` without it, the
+/// correction and its share of the budget (or that the air is left out).
+pub fn air_rows(r: &ExperimentResult) -> Vec<Kv> {
+    let Some(a) = &r.results.air else {
+        return vec![kv(
+            "the air",
+            "not modelled (`air.model: none`): the paper's equation of motion, in a vacuum".into(),
+        )];
+    };
+    let scale = match a.drag_scale_se {
+        Some(se) => format!("; drag scale fitted: {:.3} +- {:.3}", a.drag_scale, se),
+        None => String::new(),
+    };
+    let u2: f64 = r
+        .budget
+        .components
+        .iter()
+        .filter(|c| c.key.starts_with("air."))
+        .map(|c| c.contribution_m * c.contribution_m)
+        .sum();
+    let share = if r.budget.u_c_m > 0.0 {
+        100.0 * u2 / (r.budget.u_c_m * r.budget.u_c_m)
+    } else {
+        0.0
+    };
+    vec![
+        kv(
+            "the air (drag of a sphere, docs/air.md)",
+            format!(
+                "rho = {:.4} kg/m^3, mu = {:.4e} Pa s, wall factor {}{scale}; Reynolds number up \
+                 to {:.0}; the air takes {:.3} % of the energy lost",
+                a.density_kg_m3,
+                a.viscosity_pa_s,
+                figures::trim(a.wall_factor),
+                a.reynolds_max,
+                a.energy_share_pct
+            ),
+        ),
+        kv(
+            "s_r without the air (the paper's model)",
+            format!(
+                "{:.4e} m: modelling the air changes s_r by {:+.3} %; the air's inputs give \
+                 {:.3e} m of u ({:.2} % of u_c^2)",
+                a.s_r_without_air_m,
+                a.correction_pct,
+                u2.sqrt(),
+                share
+            ),
+        ),
+    ]
+}
+
 /// The Appendix A table's rows, label and formatted value (the text table and the
 /// report pages both show these).
 pub fn torsion_rows(c: &TorsionCheck, s_r_from: &str) -> Vec<(&'static str, String)> {
@@ -432,6 +484,9 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             format!("{:.4e} rad/s", f.a_model_rad_s),
         ),
         s_r_expanded(r),
+    ];
+    fit.extend(air_rows(r));
+    fit.extend([
         kv(
             "s_r, the angles' 95 % interval (geometry exact)",
             format!(
@@ -471,7 +526,7 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             ),
         ),
         kv("max |T|/N (Eq. 31, 34)", format!("{:.3e}", f.max_t_over_n)),
-    ];
+    ]);
     if let Some(t) = r.truth_s_r_m {
         fit.push(kv(
             "synthetic truth s_r",

@@ -73,12 +73,13 @@ pub fn monte_carlo(
     seed: u64,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MonteCarlo> {
-    let ins = inputs(exp);
+    let ins = inputs(exp, f);
+    let base = Setting::of(exp, f);
     let start = [f.s_r_m, f.a_start_rad];
     let mut rng = Rng::new(seed);
     let mut values = Vec::with_capacity(draws);
     for done in 0..draws {
-        let mut g = exp.file.geometry.clone();
+        let mut g = base.clone();
         for c in &b.components {
             let Some(i) = ins.iter().find(|i| i.key == c.key) else {
                 continue;
@@ -91,7 +92,7 @@ pub fn monte_carlo(
             };
             (i.set)(&mut g, x);
         }
-        let p = pendulum_of(&g).context("a Monte Carlo draw of the geometry")?;
+        let p = g.pendulum().context("a Monte Carlo draw of the geometry")?;
         let mut s =
             fit::refit(&p, m, f.beta, start, RTOL).context("re-fitting a Monte Carlo draw")?[0];
         // The angles' parts and the plate calibration add to s_r directly.

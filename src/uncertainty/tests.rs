@@ -70,6 +70,29 @@ fn sensitivities_agree_with_the_small_angle_relation() {
             .sensitivity
     };
     let s = f.s_r_m;
+    // In air a heavier ball loses less to the drag: `s_r = D - k F_d / m` for a
+    // measured decrement `D`, so `(m / s_r) ds_r/dm` is the air's correction.
+    let correction = f.air.expect("in air").correction_pct / 100.0;
+    let got_m = c("m") * 1.0458 / s;
+    assert!(
+        (got_m + correction).abs() < 0.3 * correction.abs(),
+        "m: {got_m} against the air's {correction}"
+    );
+    // The paper's model, in a vacuum: s_r does not depend on m or g.
+    let exp = experiment("air: { model: none }\n");
+    let (m, f) = fitted(&exp, 0.0);
+    assert!(f.air.is_none());
+    let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
+    let b = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
+    assert!(b.components.iter().all(|c| !c.key.starts_with("air.")));
+    let c = |q: &str| {
+        b.components
+            .iter()
+            .find(|c| c.quantity == q)
+            .unwrap()
+            .sensitivity
+    };
+    let s = f.s_r_m;
     assert!((c("m") * 1.0458 / s).abs() < 1e-4, "m: {}", c("m"));
     assert!((c("g") * 9.81 / s).abs() < 1e-4, "g: {}", c("g"));
     let p = &exp.pendulum;

@@ -14,6 +14,12 @@ pub struct ExperimentFile {
     pub name: Option<String>,
     /// Plate material, as the report's tables name it. Default: the name.
     pub material: Option<String>,
+    /// One material pair measured at several normal forces (other balls, other
+    /// inclines): the experiments of a manifest that name the same `pair` are fitted
+    /// together for `beta` and `s_r` on the index (docs/beta.md), and are not pooled
+    /// as repeat runs of their material. Optional.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair: Option<String>,
     /// Free text shown on the report (where the numbers came from, caveats).
     #[serde(default)]
     pub notes: String,

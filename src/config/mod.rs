@@ -297,6 +297,14 @@ impl Experiment {
         let material = file.material.clone().unwrap_or_else(|| name.clone());
         text_limit("material", &material, MAX_TITLE_CHARS)?;
         text_limit("notes", &file.notes, MAX_NOTES_CHARS)?;
+        if let Some(p) = &file.pair {
+            text_limit("pair", p, MAX_TITLE_CHARS)?;
+            if p.trim().is_empty() {
+                bail!(
+                    "`pair` is empty: name the material pair (`glass-steel`), or leave the key out"
+                );
+            }
+        }
         if let Some(r) = &file.reference {
             text_limit("reference.source", &r.source, MAX_TITLE_CHARS)?;
         }

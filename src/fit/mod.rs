@@ -31,9 +31,11 @@ use serde::Serialize;
 
 mod air;
 mod measure;
+mod series;
 
 pub use air::{fit_drag_scale, AirShare, MAX_DRAG_SCALE};
 pub use measure::{analyze, from_extremes, measure, refine, Measurement, MIN_EXTREMES};
+pub use series::{beta_name, beta_series, BetaSeries, BetaTrial, SeriesRun, BETA_TRIALS};
 
 /// Model turning amplitudes `|psi_j|`, `j = 0..=j_max`, starting from a turning point of
 /// amplitude `a0` (`j = 0`). After the model stops, its amplitude stays at the last one.

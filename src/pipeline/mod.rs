@@ -292,10 +292,16 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         }
     }
     let law = FrictionLaw::new(f.s_r_m, f.beta);
+    // The twin's s_r in the fitted law: when the twin's exponent differs (a run of a
+    // series at several normal forces, fitted with beta = 1), the s_r that gives the
+    // twin's torque at the run's mean normal force.
     let truth = angles
         .source
         .is_synthetic()
-        .then(|| exp.synthetic_law().map(|l| l.s_r))
+        .then(|| {
+            exp.synthetic_law()
+                .map(|l| l.s_r * f.reactions.n_mean_n.powf(l.beta - f.beta))
+        })
         .flatten();
     let tol = &exp.file.tolerances;
     let ts: Vec<f64> = m.extremes.iter().map(|e| e.t).collect();

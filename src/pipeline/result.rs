@@ -48,6 +48,9 @@ pub struct PageFile {
 pub struct ExperimentResult {
     pub name: String,
     pub material: String,
+    /// The material pair of a series at several normal forces (`pair`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair: Option<String>,
     pub notes: String,
     pub inputs: Inputs,
     /// Whether the angles come from the digital twin (synthetic, not a lab recording).
@@ -85,6 +88,7 @@ impl ExperimentResult {
         Self {
             name: exp.name.clone(),
             material: exp.material.clone(),
+            pair: exp.file.pair.clone(),
             notes: exp.file.notes.clone(),
             inputs,
             synthetic: angles.source.is_synthetic(),

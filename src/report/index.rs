@@ -17,6 +17,7 @@ struct IndexView {
     manifest_sha256: String,
     rows: Vec<TableRow>,
     groups: Vec<GroupView>,
+    series: Vec<super::series::SeriesView>,
     failures: Vec<Kv>,
     torsion: Vec<TorsionRow>,
     provenance: Vec<Kv>,
@@ -107,7 +108,12 @@ fn group_view(g: &Group) -> GroupView {
 /// the manifest's order.
 fn groups(entries: &[Entry]) -> Vec<Group> {
     let mut out: Vec<(String, Vec<Run>)> = Vec::new();
-    for r in entries.iter().filter_map(|e| e.result.as_ref()) {
+    // A pair's runs at several normal forces are a series, not repeats.
+    for r in entries
+        .iter()
+        .filter_map(|e| e.result.as_ref())
+        .filter(|r| r.pair.is_none())
+    {
         let run = Run {
             name: r.name.clone(),
             d_m: r.geometry.d_m,
@@ -243,7 +249,14 @@ pub fn index_pages(
         });
     }
     let groups = groups(&entries);
+    let series = super::series::series_of(&entries);
     let mut files: Vec<OutputFile> = Vec::new();
+    for (i, s) in series.iter().enumerate() {
+        files.push(OutputFile::new(
+            super::series::figure_file(i),
+            super::series::figure(s)?,
+        ));
+    }
     if !f19.is_empty() {
         files.push(OutputFile::new("fig19.svg", figures::figure19(&f19)?.svg));
     }
@@ -273,6 +286,7 @@ pub fn index_pages(
         manifest_sha256: manifest_sha256.clone(),
         experiments: entries,
         groups,
+        series,
     };
     let results = || summary.experiments.iter().filter_map(|e| e.result.as_ref());
     let view = IndexView {
@@ -289,6 +303,12 @@ pub fn index_pages(
         total: summary.experiments.len(),
         rows,
         groups: summary.groups.iter().map(group_view).collect(),
+        series: summary
+            .series
+            .iter()
+            .enumerate()
+            .map(|(i, s)| super::series::series_view(i, s))
+            .collect(),
         failures,
         torsion,
         provenance,

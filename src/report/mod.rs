@@ -16,6 +16,7 @@ pub mod figures;
 mod index;
 pub mod plot;
 mod review;
+mod series;
 mod summary;
 
 pub use budget::fmt_expanded;

@@ -78,6 +78,9 @@ pub struct Summary {
     /// Repeat runs: the experiments that name the same material.
     #[serde(default)]
     pub groups: Vec<crate::uncertainty::Group>,
+    /// `beta` from the runs of one pair at several normal forces (`pair`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub series: Vec<crate::fit::BetaSeries>,
 }
 
 impl Summary {

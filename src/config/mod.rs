@@ -146,8 +146,21 @@ fn yaml_error(e: &serde_saphyr::Error, text: &str, keys: &[&str], what: &str) ->
         }
         None => first.to_string(),
     };
-    // Room for the list of valid keys, not for a huge quoted value.
-    anyhow::anyhow!("{}{src}", excerpt(&first, 400))
+    // Room for the list of valid keys, not for a huge quoted value (in bytes: a key of
+    // two-byte letters must not double the message).
+    anyhow::anyhow!("{}{src}", excerpt_bytes(&first, 400))
+}
+
+/// At most about `max` bytes of `s`, cut at a character boundary, with what was left out.
+fn excerpt_bytes(s: &str, max: usize) -> String {
+    if s.len() <= max {
+        return s.to_string();
+    }
+    let mut i = max;
+    while !s.is_char_boundary(i) {
+        i -= 1;
+    }
+    format!("{}... ({} more bytes)", &s[..i], s.len() - i)
 }
 
 /// At most `max` characters of quoted input (a huge one-line file is not echoed whole).

@@ -21,7 +21,7 @@
 //! instead of dropping more).
 
 use crate::numerics::{golden_section_min, linear_fit, median};
-use crate::physics::ode::{integrate, OdeOptions, Trajectory};
+use crate::physics::ode::{integrate, OdeOptions};
 pub use crate::physics::BetaChoice;
 use crate::physics::{FrictionLaw, Pendulum};
 pub use crate::signal::{Release, Stop};
@@ -31,10 +31,12 @@ use serde::Serialize;
 
 mod air;
 mod measure;
+mod reactions;
 mod series;
 
 pub use air::{fit_drag_scale, AirShare, MAX_DRAG_SCALE};
 pub use measure::{analyze, from_extremes, measure, refine, Measurement, MIN_EXTREMES};
+pub use reactions::{reactions, Reactions};
 pub use series::{beta_name, beta_series, BetaSeries, BetaTrial, SeriesRun, BETA_TRIALS};
 
 /// Model turning amplitudes `|psi_j|`, `j = 0..=j_max`, starting from a turning point of
@@ -73,18 +75,6 @@ pub struct BetaCandidate {
     /// Small-sample Akaike criterion (lower is better; differences below ~2 mean the
     /// data cannot tell the exponents apart).
     pub aicc: f64,
-}
-
-/// The reactions along the fitted motion (Eq. 30, 31, 34).
-#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize, PartialEq)]
-pub struct Reactions {
-    pub n_min_n: f64,
-    pub n_max_n: f64,
-    pub n_mean_n: f64,
-    /// `100 (N_max - N_min) / N_mean`, %.
-    pub n_variation_pct: f64,
-    /// Largest `|T| / N` (must stay below the sliding coefficient, Eq. 34).
-    pub max_t_over_n: f64,
 }
 
 /// The complete result of one fit.
@@ -588,31 +578,6 @@ pub fn fit_robust(
     outliers.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
     f.outliers = outliers;
     Ok((cur, f))
-}
-
-/// `N(t)` and `|T|/N` sampled densely along a trajectory between `t0` and `t1`.
-pub fn reactions(tr: &Trajectory, t0: f64, t1: f64) -> Reactions {
-    let p = &tr.pendulum;
-    let samples = 4000;
-    let (mut lo, mut hi, mut sum, mut ratio) = (f64::INFINITY, 0.0f64, 0.0, 0.0f64);
-    for i in 0..=samples {
-        let t = t0 + (t1 - t0) * i as f64 / samples as f64;
-        let [psi, w] = tr.state(t);
-        let n = p.normal_force(psi, w);
-        let tf = p.friction_force(&tr.law, psi, if w == 0.0 { tr.direction(t) } else { w });
-        lo = lo.min(n);
-        hi = hi.max(n);
-        sum += n;
-        ratio = ratio.max(tf.abs() / n);
-    }
-    let mean = sum / (samples + 1) as f64;
-    Reactions {
-        n_min_n: lo,
-        n_max_n: hi,
-        n_mean_n: mean,
-        n_variation_pct: 100.0 * (hi - lo) / mean,
-        max_t_over_n: ratio,
-    }
 }
 
 #[cfg(test)]

@@ -16,12 +16,14 @@ pub mod figures;
 mod index;
 pub mod plot;
 mod review;
+mod rows;
 mod series;
 mod summary;
 
 pub use budget::fmt_expanded;
-pub use experiment::{experiment_pages, torsion_rows};
+pub use experiment::experiment_pages;
 pub use index::index_pages;
+pub use rows::torsion_rows;
 pub use summary::{check, Entry, EntryStatus, Outcome, Summary};
 
 use anyhow::{Context, Result};

@@ -18,6 +18,34 @@ pub(super) const DECODE_ONCE_MAX_BYTES: u64 = 256 << 20;
 /// still start) starts a decoder again for the streaming pass.
 pub(super) const HELD_MAX_BYTES: usize = 48 << 20;
 
+/// The first look's frames kept for the geometry at most to about this many bytes: at a
+/// large working side (`--work-side 4096` on 4K, 8 MB a frame) the look keeps every
+/// `k`-th frame over the same [`INIT_SECONDS`] instead of every frame (1.4 GB at 60
+/// frames/s), and at least [`LOOK_MIN_FRAMES`] of them. At the default working side a
+/// look of [`LOOK_MAX_FRAMES`] frames of 640 x 640 px is 123 MB: every frame is kept.
+pub(super) const LOOK_MAX_BYTES: usize = 160 << 20;
+
+/// The fewest frames a look thinned by [`LOOK_MAX_BYTES`] keeps: one every tenth of a
+/// second over [`INIT_SECONDS`], as the geometry judges a line's jumps and roughness
+/// from step to step (`geometry::search`).
+pub(super) const LOOK_MIN_FRAMES: usize = 25;
+
+/// Every how many frames the look keeps one, for frames of `bytes` each and a video of
+/// `info`'s rate: 1 unless its [`INIT_SECONDS`] would hold more than [`LOOK_MAX_BYTES`].
+pub(super) fn look_stride(info: &crate::video::VideoInfo, bytes: usize) -> u64 {
+    let look = match (info.frames_header, info.duration_s) {
+        (Some(n), Some(d)) if n > 0 && d > 0.0 => (INIT_SECONDS * n as f64 / d)
+            .ceil()
+            .min(LOOK_MAX_FRAMES as f64) as usize,
+        _ => LOOK_MAX_FRAMES,
+    };
+    if look.saturating_mul(bytes) <= LOOK_MAX_BYTES {
+        return 1;
+    }
+    let keep = (LOOK_MAX_BYTES / bytes.max(1)).max(LOOK_MIN_FRAMES);
+    look.div_ceil(keep).max(1) as u64
+}
+
 /// What the first look's decoder may decode ahead of the look, bytes: the frames after
 /// the look come while its geometry is worked out, so that the decoder does not wait on
 /// the geometry. A 960x540 look's geometry takes 0.2-0.3 s, in which the decoder gives
@@ -218,6 +246,8 @@ impl<'a> FirstLook<'a> {
         let mut steady: Option<steady::Steady> = None;
         let (mut measured, mut moved) = (0usize, 0usize);
         let mut last_glance: Option<(u64, f64)> = None;
+        // Every how many frames the look keeps one (`look_stride`), from the first.
+        let mut stride: Option<u64> = None;
         while src
             .next_frame(&mut frame)
             .with_context(|| "finding the wire".to_string())?
@@ -260,6 +290,10 @@ impl<'a> FirstLook<'a> {
                 }
             }
             let t_first = *t_first.get_or_insert(frame.t_s);
+            let stride = *stride.get_or_insert_with(|| look_stride(info, frame.data.len()));
+            if (frame.index - first) % stride != 0 {
+                continue;
+            }
             init.data.push(frame.data.clone());
             times.push_back(frame.t_s);
             let newest = init.data.last_mut().expect("just pushed");
@@ -375,5 +409,40 @@ impl<'a> FirstLook<'a> {
             dropped,
             moving,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(frames: u64, duration_s: f64) -> crate::video::VideoInfo {
+        crate::video::VideoInfo {
+            width: 3840,
+            height: 2160,
+            frames_header: Some(frames),
+            duration_s: Some(duration_s),
+            codec: "h264".into(),
+            luma_plane: true,
+        }
+    }
+
+    #[test]
+    fn a_large_working_side_thins_the_look_to_its_byte_budget() {
+        // The default side: a 640 x 640 look of 300 frames (123 MB) is kept whole.
+        assert_eq!(look_stride(&info(6000, 50.0), 640 * 640), 1);
+        // 4K at full size, 60 frames/s: 150 frames of 8.3 MB; 160 MiB hold 20, fewer
+        // than the 25 of one every tenth of a second, so 25 are kept: every 6th frame.
+        let k4 = 3840 * 2160;
+        assert_eq!(look_stride(&info(3000, 50.0), k4), 6);
+        assert!((150usize).div_ceil(6) * k4 <= 2 * LOOK_MAX_BYTES);
+        // Small frames at a high rate are never thinned below one a frame.
+        assert_eq!(look_stride(&info(24_000, 100.0), 320 * 240), 1);
+        // No header: the look's largest count (300 frames) is assumed.
+        let none = crate::video::VideoInfo {
+            frames_header: None,
+            ..info(0, 1.0)
+        };
+        assert_eq!(look_stride(&none, k4), 12);
     }
 }

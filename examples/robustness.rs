@@ -270,6 +270,9 @@ struct DetectionSeen {
     angle_rms_deg: f64,
     label: String,
     suspect: bool,
+    /// The detector's processor time besides the decoder (this process's, the decoder
+    /// being another), per frame, ms: start-up included.
+    cpu_ms_per_frame: f64,
 }
 
 /// The accepted frames' angle error split into its parts: `error = offset + scale *
@@ -356,6 +359,7 @@ fn run(
             Source::Twin,
         )
     };
+    let cpu_before = rollfric::cli::own_cpu_seconds();
     let (angles, d) = match detect(opts) {
         Ok(found) => found,
         // Two pendulums (a second string): refused, naming both pivots; a user gives
@@ -432,10 +436,15 @@ fn run(
             })
         })
         .count();
+    let cpu = match (cpu_before, rollfric::cli::own_cpu_seconds()) {
+        (Some(a), Some(b)) => b - a,
+        _ => f64::NAN,
+    };
     *seen = Some(DetectionSeen {
         angle_rms_deg: rms,
         label: d.verdict.label(),
         suspect: d.verdict.verdict == rollfric::verdict::Status::Suspect,
+        cpu_ms_per_frame: 1e3 * cpu / d.rows.len().max(1) as f64,
     });
     let a = match pipeline::analyze(&exp, &angles, Overrides::default()) {
         Ok(a) => a,
@@ -536,6 +545,8 @@ fn main() -> Result<()> {
     // 0.02-0.05 deg and > 0.05 deg; and the scenes over 0.05 deg it called `ok`.
     let mut detection_confusion = [[0usize; 2]; 3];
     let mut missed = Vec::new();
+    // The detector's processor time per frame besides the decoder, every detected scene.
+    let mut cpu_ms = Vec::new();
     for i in 0..scenes {
         let mut scene = Scene::draw(&mut rng, seed * 1000 + i as u64);
         while !placeable(&scene, root, duration)? {
@@ -557,6 +568,7 @@ fn main() -> Result<()> {
         let mut seen = None;
         let outcome = run(&scene, root, dir.path(), duration, &opts, &mut seen);
         if let Some(s) = &seen {
+            cpu_ms.push(s.cpu_ms_per_frame);
             let band = match s.angle_rms_deg {
                 r if r <= 0.02 => 0,
                 r if r <= 0.05 => 1,
@@ -722,6 +734,14 @@ fn main() -> Result<()> {
     for m in &missed {
         println!("    over 0.05 deg, called ok: {m}");
     }
+    println!(
+        "  the detector's processor time besides the decoder, ms/frame (start-up included): \
+         p50 {:.3}  p90 {:.3}  max {:.3} over {} scenes",
+        percentile(&cpu_ms, 0.5),
+        percentile(&cpu_ms, 0.9),
+        percentile(&cpu_ms, 1.0),
+        cpu_ms.len()
+    );
     println!("  by condition (a scene may have several):");
     println!(
         "    {:<16} {:>6} {:>9} {:>11} {:>13} {:>12}",

@@ -9,6 +9,9 @@ mod init;
 mod model;
 mod workflow;
 
+/// This process's processor time and peak memory, as `detect` reports them.
+pub use detect::{own_cpu_seconds, peak_memory};
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 

@@ -99,9 +99,10 @@ const LOOK_MAX_FRAMES: usize = 300;
 /// The detector's peak memory at a working side, estimated before it starts, MiB: a
 /// base of 40 MiB and 2.3 copies of the first look's frames at the scale the working
 /// side gives (the look's frames, its background and the frames held for the streaming
-/// pass), as measured at 1280 px on a 1280x720 video (184 MiB) and at 4096 px on a
-/// 3840x2160 one (1.5 GiB). For `--work-side`: a larger side costs memory, and the
-/// command says how much before it is spent.
+/// pass), as measured at 1280 px on a 1280x720 video (184 MiB), with the look thinned to
+/// its byte budget at a large side (`first_look::look_stride`: 471 MiB measured at 4096
+/// px on a 3840x2160 video at 60 frames/s, 517 estimated). For `--work-side`: a larger
+/// side costs memory, and the command says how much before it is spent.
 pub fn peak_memory_estimate_mib(info: &crate::video::VideoInfo, work_side_px: f64) -> f64 {
     let side = f64::from(info.width.max(info.height));
     let shrink = (side / work_side_px.max(WORK_SIDE_PX)).ceil().max(1.0);
@@ -112,7 +113,9 @@ pub fn peak_memory_estimate_mib(info: &crate::video::VideoInfo, work_side_px: f6
     let frames = (INIT_SECONDS * fps).ceil().min(LOOK_MAX_FRAMES as f64);
     let frame =
         (f64::from(info.width) / shrink).floor() * (f64::from(info.height) / shrink).floor();
-    40.0 + 2.3 * frames * frame / f64::from(1u32 << 20)
+    let stride = first_look::look_stride(info, frame as usize) as f64;
+    let kept = (frames / stride).ceil();
+    40.0 + 2.3 * kept * frame / f64::from(1u32 << 20)
 }
 
 /// Of a still start (a held ball, see [`still`]), the first look keeps the last this

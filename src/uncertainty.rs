@@ -303,7 +303,8 @@ pub fn budget(
             ),
         };
         // A fitted drag scale may be as uncertain as it is large: the run could not tell.
-        if u >= i.value.abs() && i.key != "air.fit_scale" {
+        // (A temperature in degC is no ratio: 1 degC +- 1.7 is a room, not a doubt.)
+        if u >= i.value.abs() && i.key != "air.fit_scale" && i.key != "air.temperature_c" {
             bail!(
                 "`{}` = {} {unit}: its standard uncertainty ({:.3e} {unit}, {source}) is as \
                  large as the value itself; check the value's units, or give its uncertainty",

@@ -93,8 +93,10 @@ pub(super) struct Located<'a> {
     pub(super) shrink: u32,
     /// The look's region (cut to whole multiples of `shrink`).
     pub(super) bound: Roi,
-    /// Frames of a still start dropped from the front of the look.
+    /// Frames of a still start dropped from the front of the look (of those it kept).
     pub(super) dropped: usize,
+    /// The look kept one frame in this many ([`look_stride`]).
+    pub(super) stride: usize,
     /// The camera moved in the look (a frame displaced by more than
     /// [`steady::MOVING_PX`]): its frames were warped back onto its first, and the
     /// streaming pass's are too.
@@ -407,6 +409,7 @@ impl<'a> FirstLook<'a> {
             shrink: use_shrink,
             bound,
             dropped,
+            stride: stride.unwrap_or(1) as usize,
             moving,
         })
     }

@@ -340,11 +340,14 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         }
         // The frames of a still start the look dropped held the wire where its first
         // kept frame has it.
-        let hint = geo
-            .initial_angles
-            .get(k.saturating_sub(look.dropped))
-            .copied()
-            .flatten();
+        // A thinned look (`first_look::look_stride`) has the angle of one frame in
+        // `stride`.
+        let j = k.saturating_sub(look.dropped * look.stride);
+        let hint = if j.is_multiple_of(look.stride) {
+            geo.initial_angles.get(j / look.stride).copied().flatten()
+        } else {
+            None
+        };
 
         if let Some(late) = &mut late {
             late.offer(&mut frame)?;

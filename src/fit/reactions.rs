@@ -25,7 +25,12 @@ pub fn reactions(tr: &Trajectory, t0: f64, t1: f64) -> Reactions {
         let t = t0 + (t1 - t0) * i as f64 / samples as f64;
         let [psi, w] = tr.state(t);
         let n = p.normal_force(psi, w);
-        let tf = p.friction_force(&tr.law, psi, if w == 0.0 { tr.direction(t) } else { w });
+        let dir = if w == 0.0 {
+            tr.direction(t)
+        } else {
+            crate::physics::sign(w)
+        };
+        let tf = p.friction_force_towards(&tr.law, psi, w, dir);
         lo = lo.min(n);
         hi = hi.max(n);
         sum += n;

@@ -73,8 +73,8 @@ pub struct BetaSeries {
     pub chi2: f64,
     /// `sqrt(chi^2 / (n - 2))` (`None` with two runs).
     pub birge_ratio: Option<f64>,
-    /// `1 + 2 sqrt(2 / (n - 2))`: two standard deviations of the ratio for consistent
-    /// runs.
+    /// `1 + 2 sqrt(2 / (n - 2))`, the limit the repeat runs use (two standard
+    /// deviations of `R^2` for consistent runs, taken for `R`: lenient).
     pub birge_limit: Option<f64>,
     pub consistent: bool,
     /// The coverage factor of the interval.

@@ -180,11 +180,24 @@ impl Pendulum {
     /// In-plane friction force `T` (Eq. 31 with `sgn(psi')`, ERRATA §3; with the air's
     /// drag `F_d`, [`air`]), N.
     pub fn friction_force(&self, law: &FrictionLaw, psi: f64, psi_dot: f64) -> f64 {
+        self.friction_force_towards(law, psi, psi_dot, sign(psi_dot))
+    }
+
+    /// [`Pendulum::friction_force`] of a ball moving in the direction `dir` (+1 or -1)
+    /// at the rate `psi_dot`, which may be 0 (a turning point, where the rolling
+    /// resistance still acts against the coming motion): the forces at `psi_dot`, their
+    /// signs by `dir`.
+    pub fn friction_force_towards(
+        &self,
+        law: &FrictionLaw,
+        psi: f64,
+        psi_dot: f64,
+        dir: f64,
+    ) -> f64 {
         let n = self.normal_force(psi, psi_dot);
-        let s = sign(psi_dot);
         self.j_z / self.j_c
-            * (self.m * self.g * self.alpha.sin() * psi.sin() + self.drag_force(psi_dot) * s)
-            - self.m * self.r / self.j_c * law.torque(n) * s
+            * (self.m * self.g * self.alpha.sin() * psi.sin() + self.drag_force(psi_dot) * dir)
+            - self.m * self.r / self.j_c * law.torque(n) * dir
     }
 
     /// Angular acceleration `psi''` (Eq. 33, ERRATA §2) while the wire moves in the

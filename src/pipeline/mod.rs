@@ -257,6 +257,14 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             let (k, se) = fit::fit_drag_scale(p, &m, fixed, opts.rtol)
                 .context("fitting the drag's scale (`air.fit_scale`)")
                 .with_context(what)?;
+            if !se.is_finite() {
+                return Err(anyhow::anyhow!(
+                    "`air.fit_scale`: this run cannot tell the drag's scale (the fit's \
+                     residual does not change with it); leave `fit_scale` out to take the \
+                     drag curve"
+                ))
+                .with_context(what);
+            }
             opts.drag_scale_se = Some(se);
             scaled = p.with_air(Some(crate::physics::Air { scale: k, ..air }));
             &scaled

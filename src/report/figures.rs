@@ -317,8 +317,16 @@ pub fn experiment_figures(x: &Inputs) -> Result<Vec<Figure>> {
         let t = t0 + (t1 - t0) * i as f64 / n as f64;
         let [psi, w] = model.state(t);
         let nn = x.p.normal_force(psi, w);
-        let tf =
-            x.p.friction_force(&x.law, psi, if w == 0.0 { model.direction(t) } else { w });
+        let tf = x.p.friction_force_towards(
+            &x.law,
+            psi,
+            w,
+            if w == 0.0 {
+                model.direction(t)
+            } else {
+                crate::physics::sign(w)
+            },
+        );
         nf.push((t, nn));
         tn.push((t, (tf / nn).abs()));
     }

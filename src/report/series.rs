@@ -154,7 +154,8 @@ pub fn figure(s: &BetaSeries) -> Result<String> {
                 let x = r.normal_force_n.log10();
                 let h = 1.96 * r.u_torque_nm;
                 [
-                    (x, (r.torque_nm - h).log10()),
+                    // A bar reaching below zero is drawn down to a thousandth of M.
+                    (x, (r.torque_nm - h).max(1e-3 * r.torque_nm).log10()),
                     (x, (r.torque_nm + h).log10()),
                     (f64::NAN, f64::NAN),
                 ]

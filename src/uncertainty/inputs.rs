@@ -44,7 +44,9 @@ impl Setting {
     /// The pendulum these inputs make.
     pub(super) fn pendulum(&self) -> Result<Pendulum> {
         let air = self.air.air().map(|a| crate::physics::Air {
-            scale: self.drag_scale * self.drag_factor,
+            // A budget step or a draw of a fitted scale may pass zero: no air then, not
+            // an air that drives the swing.
+            scale: (self.drag_scale * self.drag_factor).max(0.0),
             ..a
         });
         Ok(pendulum_of(&self.geometry)?.with_air(air))
@@ -160,6 +162,21 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
     let Some(share) = f.air.filter(|_| a.air().is_some()) else {
         return Vec::new();
     };
+    if a.fit_scale {
+        // The recording fixes the drag itself (the scale times the air's density or
+        // viscosity): the scale's standard error holds the air's doubt, and varying T
+        // and p at a fixed scale would count it twice.
+        return vec![Input {
+            quantity: "drag scale (fitted)",
+            key: "air.fit_scale",
+            value: share.drag_scale,
+            unit: "",
+            given: share.drag_scale_se,
+            default_u: 0.0,
+            default_why: "",
+            set: |s, x| s.drag_scale = x,
+        }];
+    }
     let u = &a.uncertainty;
     let mut v = vec![
         Input {
@@ -183,19 +200,6 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             set: |s, x| s.air.pressure_kpa = x,
         },
     ];
-    if a.fit_scale {
-        v.push(Input {
-            quantity: "drag scale (fitted)",
-            key: "air.fit_scale",
-            value: share.drag_scale,
-            unit: "",
-            given: share.drag_scale_se.filter(|se| se.is_finite()),
-            default_u: 0.0,
-            default_why: "",
-            set: |s, x| s.drag_scale = x,
-        });
-        return v;
-    }
     v.push(Input {
         quantity: "wall factor (air)",
         key: "air.wall_factor",

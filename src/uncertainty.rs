@@ -302,9 +302,7 @@ pub fn budget(
                 format!("default: {}", i.default_why),
             ),
         };
-        // A fitted drag scale may be as uncertain as it is large: the run could not tell.
-        // (A temperature in degC is no ratio: 1 degC +- 1.7 is a room, not a doubt.)
-        if u >= i.value.abs() && i.key != "air.fit_scale" && i.key != "air.temperature_c" {
+        if i.ratio && u >= i.value.abs() {
             bail!(
                 "`{}` = {} {unit}: its standard uncertainty ({:.3e} {unit}, {source}) is as \
                  large as the value itself; check the value's units, or give its uncertainty",

@@ -17,6 +17,10 @@ pub(super) struct Input {
     pub(super) given: Option<f64>,
     pub(super) default_u: f64,
     pub(super) default_why: &'static str,
+    /// The value is on a ratio scale, so that a standard uncertainty as large as it is
+    /// a unit's mistake (not so a temperature in degC, or a fitted scale that the run
+    /// could barely tell from zero).
+    pub(super) ratio: bool,
     pub(super) set: fn(&mut Setting, f64),
 }
 
@@ -70,6 +74,7 @@ pub(super) fn inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
         given,
         default_u: resolution(1e-3),
         default_why: "a rule with 1 mm divisions",
+        ratio: true,
         set,
     };
     let mut v = Vec::new();
@@ -90,6 +95,7 @@ pub(super) fn inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             given: u.angle_deg,
             default_u: resolution(0.1),
             default_why: "an inclinometer reading to 0.1 deg",
+            ratio: true,
             set: |s, x| s.geometry.incline.angle_deg = Some(x),
         });
     }
@@ -115,6 +121,7 @@ pub(super) fn inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
         given: u.radius_m,
         default_u: resolution(0.02e-3),
         default_why: "a caliper reading to 0.02 mm",
+        ratio: true,
         set: |s, x| s.geometry.ball.radius_m = x,
     });
     if let Some(m) = g.ball.mass_kg {
@@ -126,6 +133,7 @@ pub(super) fn inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             given: u.mass_kg,
             default_u: resolution(0.1e-3),
             default_why: "a balance reading to 0.1 g",
+            ratio: true,
             set: |s, x| s.geometry.ball.mass_kg = Some(x),
         });
     }
@@ -138,6 +146,7 @@ pub(super) fn inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             given: u.density_kg_m3,
             default_u: 0.01 * rho / 3.0_f64.sqrt(),
             default_why: "a handbook density, +-1 %",
+            ratio: true,
             set: |s, x| s.geometry.ball.density_kg_m3 = Some(x),
         });
     }
@@ -149,6 +158,7 @@ pub(super) fn inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
         given: u.g_m_s2,
         default_u: 0.03 / 3.0_f64.sqrt(),
         default_why: "9.81 stands for 9.78..9.84 over the Earth",
+        ratio: true,
         set: |s, x| s.geometry.g_m_s2 = x,
     });
     v.extend(air_inputs(exp, f));
@@ -174,6 +184,7 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             given: share.drag_scale_se,
             default_u: 0.0,
             default_why: "",
+            ratio: false,
             set: |s, x| s.drag_scale = x,
         }];
     }
@@ -187,6 +198,7 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             given: u.temperature_c,
             default_u: crate::config::AIR_DEFAULT_U_T,
             default_why: "a room within +-3 degC",
+            ratio: false,
             set: |s, x| s.air.temperature_c = x,
         },
         Input {
@@ -197,6 +209,7 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
             given: u.pressure_kpa,
             default_u: crate::config::AIR_DEFAULT_U_P_KPA,
             default_why: "+-5 kPa: weather and altitude",
+            ratio: true,
             set: |s, x| s.air.pressure_kpa = x,
         },
     ];
@@ -208,6 +221,7 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
         given: u.wall_factor,
         default_u: crate::config::AIR_DEFAULT_U_WALL,
         default_why: "the plate's share of the drag, +-0.25",
+        ratio: true,
         set: |s, x| s.air.wall_factor = x,
     });
     v.push(Input {
@@ -218,6 +232,7 @@ fn air_inputs(exp: &Experiment, f: &FitResult) -> Vec<Input> {
         given: u.drag_rel,
         default_u: crate::config::AIR_DEFAULT_U_DRAG_REL,
         default_why: "the drag correlation, +-5 %",
+        ratio: true,
         set: |s, x| s.drag_factor = x,
     });
     v

@@ -42,6 +42,23 @@ fn fitted(exp: &Experiment, noise_rad: f64) -> (Measurement, FitResult) {
     (m, f)
 }
 
+/// The fit and budget of the model's noiseless angles.
+fn noiseless_budget(exp: &Experiment) -> (FitResult, Budget) {
+    let (m, f) = fitted(exp, 0.0);
+    let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
+    let b = budget(exp, &m, &f, a, None, None).unwrap();
+    (f, b)
+}
+
+/// The sensitivity coefficient of the budget's quantity `q`.
+fn sensitivity(b: &Budget, q: &str) -> f64 {
+    b.components
+        .iter()
+        .find(|c| c.quantity == q)
+        .unwrap()
+        .sensitivity
+}
+
 #[test]
 fn welch_satterthwaite_by_hand() {
     // u_c = sqrt(2), one part with 4 dof: nu = 4 / (1/4) = 16 (JCGM 100 G.4.1).
@@ -59,16 +76,8 @@ fn sensitivities_agree_with_the_small_angle_relation() {
     // amplitudes s_r does not depend on m or g, and
     // d ln s_r / d alpha = cot(alpha) + (sin(alpha) - cos(alpha) tan(delta)) / (cos(alpha) + sin(alpha) tan(delta)).
     let exp = experiment("");
-    let (m, f) = fitted(&exp, 0.0);
-    let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-    let b = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
-    let c = |q: &str| {
-        b.components
-            .iter()
-            .find(|c| c.quantity == q)
-            .unwrap()
-            .sensitivity
-    };
+    let (f, b) = noiseless_budget(&exp);
+    let c = |q: &str| sensitivity(&b, q);
     let s = f.s_r_m;
     // In air a heavier ball loses less to the drag: `s_r = D - k F_d / m` for a
     // measured decrement `D`, so `(m / s_r) ds_r/dm` is the air's correction.
@@ -80,18 +89,10 @@ fn sensitivities_agree_with_the_small_angle_relation() {
     );
     // The paper's model, in a vacuum: s_r does not depend on m or g.
     let exp = experiment("air: { model: none }\n");
-    let (m, f) = fitted(&exp, 0.0);
+    let (f, b) = noiseless_budget(&exp);
     assert!(f.air.is_none());
-    let a = angle_uncertainty(&exp.pendulum, &m, &f, None);
-    let b = budget(&exp, &m, &f, a.clone(), None, None).unwrap();
     assert!(b.components.iter().all(|c| !c.key.starts_with("air.")));
-    let c = |q: &str| {
-        b.components
-            .iter()
-            .find(|c| c.quantity == q)
-            .unwrap()
-            .sensitivity
-    };
+    let c = |q: &str| sensitivity(&b, q);
     let s = f.s_r_m;
     assert!((c("m") * 1.0458 / s).abs() < 1e-4, "m: {}", c("m"));
     assert!((c("g") * 9.81 / s).abs() < 1e-4, "g: {}", c("g"));

@@ -1,9 +1,11 @@
 //! The pivot the streaming pass's own lines meet in: its refinement, its uncertainty
-//! and how far the lines stray from it over time.
+//! and how far the lines stray from it over time; the swing scale that checks it.
 
+use super::Tracker;
 use crate::detect::geometry;
-use crate::detect::line::Line;
-use crate::detect::{unwrap_near, Pt};
+use crate::detect::line::{Line, Moments};
+use crate::detect::{full_to_shrunk, shrunk_to_full, unwrap_near, AngleRow, Pt, Status};
+use crate::lens::Lens;
 
 /// The pivot the pass's lines meet in ([`Tracker::refine_pivot`]).
 pub(in crate::detect) struct RefinedPivot {
@@ -14,6 +16,155 @@ pub(in crate::detect) struct RefinedPivot {
     /// How far the wire's lines stray from it for a while ([`pivot_drift`]), deg.
     pub drift_deg: Option<f64>,
 }
+
+impl Tracker {
+    /// How much more the wire's own direction turns than its angle about `pivot`
+    /// (full-frame px): the slope of each accepted frame's free line fit (its direction
+    /// alone, whatever the pivot) against its angle through the pivot, by least squares
+    /// over the pass. 1 when the pivot is on the wire's line; a pivot off along the wire
+    /// by `delta` at a mean radius `R` gives about `(R + delta) / R`, and scales the
+    /// angles' swing, and `s_r` with it, by the inverse. The free fits' noise is in the
+    /// regressand, so it does not bias the slope. `None` with fewer than
+    /// [`SWING_SCALE_FRAMES`] accepted frames or a swing under
+    /// [`SWING_SCALE_SPREAD_DEG`].
+    ///
+    /// Through a lens, both are the undistorted view's: the free line taken into it by
+    /// two of its points, the angle about the pivot by [`Lens::plate_angle`].
+    pub(in crate::detect) fn swing_scale(
+        &self,
+        rows: &[AngleRow],
+        pivot: Pt,
+        lens: Option<&Lens>,
+    ) -> Option<f64> {
+        let origin = Pt::new(self.roi_x, self.roi_y);
+        let p = full_to_shrunk(pivot, origin, self.scale);
+        let to_full = |q: Pt| shrunk_to_full(q, origin, self.scale);
+        let band = [self.r_lo * self.scale, self.r_hi * self.scale];
+        let half = 0.25 * (self.r_hi - self.r_lo);
+        let pairs: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.flag.is_none() && r.status == Status::Ok)
+            .filter_map(|r| {
+                let m = r.moments.as_ref()?;
+                let (about, _) = m.line_about(p)?;
+                let free = m.free_line()?;
+                let (about, free) = match lens {
+                    Some(l) => {
+                        let ends = [free.point - free.dir * half, free.point + free.dir * half]
+                            .map(|q| {
+                                let f = to_full(q);
+                                let u = l.undistort([f.x, f.y]);
+                                Pt::new(u[0], u[1])
+                            });
+                        (
+                            l.plate_angle([pivot.x, pivot.y], about, band),
+                            Line::through(ends[0], ends[1]),
+                        )
+                    }
+                    None => (about, free),
+                };
+                // The free line has no direction: the branch nearest the angle about
+                // the pivot.
+                let f = unwrap_near(free.dir.y.atan2(free.dir.x), about);
+                let f = if (f - about).abs() > std::f64::consts::FRAC_PI_2 {
+                    unwrap_near(f + std::f64::consts::PI, about)
+                } else {
+                    f
+                };
+                Some((about, f))
+            })
+            .collect();
+        if pairs.len() < SWING_SCALE_FRAMES {
+            return None;
+        }
+        let n = pairs.len() as f64;
+        let mx = pairs.iter().map(|q| q.0).sum::<f64>() / n;
+        let my = pairs.iter().map(|q| q.1).sum::<f64>() / n;
+        let sxx: f64 = pairs.iter().map(|q| (q.0 - mx).powi(2)).sum();
+        let sxy: f64 = pairs.iter().map(|q| (q.0 - mx) * (q.1 - my)).sum();
+        let (lo, hi) = pairs.iter().fold((f64::MAX, f64::MIN), |(lo, hi), q| {
+            (lo.min(q.0), hi.max(q.0))
+        });
+        if hi - lo < SWING_SCALE_SPREAD_DEG.to_radians() || sxx <= 0.0 {
+            return None;
+        }
+        Some(sxy / sxx)
+    }
+
+    /// Refine the pivot from the whole pass: the robust intersection of every accepted
+    /// frame's free line fit (hundreds of lines at different angles, against the few
+    /// dozen of the first seconds), then refit every angle about it from the stored
+    /// pixel moments. Returns the pivot in full-frame pixels.
+    ///
+    /// Through a lens (`video.lens`), the wire's image is a slight curve and its free
+    /// lines, chords of it, meet off the pivot: each is taken into the undistorted view
+    /// (two of its points, half the visible band apart), they are intersected there,
+    /// and the pivot is taken back into the image.
+    pub(in crate::detect) fn refine_pivot(
+        &self,
+        rows: &mut [AngleRow],
+        lens: Option<&Lens>,
+    ) -> RefinedPivot {
+        let origin = Pt::new(self.roi_x, self.roi_y);
+        let to_full = |p: Pt| shrunk_to_full(p, origin, self.scale);
+        let undistort = |l: &Lens, p: Pt| {
+            let f = to_full(p);
+            let u = l.undistort([f.x, f.y]);
+            full_to_shrunk(Pt::new(u[0], u[1]), origin, self.scale)
+        };
+        let half = 0.25 * (self.r_hi - self.r_lo);
+        let timed: Vec<(f64, Line)> = rows
+            .iter()
+            .filter(|r| r.flag.is_none())
+            .filter_map(|r| Some((r.t_s, r.moments.as_ref().and_then(|m| m.free_line())?)))
+            .map(|(t, ln)| match lens {
+                Some(l) => (
+                    t,
+                    Line::through(
+                        undistort(l, ln.point - ln.dir * half),
+                        undistort(l, ln.point + ln.dir * half),
+                    ),
+                ),
+                None => (t, ln),
+            })
+            .collect();
+        let lines: Vec<Line> = timed.iter().map(|l| l.1).collect();
+        let start = lens.map_or(self.piv, |l| undistort(l, self.piv));
+        let Some(p) = refined_pivot(&lines, start, 0.05 * (self.r_lo + self.r_hi)) else {
+            return RefinedPivot {
+                pivot: to_full(self.piv),
+                u_px: None,
+                drift_deg: None,
+            };
+        };
+        let u = pivot_uncertainty(&lines, p).map(|u| u * self.scale);
+        let drift_deg = pivot_drift(&timed, p, 0.5 * (self.r_lo + self.r_hi));
+        let p = match lens {
+            Some(l) => {
+                let f = to_full(p);
+                let d = l.distort([f.x, f.y]);
+                full_to_shrunk(Pt::new(d[0], d[1]), origin, self.scale)
+            }
+            None => p,
+        };
+        for r in rows.iter_mut() {
+            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {
+                if let Some(old) = r.angle_rad {
+                    r.angle_rad = Some(unwrap_near(a, old));
+                }
+            }
+        }
+        RefinedPivot {
+            pivot: to_full(p),
+            u_px: u,
+            drift_deg,
+        }
+    }
+}
+
+/// Fewest accepted frames, and smallest spread of their angles, for [`Tracker::swing_scale`].
+const SWING_SCALE_FRAMES: usize = 20;
+const SWING_SCALE_SPREAD_DEG: f64 = 2.0;
 
 /// How far the wire's free lines pass from the pivot `p` for a while, as an angle seen
 /// from the band's middle radius `r` (px, the lines' scale): the largest median signed

@@ -1,6 +1,7 @@
 //! The unit tests of `detect/track.rs`.
 
-use super::pivot::central_spread;
+use super::pivot::{central_spread, refined_pivot};
+use crate::detect::line::Line;
 use super::*;
 
 /// A line through `p` at `deg` (from +x towards +y), moved `off` px across itself.

@@ -1,8 +1,8 @@
 //! The unit tests of `detect/track.rs`.
 
 use super::pivot::{central_spread, refined_pivot};
-use crate::detect::line::Line;
 use super::*;
+use crate::detect::line::Line;
 
 /// A line through `p` at `deg` (from +x towards +y), moved `off` px across itself.
 fn line(p: Pt, deg: f64, off: f64) -> Line {

@@ -655,3 +655,53 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given() {
     assert!(seen > 0.3, "the lens uncorrected: {seen:.4} deg");
     assert!(undone < 0.05, "the lens undone: {undone:.4} deg");
 }
+
+/// `detect --steps N` pictures frame N's steps: four pictures of one size, the evidence
+/// over its threshold (red) in the third and the measured line (red) in the fourth, and
+/// a frame that is not measured is said to be so.
+#[test]
+fn detect_steps_pictures_one_frame() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = common::short_glass_twin("steps", "3.714e-6", "")
+        .replace("duration_s: 20", "duration_s: 4");
+    assert!(text.contains("duration_s: 4"), "the twin's duration");
+    std::fs::write(d.join("g.yaml"), text).unwrap();
+    rollfric_ok(&["synth", "g.yaml", "-o", "g.mp4"], d);
+    let (_, said) = rollfric_ok(&["detect", "g.mp4", "-o", "a.csv", "--steps", "60"], d);
+    assert!(said.contains("the steps of frame 60: 4 pictures"), "{said}");
+    let names = ["1-geometry", "2-background", "3-evidence", "4-angle"];
+    let pictures: Vec<_> = names
+        .iter()
+        .map(|n| {
+            let p = d.join(format!("a.steps/frame-000060-{n}.png"));
+            let bytes = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            rollfric::picture::decode(&bytes).unwrap()
+        })
+        .collect();
+    assert!(pictures
+        .iter()
+        .all(|p| (p.width, p.height) == (pictures[0].width, pictures[0].height)));
+    // Pure red (BGR 40, 40, 255 or the line's 0, 0, 255) below the caption band.
+    let red = |p: &rollfric::picture::Decoded| {
+        p.pixels
+            .chunks_exact(3)
+            .skip(20 * p.width)
+            .filter(|c| c[2] > 200 && c[0] < 60 && c[1] < 60)
+            .count()
+    };
+    let height = pictures[0].height;
+    assert!(red(&pictures[2]) > height, "the evidence over threshold");
+    assert!(red(&pictures[3]) > height / 2, "the measured line");
+    assert_eq!(red(&pictures[1]), 0, "the background has no red");
+
+    let (_, said) = rollfric_ok(&["detect", "g.mp4", "-o", "b.csv", "--steps", "100000"], d);
+    assert!(
+        said.contains("--steps 100000: that frame was not measured"),
+        "{said}"
+    );
+    assert!(!d.join("b.steps/frame-100000-4-angle.png").exists());
+}

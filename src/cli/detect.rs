@@ -23,6 +23,11 @@ pub struct DetectArgs {
     /// Write an image of each flagged frame (detected line red, predicted green).
     #[arg(long)]
     diagnostics: bool,
+    /// Write pictures of each step of the measurement of one frame (0-based) into
+    /// `<output>.steps/`: the first look's pivot, band and sweep, the background, the
+    /// evidence in the searched wedge, the measured angle against the prediction.
+    #[arg(long, value_name = "FRAME")]
+    steps: Option<u64>,
     /// Region of interest `x,y,width,height` (px).
     #[arg(long, value_delimiter = ',')]
     roi: Option<Vec<u32>>,
@@ -164,6 +169,12 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
     if a.diagnostics {
         opts.diag_dir = Some(a.output.with_extension("diag"));
     }
+    if let Some(frame) = a.steps {
+        opts.steps = Some(detect::StepsAt {
+            frame,
+            dir: a.output.with_extension("steps"),
+        });
+    }
     Ok(opts)
 }
 
@@ -242,6 +253,34 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         a.output.display(),
         describe_verdict(&d.verdict)
     );
+    if let Some(frame) = a.steps {
+        let dir = a.output.with_extension("steps");
+        let tag = format!("frame-{frame:06}-");
+        let n = d
+            .diagnostics
+            .iter()
+            .filter(|p| {
+                p.starts_with(&dir)
+                    && p.file_name()
+                        .is_some_and(|f| f.to_string_lossy().starts_with(&tag))
+            })
+            .count();
+        if n > 0 {
+            eprintln!(
+                "{}: the steps of frame {frame}: {n} pictures in {}",
+                a.video.display(),
+                dir.display()
+            );
+        } else {
+            eprintln!(
+                "{}: --steps {frame}: that frame was not measured (the frames measured run \
+                 from {} to {}); no pictures written",
+                a.video.display(),
+                d.rows.first().map_or(0, |r| r.frame),
+                d.rows.last().map_or(0, |r| r.frame)
+            );
+        }
+    }
     Ok(String::new())
 }
 

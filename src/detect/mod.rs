@@ -59,7 +59,7 @@ mod track;
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
-pub use options::{DetectOptions, FrameProgress};
+pub use options::{DetectOptions, FrameProgress, StepsAt};
 pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 

@@ -23,6 +23,8 @@ pub struct DetectOptions {
     pub lens: Option<crate::config::LensSpec>,
     /// Folder for the diagnostic images of flagged frames (none if `None`).
     pub diag_dir: Option<PathBuf>,
+    /// Pictures of each step of the streaming pass on one frame (`detect --steps`).
+    pub steps: Option<StepsAt>,
     /// Told the frames done (and the header's frame count) every 100 frames; when set,
     /// the detector prints no progress of its own.
     pub progress: Option<FrameProgress>,
@@ -34,6 +36,14 @@ pub struct DetectOptions {
     /// The side, px, a frame is shrunk towards by a whole factor before the wire is
     /// measured (`video.work_side_px`; see `FirstLook::at_best_scale`).
     pub work_side_px: f64,
+}
+
+/// Which frame `detect --steps` pictures, and the folder the pictures go to.
+#[derive(Clone, Debug)]
+pub struct StepsAt {
+    /// The frame's index in the video (0-based).
+    pub frame: u64,
+    pub dir: PathBuf,
 }
 
 /// A progress callback: `(frames done, frames expected)`.
@@ -59,6 +69,7 @@ impl Default for DetectOptions {
             calibration: None,
             lens: None,
             diag_dir: None,
+            steps: None,
             progress: None,
             decode_once: true,
             work_side_px: super::WORK_SIDE_PX,

@@ -73,6 +73,10 @@ pub(super) struct Tracker {
     decay_every: u64,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
+    /// `detect --steps`: the frame to picture, and its frame and background as the
+    /// evidence saw them.
+    steps: Option<super::StepsAt>,
+    steps_seen: Option<(Mat, Mat)>,
     /// `ROLLFRIC_DEBUG=frames` or `=mad`: a line per frame on stderr (read once).
     debug: Option<String>,
     /// The last frame's predicted angle.
@@ -127,7 +131,11 @@ impl Tracker {
         }
         let tmap = to_roi(&init_tmap)?;
         let reference = to_roi(&init_reference)?;
-        if let Some(d) = &opts.diag_dir {
+        for d in opts
+            .diag_dir
+            .iter()
+            .chain(opts.steps.as_ref().map(|s| &s.dir))
+        {
             std::fs::create_dir_all(d)
                 .with_context(|| format!("{}: cannot create folder", d.display()))?;
         }
@@ -166,6 +174,8 @@ impl Tracker {
             decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
+            steps: opts.steps.clone(),
+            steps_seen: None,
             debug,
             last_pred: None,
         })
@@ -319,6 +329,7 @@ impl Tracker {
         // sees both.
         let wedge_about = pred.filter(|_| !(self.starting() && hint.is_some()));
         self.evidence(wedge_about)?;
+        self.keep_step_inputs(f.index)?;
         if !flash {
             if self.geo.dark {
                 core::max(&self.bg, &self.small, &mut self.tmp)?;
@@ -358,6 +369,7 @@ impl Tracker {
         };
         row.quality = quality;
         row.moments = moments;
+        self.save_steps(f.index, angle, pred, gate)?;
         // A repeated frame that the codec did not keep identical is found after the
         // pass, from both sides (`flag_repeats`): the previous frames alone overshoot
         // at a turning point, where a wire that stops looks like a repeat.

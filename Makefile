@@ -2,7 +2,7 @@
 #   make reports   build every report of experiments/manifest.yaml (installs what is missing)
 #   make test      the whole test suite (a missing tool fails it, never skips)
 #   make check     fmt + clippy + tests (what CI runs: .ci/run)
-#   make bench     timing figures
+#   make bench     timing figures (the twins, the reports, a sweep seed's scenes)
 #   make fuzz      a long run of the property tests of the readers and the fit
 #   make robustness  the randomised sweep of twins (detected with no options, fitted)
 #   make coverage    the 95 % intervals' coverage on the sweep's twins
@@ -20,7 +20,7 @@ SNAKEMAKE_VERSION := 8.30.0
 SNAKEMAKE_PINS := snakemake==$(SNAKEMAKE_VERSION) snakemake-executor-plugin-cluster-generic==1.0.9 \
                   snakemake-executor-plugin-slurm==2.8.0
 
-.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench fuzz robustness coverage clean
+.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench bench-sweep fuzz robustness coverage clean
 
 all: build
 
@@ -84,6 +84,20 @@ check: fmt clippy test
 
 bench: build snakemake
 	ROLLFRIC_SNAKEMAKE=$(abspath $(SNAKEMAKE_VENV))/bin/snakemake $(CARGO) bench --locked --bench pipeline
+	@if [ "$(BENCH_SWEEP_SCENES)" != "0" ]; then $(MAKE) --no-print-directory bench-sweep; fi
+
+# The detector's own work on the scenes of a robustness sweep seed (BENCH_SWEEP_SCENES,
+# default 64, of seed BENCH_SWEEP_SEED, 40 s each): every scene's detector CPU per frame
+# besides the decoder, and on each its pace against decoding alone (BENCH_SWEEP_ROUNDS
+# paired rounds of `ffmpeg -f null` and `rollfric detect`), with their percentiles.
+# Part of `make bench` (about an hour on two cores); BENCH_SWEEP_SCENES=0 leaves it out.
+BENCH_SWEEP_SCENES ?= 64
+BENCH_SWEEP_SEED ?= 1
+BENCH_SWEEP_ROUNDS ?= 3
+bench-sweep: build
+	$(CARGO) build --release --locked --example robustness
+	ROBUSTNESS_PACE=$(BENCH_SWEEP_ROUNDS) $(or $(CARGO_TARGET_DIR),target)/release/examples/robustness \
+	  $(BENCH_SWEEP_SCENES) $(BENCH_SWEEP_SEED) 40
 
 # The property tests of tests/fuzz.rs (a short pass runs in `make test`) with many more
 # inputs: FUZZ_ITERS per target, from FUZZ_SEED.

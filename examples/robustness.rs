@@ -23,7 +23,11 @@
 //! coverage of `examples/coverage.rs`). `ROBUSTNESS_WORK_SIDE=PX` detects every scene
 //! at that working side (`video.work_side_px`, default 640). `ROBUSTNESS_LENS=known`
 //! detects each scene with a lens with its coefficient given (`video.lens`), as a user
-//! who calibrated the lens would.
+//! who calibrated the lens would. `ROBUSTNESS_PACE=ROUNDS` also times, on every scene
+//! of 30 s or more, `ROUNDS` paired rounds of decoding alone (`ffmpeg -f null`) and
+//! `rollfric detect` (whole processes, alternating which goes first), and prints each
+//! scene's wall ratio (decode-only / detector, median of its rounds) beside its
+//! detector CPU per frame, then their percentiles (`make bench-sweep`).
 
 use anyhow::{Context, Result};
 use rollfric::config::Experiment;
@@ -273,6 +277,67 @@ struct DetectionSeen {
     /// The detector's processor time besides the decoder (this process's, the decoder
     /// being another), per frame, ms: start-up included.
     cpu_ms_per_frame: f64,
+    /// `ROBUSTNESS_PACE`: decode-only wall over the detector's wall, median of the
+    /// paired rounds (scenes of 30 s or more).
+    pace: Option<f64>,
+}
+
+/// Paired rounds of decoding alone (`ffmpeg -f null`, the floor) and `rollfric detect`
+/// (the binary beside this example's folder), whole processes, alternating which goes
+/// first: the median of the rounds' ratios decode-only wall / detector wall.
+fn pace(video: &Path, dir: &Path, pivot: Option<[f64; 2]>, rounds: usize) -> Result<f64> {
+    use std::process::{Command, Stdio};
+    use std::time::Instant;
+    let exe = std::env::current_exe()?;
+    let bin = exe
+        .parent()
+        .and_then(Path::parent)
+        .map(|d| d.join("rollfric"))
+        .context("the rollfric binary beside the examples' folder")?;
+    let decode = || -> Result<f64> {
+        let t = Instant::now();
+        let st = Command::new("ffmpeg")
+            .args(["-v", "error", "-i"])
+            .arg(video)
+            .args(["-f", "null", "-"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()?;
+        anyhow::ensure!(st.success(), "ffmpeg -f null {}", video.display());
+        Ok(t.elapsed().as_secs_f64())
+    };
+    let detect = || -> Result<f64> {
+        let mut c = Command::new(&bin);
+        c.arg("detect")
+            .arg(video)
+            .arg("-o")
+            .arg(dir.join("pace.csv"))
+            .arg("--force");
+        if let Some([x, y]) = pivot {
+            c.arg("--pivot").arg(format!("{x},{y}"));
+        }
+        let t = Instant::now();
+        let out = c.stderr(Stdio::piped()).stdout(Stdio::null()).output()?;
+        anyhow::ensure!(
+            out.status.success(),
+            "{} detect: {}",
+            bin.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        Ok(t.elapsed().as_secs_f64())
+    };
+    let mut ratios = Vec::new();
+    for r in 0..rounds {
+        let (d, t) = if r % 2 == 0 {
+            let d = decode()?;
+            (d, detect()?)
+        } else {
+            let t = detect()?;
+            (decode()?, t)
+        };
+        ratios.push(d / t);
+    }
+    Ok(percentile(&ratios, 0.5))
 }
 
 /// The accepted frames' angle error split into its parts: `error = offset + scale *
@@ -360,6 +425,7 @@ fn run(
         )
     };
     let cpu_before = rollfric::cli::own_cpu_seconds();
+    let mut given_pivot = None;
     let (angles, d) = match detect(opts) {
         Ok(found) => found,
         // Two pendulums (a second string): refused, naming both pivots; a user gives
@@ -375,6 +441,7 @@ fn run(
             Some(p) => {
                 let mut given = opts.clone();
                 given.pivot = Some(p);
+                given_pivot = Some(p);
                 match detect(&given) {
                     Ok(found) => found,
                     Err(e) => return Ok(Outcome::Refused(format!("{e:#}"))),
@@ -440,11 +507,23 @@ fn run(
         (Some(a), Some(b)) => b - a,
         _ => f64::NAN,
     };
+    let rounds: usize = std::env::var("ROBUSTNESS_PACE")
+        .ok()
+        .map(|v| v.parse())
+        .transpose()
+        .context("ROBUSTNESS_PACE: expected a whole number of rounds")?
+        .unwrap_or(0);
+    let pace = if rounds > 0 && duration >= 30.0 {
+        Some(pace(&video, dir, given_pivot, rounds)?)
+    } else {
+        None
+    };
     *seen = Some(DetectionSeen {
         angle_rms_deg: rms,
         label: d.verdict.label(),
         suspect: d.verdict.verdict == rollfric::verdict::Status::Suspect,
         cpu_ms_per_frame: 1e3 * cpu / d.rows.len().max(1) as f64,
+        pace,
     });
     let a = match pipeline::analyze(&exp, &angles, Overrides::default()) {
         Ok(a) => a,
@@ -547,6 +626,8 @@ fn main() -> Result<()> {
     let mut missed = Vec::new();
     // The detector's processor time per frame besides the decoder, every detected scene.
     let mut cpu_ms = Vec::new();
+    // `ROBUSTNESS_PACE`: (scene, decode-only wall / detector wall).
+    let mut paces = Vec::new();
     for i in 0..scenes {
         let mut scene = Scene::draw(&mut rng, seed * 1000 + i as u64);
         while !placeable(&scene, root, duration)? {
@@ -569,6 +650,9 @@ fn main() -> Result<()> {
         let outcome = run(&scene, root, dir.path(), duration, &opts, &mut seen);
         if let Some(s) = &seen {
             cpu_ms.push(s.cpu_ms_per_frame);
+            if let Some(p) = s.pace {
+                paces.push((i, p));
+            }
             let band = match s.angle_rms_deg {
                 r if r <= 0.02 => 0,
                 r if r <= 0.05 => 1,
@@ -675,10 +759,16 @@ fn main() -> Result<()> {
             }
         };
         eprintln!(
-            "[{}/{scenes}] {:.0} s  {}  -> {line}",
+            "[{}/{scenes}] {:.0} s  {}  -> {line}{}",
             i + 1,
             started.elapsed().as_secs_f64(),
-            scene.describe()
+            scene.describe(),
+            seen.as_ref().map_or(String::new(), |s| format!(
+                "; detector CPU {:.3} ms/frame{}",
+                s.cpu_ms_per_frame,
+                s.pace
+                    .map_or(String::new(), |p| format!(", pace {p:.2} of decode-only"))
+            ))
         );
     }
     let n = errs.len();
@@ -742,6 +832,27 @@ fn main() -> Result<()> {
         percentile(&cpu_ms, 1.0),
         cpu_ms.len()
     );
+    if !paces.is_empty() {
+        let p: Vec<f64> = paces.iter().map(|q| q.1).collect();
+        let slow: Vec<String> = paces
+            .iter()
+            .filter(|q| q.1 < 0.8)
+            .map(|q| format!("{} ({:.2})", q.0, q.1))
+            .collect();
+        println!(
+            "  pace, decode-only wall / detector wall (median of paired rounds), the {} scenes \
+             of 30 s or more: min {:.2}  p10 {:.2}  p50 {:.2}; under 0.8: {}",
+            p.len(),
+            percentile(&p, 0.0),
+            percentile(&p, 0.1),
+            percentile(&p, 0.5),
+            if slow.is_empty() {
+                "none".to_string()
+            } else {
+                format!("{} scenes: {}", slow.len(), slow.join(", "))
+            }
+        );
+    }
     println!("  by condition (a scene may have several):");
     println!(
         "    {:<16} {:>6} {:>9} {:>11} {:>13} {:>12}",

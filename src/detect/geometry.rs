@@ -21,8 +21,9 @@ mod faint;
 mod pivot;
 mod search;
 
+use crate::detect::tuning::{FAINT_MIN_DIRECTIONS, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG};
+use faint::faint_threshold_map;
 pub use faint::FAINT_STAGE;
-use faint::{faint_threshold_map, FAINT_MIN_DIRECTIONS};
 pub use pivot::intersect;
 use pivot::{ransac_pivot, through_tol, Seen};
 use search::find_against;
@@ -34,9 +35,6 @@ use anyhow::{bail, Result};
 use opencv::core::{self, Mat, Point, Vector};
 use opencv::imgproc;
 use opencv::prelude::*;
-
-/// At most this many threads look for the first look's lines (one per processor).
-const GEOMETRY_THREADS: usize = 4;
 
 /// The geometry found (or given), in full-frame pixel coordinates.
 #[derive(Clone, Debug)]
@@ -68,13 +66,6 @@ pub struct WireGeometry {
     /// (looked for only when neither `video.pivot` nor `video.roi` is given).
     pub second: Option<Pt>,
 }
-
-/// A second pendulum ([`WireGeometry::second`]) counts when its pivot lies this share of
-/// the look's larger side away from the first's at least,
-const SECOND_APART: f64 = 0.1;
-/// and as many directions of lines (half-degree bins) point at it, and half the
-/// first's at least (a ball's or a hand's edges meet in many points, each with a few).
-const SECOND_MIN_DIRECTIONS: usize = 10;
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
 pub struct InitFrames {
@@ -245,10 +236,6 @@ enum Background {
     Median,
 }
 
-/// Widest sweep of a pendulum's wire seen in the first look: lines that fan out over
-/// more than this are an outline (a bob's trail), not a wire.
-const MAX_SWEEP_DEG: f64 = 120.0;
-
 /// Find polarity, pivot, band and ROI from the first seconds' frames: against the
 /// running extreme first, which sees the most of the wire; when that finds no wire, or
 /// lines no pendulum makes (a sweep wider than [`MAX_SWEEP_DEG`]), against the median.
@@ -403,12 +390,6 @@ fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<W
     }
 }
 
-/// Lines through one pivot that make a wire (with `video.pivot` given, three do).
-const MIN_WIRE_LINES: usize = 6;
-
-/// Jumps a first look may show and still be a pendulum's wire ([`jumps`]).
-const MAX_JUMPS: usize = 1;
-
 /// How often the wire's angle jumps by more than half of `sweep` between two frames
 /// looked at one after the other (`stride` frames apart). A wire does not: moving half
 /// its sweep within one look's step (at most a tenth of a second) takes a pendulum of
@@ -431,9 +412,6 @@ fn seen_in_steps(angles: &[Option<f64>], stride: usize) -> Vec<(f64, f64)> {
         .filter_map(|(k, a)| a.map(|a| (k as f64 / stride as f64, a)))
         .collect()
 }
-
-/// The roughness a first look may show and still be a pendulum's wire ([`roughness`]).
-const MAX_ROUGHNESS: f64 = 0.35;
 
 /// How irregularly the angle turns: the RMS second divided difference of the angles
 /// of three lines seen one after the other (at most four looks apart; in units of the

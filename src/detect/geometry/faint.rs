@@ -4,26 +4,10 @@
 //! median), and kept where its pixels run without a gap.
 
 use super::*;
+use crate::detect::tuning::{FAINT_CANDIDATES, FAINT_GAP, FAINT_SIGMAS, FAINT_VOTES};
 
 /// [`WireGeometry::stage`] of a wire found by the faint look.
 pub const FAINT_STAGE: usize = 4;
-
-/// The faint look's threshold: this many noise sigmas above the median (no allowance
-/// for the running extreme's own offset), at least one grey level.
-const FAINT_SIGMAS: f64 = 1.5;
-
-/// Directions the faint look's lines must take (its threshold lets the noise through).
-pub(super) const FAINT_MIN_DIRECTIONS: usize = 8;
-
-/// A faint line's votes, as a share of the shortest wire: its pixels over the faint
-/// threshold along it.
-const FAINT_VOTES: f64 = 0.5;
-
-/// The strongest lines of a frame the faint look weighs, and the widest gap (px) along
-/// one between pixels over its threshold that still joins them into one wire: the
-/// noise that passes the faint threshold (a few pixels in a hundred) leaves wider gaps.
-const FAINT_CANDIDATES: usize = 12;
-const FAINT_GAP: f64 = 3.0;
 
 /// The faint look's per-pixel threshold ([`FAINT_SIGMAS`]).
 pub(super) fn faint_threshold_map(init: &InitFrames, noise: &[u8]) -> Result<Mat> {

@@ -5,6 +5,9 @@
 use super::faint::faint_frame_lines;
 use super::pivot::second_pivot;
 use super::*;
+use crate::detect::tuning::{
+    GEOMETRY_THREADS, MAX_JUMPS, MAX_ROUGHNESS, MIN_WIRE_LINES, SECOND_APART, SECOND_MIN_DIRECTIONS,
+};
 
 /// The second polarity's look against the first's directions (`beat`): it is given up
 /// as soon as the directions seen so far, one more for each frame still to look at,

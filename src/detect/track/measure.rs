@@ -9,6 +9,11 @@ use super::Tracker;
 use crate::detect::line::{
     fit_line_through, line_through_moments, moments, moments_of, unwrap_near, Line, Moments,
 };
+use crate::detect::tuning::{
+    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_HALF, FREE_STRIP_PASSES, PAIR_LEAD_SIGMAS, PAIR_MAX,
+    PAIR_MIN_VOTES, PAIR_MOVE, PAIR_SEP_TOL, PAIR_VOTE_RATIO, RIVAL_COVER, RIVAL_SCORE,
+    RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED, STRIP_HALF, WIDTH_STRIP,
+};
 use crate::detect::Pt;
 use anyhow::Result;
 use band::*;
@@ -298,68 +303,6 @@ impl Tracker {
 
 /// The block [`over_threshold`] passes over at once, bytes.
 const SCAN_BLOCK: usize = 32;
-
-/// Half the width of the strip the wire's line is fitted to, px of the working scale.
-const STRIP_HALF: f64 = 2.5;
-/// Times the kept moments' strip is re-centred on the wire's free line
-/// ([`Tracker::free_strip_moments`]): a pivot 3 px off along or across the wire of a
-/// 960x540 twin is then refined to within 0.1 px.
-const FREE_STRIP_PASSES: usize = 3;
-/// Half the width of the re-centred strip, px of the working scale. Narrower than
-/// [`STRIP_HALF`]: at 2.5 px, a soft shadow diverging 4 deg from a faint wire pulled
-/// its free lines and the pivot 1.5 px off (angles 0.55 deg off), and on a 1280x720
-/// twin (thin dark wire, shrunk by two) rolled to 45 or 60 deg the swing came out
-/// 0.4 % small; at 1.75 px, 0.7 px and 0.27 deg, and 0.2 %. Narrower still (1.25 px)
-/// helps those two more but leaves a wider wire's pivot, given 4 px off along it,
-/// 0.3 px short of the wire (the aluminum twin, 960x540).
-const FREE_STRIP_HALF: f64 = 1.75;
-/// Farthest a free line may lie from the line through the pivot at the band's ends, px
-/// of the working scale, for its strip to be kept.
-const FREE_STRIP_DRIFT: f64 = 3.0;
-
-/// A rival peak must score this share of the strongest to be weighed at all.
-const RIVAL_SCORE: f64 = 0.15;
-/// ... cover this share of the band that the strongest covers (a wire runs the band's
-/// length; a scale's radial tick mark does not) ...
-const RIVAL_COVER: f64 = 0.6;
-/// ... and be this much narrower across than the strongest to win outright: a wire's soft
-/// shadow, diverging from the fulcrum beside it, can hold more evidence than a faint
-/// wire, but it is wide and the wire is a sharp ridge.
-const RIVAL_SHARPER: f64 = 0.7;
-/// ... or this much narrower while the track begins (fewer than three frames accepted,
-/// the whole sweep searched) or starts again (lost: no prediction): there is no track
-/// to keep, and a wire beside a stronger shadow of a similar width (1.12 px against
-/// 1.40, 1.17 against 1.28 on 640x480 and 1280x720 twins) is told by its sharper
-/// ridge. On a 1280x720 twin with a 1 px wire (worked at half size), a lost track that
-/// took the strongest ridge took the numerals of a protractor the wire had left (their
-/// ridge 1.25 times as wide as the wire's), and stayed on them for 45 frames.
-const RIVAL_SHARPER_START: f64 = 0.92;
-/// A rival within the gate of the prediction, the strongest peak outside it, is the wire
-/// unless this much wider than the strongest.
-const RIVAL_WIDER_GATED: f64 = 1.25;
-/// Evidence within this many px of a peak's line counts towards its width.
-const WIDTH_STRIP: f64 = 4.0;
-
-/// A rival this close in angle to the strongest peak (rad, 10 deg) makes a pair with
-/// it: a wire and its shadow, diverging from the fulcrum a few degrees apart.
-const PAIR_MAX: f64 = 0.1745;
-/// A pair votes for the side its narrower ridge lies on when that ridge is at most this
-/// share of the other's width (nearly equal widths say nothing).
-const PAIR_VOTE_RATIO: f64 = 0.97;
-/// Votes before the side is known, and how far one side must lead, in standard
-/// deviations of a fair coin's lead (`sqrt(votes)`): ridges with no side of their own
-/// (a wire passing a fixed line) lead that far by chance at any one count about 3 times
-/// in 1000 (more often over a long video, as the lead is weighed at every vote).
-const PAIR_MIN_VOTES: usize = 12;
-const PAIR_LEAD_SIGMAS: f64 = 3.0;
-/// A pair is the learnt one when its separation is within this share of the learnt
-/// separation.
-const PAIR_SEP_TOL: f64 = 0.5;
-/// A pair votes again only once its narrower ridge has moved this far (rad, 0.5 deg)
-/// from where it last voted: a shadow moves with the wire, while a wire at rest beside
-/// a fixed line (a scale's tick the background does not quite hide) would otherwise
-/// vote for that line's side frame after frame.
-const PAIR_MOVE: f64 = 0.0087;
 
 /// Which side of a pair of ridges the wire lies on, as the frames showing both have told
 /// it. A soft shadow beside a wire lies on the same side of it all along, a few degrees

@@ -69,7 +69,7 @@ pub(super) struct Located<'a> {
     /// The look kept one frame in this many ([`look_stride`]).
     pub(super) stride: usize,
     /// The camera moved in the look (a frame displaced by more than
-    /// [`steady::MOVING_PX`]): its frames were warped back onto its first, and the
+    /// [`MOVING_PX`]): its frames were warped back onto its first, and the
     /// streaming pass's are too.
     pub(super) moving: bool,
 }
@@ -206,7 +206,7 @@ impl<'a> FirstLook<'a> {
         let mut t_first = None;
         let mut decoded = 0u64;
         // The camera's motion against the first frame: glanced at every
-        // `steady::LOOK_EVERY`th frame, `steady::LOOK_EVERY_S` apart at least; when
+        // `LOOK_EVERY`th frame, `LOOK_EVERY_S` apart at least; when
         // enough of them moved, measured on all,
         // and the look's frames are warped back.
         let mut steady: Option<steady::Steady> = None;

@@ -21,7 +21,10 @@ mod faint;
 mod pivot;
 mod search;
 
-use crate::detect::tuning::{FAINT_MIN_DIRECTIONS, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG};
+use crate::detect::tuning::{
+    FAINT_MIN_DIRECTIONS, HOUGH_MAX_GAP_PX, HOUGH_MIN_VOTES, HOUGH_VOTE_SHARE, LINE_APART_DEG,
+    LINE_PIXELS_PX, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG, THRESHOLD_MAX_LEVELS,
+};
 use faint::faint_threshold_map;
 pub use faint::FAINT_STAGE;
 pub use pivot::intersect;
@@ -100,9 +103,9 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
         &mut segs,
         1.0,
         std::f64::consts::PI / 360.0,
-        (min_len * 0.5).max(10.0) as i32,
+        (min_len * HOUGH_VOTE_SHARE).max(HOUGH_MIN_VOTES) as i32,
         min_len,
-        4.0,
+        HOUGH_MAX_GAP_PX,
     )?;
     let mut segs: Vec<(Pt, Pt)> = segs
         .iter()
@@ -119,7 +122,7 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
         let d = (sg.1 - sg.0).normalize();
         if chosen
             .iter()
-            .all(|c| (c.1 - c.0).normalize().dot(&d).abs() < 8f64.to_radians().cos())
+            .all(|c| (c.1 - c.0).normalize().dot(&d).abs() < LINE_APART_DEG.to_radians().cos())
         {
             chosen.push(sg);
             if chosen.len() == 3 {
@@ -141,7 +144,7 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
         for p in nz.iter() {
             let q = Pt::new(p.x as f64, p.y as f64);
             let along = (q - p0).dot(&seg.dir);
-            if seg.distance(q) <= 1.5 && along >= -0.1 * len && along <= 1.1 * len {
+            if seg.distance(q) <= LINE_PIXELS_PX && along >= -0.1 * len && along <= 1.1 * len {
                 let w = *evidence.at_2d::<u8>(p.y, p.x)? as f64;
                 pts.push((q, w));
             }
@@ -179,7 +182,7 @@ pub fn threshold_map(init: &InitFrames, noise: &[u8], sigmas: f64, floor: f64) -
         .iter()
         .map(|&m| {
             let sigma = (m as f64 / 0.95).max(1.0);
-            ((sigmas + 2.0) * sigma).clamp(floor, 250.0) as u8
+            ((sigmas + 2.0) * sigma).clamp(floor, THRESHOLD_MAX_LEVELS) as u8
         })
         .collect();
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)

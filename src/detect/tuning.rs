@@ -155,7 +155,9 @@ pub fn markdown() -> String {
          Every threshold, limit, window and count the detector uses, with its unit and the \
          figure that chose it (a commit of the history, and the sweep, scene or clip it \
          measured). Generated from the table in `src/detect/tuning/`: \
-         `rollfric tuning --markdown > docs/tuning.md`.\n",
+         `rollfric tuning --markdown > docs/tuning.md`. Constants that are no choice (sizes \
+         fixed by the top-hat's 7x7 element, scan blocks, a rounding guard, sqrt(70)) stay \
+         beside their code.\n",
     );
     let mut stage = "";
     for k in KNOBS {

@@ -4,7 +4,10 @@
 //! median), and kept where its pixels run without a gap.
 
 use super::*;
-use crate::detect::tuning::{FAINT_CANDIDATES, FAINT_GAP, FAINT_SIGMAS, FAINT_VOTES};
+use crate::detect::tuning::{
+    FAINT_CANDIDATES, FAINT_GAP, FAINT_SIGMAS, FAINT_VOTES, LINE_APART_DEG, LINE_PIXELS_PX,
+    THRESHOLD_MAX_LEVELS,
+};
 
 /// [`WireGeometry::stage`] of a wire found by the faint look.
 pub const FAINT_STAGE: usize = 4;
@@ -13,7 +16,9 @@ pub const FAINT_STAGE: usize = 4;
 pub(super) fn faint_threshold_map(init: &InitFrames, noise: &[u8]) -> Result<Mat> {
     let t: Vec<u8> = noise
         .iter()
-        .map(|&m| (FAINT_SIGMAS * (m as f64 / 0.95).max(1.0)).clamp(1.0, 250.0) as u8)
+        .map(|&m| {
+            (FAINT_SIGMAS * (m as f64 / 0.95).max(1.0)).clamp(1.0, THRESHOLD_MAX_LEVELS) as u8
+        })
         .collect();
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
 }
@@ -51,7 +56,7 @@ pub(super) fn faint_frame_lines(
         let dir = Pt::new(-th.sin(), th.cos());
         if dirs
             .iter()
-            .any(|d| d.dot(&dir).abs() >= 8f64.to_radians().cos())
+            .any(|d| d.dot(&dir).abs() >= LINE_APART_DEG.to_radians().cos())
         {
             continue;
         }
@@ -62,7 +67,7 @@ pub(super) fn faint_frame_lines(
         let mut along: Vec<(f64, Pt)> = nz
             .iter()
             .map(|p| Pt::new(p.x as f64, p.y as f64))
-            .filter(|q| line.distance(*q) <= 1.5)
+            .filter(|q| line.distance(*q) <= LINE_PIXELS_PX)
             .map(|q| ((q - line.point).dot(&dir), q))
             .collect();
         along.sort_by(|a, b| a.0.total_cmp(&b.0));

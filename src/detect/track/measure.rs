@@ -10,9 +10,11 @@ use crate::detect::line::{
     fit_line_through, line_through_moments, moments, moments_of, unwrap_near, Line, Moments,
 };
 use crate::detect::tuning::{
-    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_HALF, FREE_STRIP_PASSES, PAIR_LEAD_SIGMAS, PAIR_MAX,
-    PAIR_MIN_VOTES, PAIR_MOVE, PAIR_SEP_TOL, PAIR_VOTE_RATIO, RIVAL_COVER, RIVAL_SCORE,
-    RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED, STRIP_HALF, WIDTH_STRIP,
+    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_HALF, FREE_STRIP_PASSES, HIST_BIN_PX, HIST_MAX_BINS,
+    HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX, PAIR_MIN_VOTES,
+    PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO, PEAK_STEP_BINS, RIVAL_COVER,
+    RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED,
+    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, WIDTH_STRIP,
 };
 use crate::detect::Pt;
 use anyhow::Result;
@@ -81,8 +83,8 @@ impl Tracker {
         let piv = self.piv;
         let (r_lo, r_hi) = (self.r_lo, self.r_hi);
         let r_mid = 0.5 * (r_lo + r_hi);
-        let bin_w = (0.75 / r_mid).max(1e-4);
-        let nb = (((hi - lo) / bin_w).ceil() as usize).clamp(8, 20_000);
+        let bin_w = (HIST_BIN_PX / r_mid).max(1e-4);
+        let nb = (((hi - lo) / bin_w).ceil() as usize).clamp(HIST_MIN_BINS, HIST_MAX_BINS);
         b.histo.clear();
         b.histo.resize(nb, 0.0);
         b.cells.clear();
@@ -106,16 +108,16 @@ impl Tracker {
             let k = (((th - lo) / bin_w) as usize).min(nb - 1);
             b.cells[k * CELLS + band_part(r, (r_lo, r_hi))] += wgt;
             b.cand.push((q, wgt, th));
-            if b.cand.len() > 200_000 {
+            if b.cand.len() > MAX_CANDIDATES {
                 break;
             }
         }
-        if b.cand.len() < 5 {
+        if b.cand.len() < MIN_LINE_PIXELS {
             return Ok(None);
         }
         covered_bins(&b.cells, &mut b.histo);
         // Sharpest peak: a bin's mass against its neighbourhood (a broad blob scores low).
-        let k = 4usize;
+        let k = PEAK_STEP_BINS;
         let histo = &b.histo;
         b.sm.clear();
         b.sm.extend(
@@ -151,7 +153,7 @@ impl Tracker {
         };
         // Pixels along that line, then the orthogonal fit constrained to the pivot
         // (twice, tightening the strip).
-        for strip in [4.0, 2.5] {
+        for strip in [SELECT_STRIP_WIDE, SELECT_STRIP_NARROW] {
             b.sel.clear();
             b.sel.extend(
                 b.cand
@@ -164,7 +166,7 @@ impl Tracker {
                 None => return Ok(None),
             }
         }
-        if b.sel.len() < 5 {
+        if b.sel.len() < MIN_LINE_PIXELS {
             return Ok(None);
         }
         // Coverage of the band by the selected pixels.
@@ -176,7 +178,7 @@ impl Tracker {
         // The angle itself from every pixel of the strip, below the threshold too: the
         // threshold, which differs from pixel to pixel, would cut the blurred wire's
         // flanks unevenly and tilt the fit (by about 0.4 % of the swing on a light wire).
-        for _ in 0..2 {
+        for _ in 0..STRIP_REFITS {
             self.strip_pixels(&line, STRIP_HALF, &mut b.strip)?;
             match fit_line_through(piv, &b.strip) {
                 Some(l) => line = l,
@@ -191,7 +193,7 @@ impl Tracker {
             std::mem::swap(&mut b.sel, &mut b.strip);
         }
         let sel = &b.sel;
-        if sel.len() < 5 {
+        if sel.len() < MIN_LINE_PIXELS {
             return Ok(None);
         }
         // Point the direction away from the pivot, towards the pixels.
@@ -233,7 +235,7 @@ impl Tracker {
                 return Ok(fallback);
             }
             self.strip_pixels(&free, FREE_STRIP_HALF, &mut b.strip)?;
-            if b.strip.len() < 5 {
+            if b.strip.len() < MIN_LINE_PIXELS {
                 return Ok(fallback);
             }
             m = moments(&b.strip);
@@ -351,7 +353,7 @@ impl Ridges {
     /// farthest a pair like the learnt one (separation `sep`) lies, and the room the
     /// histogram's peak score needs beyond it.
     pub(super) fn reach(sep: f64) -> f64 {
-        (1.0 + PAIR_SEP_TOL) * sep + 2f64.to_radians()
+        (1.0 + PAIR_SEP_TOL) * sep + PAIR_REACH_MARGIN_DEG.to_radians()
     }
 }
 
@@ -371,7 +373,7 @@ impl Tracker {
         pred: Option<f64>,
         gate: f64,
     ) -> Result<usize> {
-        let reach = 4usize;
+        let reach = RIVAL_REACH_BINS;
         let own = scores[best.1];
         let is_rival = |i: usize| {
             let s = scores[i];

@@ -72,4 +72,74 @@ knobs! {
     FAINT_GAP: f64 = 3.0, "px",
         what "widest gap along a faint line that still joins one wire",
         chosen_by "90a2d18: noise over the faint threshold leaves wider gaps; not swept";
+
+    // Lifted from geometry.rs and geometry/.
+
+    HOUGH_VOTE_SHARE: f64 = 0.5, "share",
+        what "a frame's Hough segment needs votes of this share of the shortest wire",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    HOUGH_MIN_VOTES: f64 = 10.0, "votes",
+        what "... and at least this many",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    HOUGH_MAX_GAP_PX: f64 = 4.0, "px",
+        what "widest gap a Hough segment bridges",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    LINE_APART_DEG: f64 = 8.0, "deg",
+        what "a frame's lines (up to three) differ in direction by this much at least",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    LINE_PIXELS_PX: f64 = 1.5, "px",
+        what "pixels within this of a segment's line are fitted to it",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    THRESHOLD_MAX_LEVELS: f64 = 250.0, "grey levels",
+        what "highest a pixel's threshold may be",
+        chosen_by "034348f: hand-picked; not measured";
+
+    MIN_LEN_SHARE: f64 = 0.2, "share",
+        what "shortest wire, as a share of the look's smaller side",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    LOOK_CLOSE_FRAMES: usize = 60, "frames",
+        what "about this many of the look's frames are searched for lines",
+        chosen_by "895feef: hand-picked; not measured";
+
+    BASE_TOL_PX: f64 = 2.0, "px",
+        what "a line passes through a RANSAC pivot within this at least",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BASE_TOL_SHARE: f64 = 0.005, "share",
+        what "... or this share of the look's larger side",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_INNER_PCT: f64 = 0.08, "share",
+        what "the band starts at this percentile of the lines' pixels' radii",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_INNER_SLACK: f64 = 0.97, "ratio",
+        what "... times this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_OUTER_PCT: f64 = 0.98, "share",
+        what "the band ends at this percentile of the radii",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_OUTER_SLACK: f64 = 1.02, "ratio",
+        what "... times this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    ROI_MARGIN_DEG: f64 = 10.0, "deg",
+        what "the region covers the angles seen in the look widened by this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    ROI_PAD_PX: f64 = 8.0, "px",
+        what "and is padded by this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    RANSAC_TRIES: usize = 600, "pairs",
+        what "pairs of lines the pivot's RANSAC tries",
+        chosen_by "297050c: the first detector's value; not measured";
 }

@@ -199,4 +199,50 @@ knobs! {
     EVIDENCE_MARGIN: f64 = 8.0, "px",
         what "evidence is exact this far around the wedge's rectangle",
         chosen_by "0aba8e2: from the strips' widths and a line's tilt; angles byte-identical on 27 videos";
+
+    // Lifted from track/measure.rs.
+
+    HIST_BIN_PX: f64 = 0.75, "px",
+        what "width of a histogram bin of angles at the band's middle radius",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    HIST_MIN_BINS: usize = 8, "bins",
+        what "fewest bins of the histogram of angles",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    HIST_MAX_BINS: usize = 20_000, "bins",
+        what "most bins of the histogram of angles",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    MAX_CANDIDATES: usize = 200_000, "pixels",
+        what "most pixels over the threshold a wedge's histogram takes",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    MIN_LINE_PIXELS: usize = 5, "pixels",
+        what "fewest pixels a frame's line is fitted to (else no angle)",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    PEAK_STEP_BINS: usize = 4, "bins",
+        what "a peak is scored against the bins 3 times this far on each side",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    SELECT_STRIP_WIDE: f64 = 4.0, "px",
+        what "first strip about the histogram's line the pixels are taken from",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    SELECT_STRIP_NARROW: f64 = 2.5, "px",
+        what "second, tighter strip of that selection",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    STRIP_REFITS: usize = 2, "passes",
+        what "refits of the line to every pixel of the strip",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    RIVAL_REACH_BINS: usize = 4, "bins",
+        what "a rival peak lies this far from the strongest and tops its neighbours this far",
+        chosen_by "324bfb2: hand-picked; not swept";
+
+    PAIR_REACH_MARGIN_DEG: f64 = 2.0, "deg",
+        what "room past a learnt pair's separation the search reaches on the wire's side",
+        chosen_by "599aeff: hand-picked; not swept";
 }

@@ -318,6 +318,34 @@ fn the_key_reference_in_docs_is_current() {
     );
 }
 
+/// `docs/tuning.md` is what `rollfric tuning --markdown` prints: a knob added to or
+/// changed in `src/detect/tuning/` without regenerating the page fails here.
+#[test]
+fn the_tuning_table_in_docs_is_current() {
+    let (out, _) = rollfric_ok(&["tuning", "--markdown"], &root());
+    let path = root().join("docs/tuning.md");
+    let docs = std::fs::read_to_string(&path).expect("docs/tuning.md");
+    assert!(
+        docs == out,
+        "{} is not what `rollfric tuning --markdown` prints: run \
+         `rollfric tuning --markdown > docs/tuning.md`",
+        path.display()
+    );
+}
+
+/// `rollfric tuning` prints one aligned line per knob after its header.
+#[test]
+fn tuning_prints_every_knob() {
+    let (out, _) = rollfric_ok(&["tuning"], &root());
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].starts_with("name"), "{}", lines[0]);
+    assert!(lines.len() > 100, "{} lines", lines.len());
+    assert!(
+        lines.iter().any(|l| l.starts_with("FREE_STRIP_HALF ")),
+        "{out}"
+    );
+}
+
 /// `rollfric schema --json` is a JSON Schema with the experiment's top-level keys.
 #[test]
 fn schema_json_lists_the_top_level_keys() {

@@ -65,6 +65,9 @@ enum Cmd {
     /// Every key of an experiment file and of the manifest, with its type, default and
     /// meaning (Markdown, as docs/experiment.md).
     Schema(SchemaArgs),
+    /// Every knob of the detector (threshold, limit, window, count): its value, unit,
+    /// stage and the figure that chose it (Markdown with --markdown, as docs/tuning.md).
+    Tuning(TuningArgs),
 }
 
 #[derive(clap::Args)]
@@ -72,6 +75,13 @@ struct SchemaArgs {
     /// Print the experiment file's JSON Schema instead (for editors that check YAML).
     #[arg(long)]
     json: bool,
+}
+
+#[derive(clap::Args)]
+struct TuningArgs {
+    /// Print the table as Markdown, one table per stage (docs/tuning.md).
+    #[arg(long)]
+    markdown: bool,
 }
 
 /// A verb's result: its text for standard output, and whether it succeeded (a build or
@@ -105,6 +115,11 @@ fn run(cli: Cli) -> anyhow::Result<Done> {
             crate::config::schema::experiment_json()
         } else {
             crate::config::schema::reference()
+        })),
+        Cmd::Tuning(a) => Ok(Done::ok(if a.markdown {
+            crate::detect::tuning::markdown()
+        } else {
+            crate::detect::tuning::text()
         })),
     }
 }

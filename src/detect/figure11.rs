@@ -9,16 +9,11 @@
 //! status is known. No second decoding of the video.
 
 use super::{AngleRow, Detection, Status};
+use crate::detect::tuning::EARLY_S;
 use crate::video::Frame;
 use anyhow::{bail, Context, Result};
 use opencv::core::{self, Mat, Point, Rect, Scalar};
 use opencv::imgproc;
-
-/// Seconds after the first `ok` frame in which Figure 11's frame is chosen.
-const EARLY_S: f64 = 4.0;
-
-/// Frames kept for each side (highest and lowest angles) while streaming.
-pub(super) const PER_SIDE: usize = 4;
 
 /// One frame's region of interest, grey, as the streaming pass decoded it (row-major,
 /// `width` bytes per row; the region `Detection::roi` of the full frame).
@@ -243,6 +238,7 @@ pub fn figure11_png(d: &Detection) -> Result<Vec<u8>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::tuning::PER_SIDE;
     use crate::detect::Flag;
 
     /// 25 frames/s of a 2 s period swing about 1.5 rad, 8 s; frame `k`'s picture is

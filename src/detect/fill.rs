@@ -2,6 +2,7 @@
 //! marks.
 
 use super::{unwrap_near, AngleRow, Flag, Pt, Status};
+use crate::detect::tuning::{FILL_REACH_S, ISOLATED_RUN, LOSS_FRAMES};
 use std::collections::BTreeMap;
 
 /// Operator marks replace the detection: the angle of the line through the two points,
@@ -30,12 +31,6 @@ pub(super) fn apply_marks(
     }
 }
 
-/// Good frames in a run shorter than this, between two losses of the wire, are
-/// flagged [`Flag::Isolated`].
-const ISOLATED_RUN: usize = 5;
-/// A loss of the wire: at least this many frames in a row flagged or without an angle.
-const LOSS_FRAMES: usize = 3;
-
 /// Flag the good frames of a short run between two losses of the wire: a track that
 /// finds something for a frame or two while a person walks in front of the wire (the
 /// gate wide open after the loss) is as likely on the person's edge as on the wire.
@@ -62,8 +57,6 @@ pub(super) fn flag_isolated(rows: &mut [AngleRow]) {
         }
     }
 }
-
-const FILL_REACH_S: f64 = 0.3;
 
 /// Fill each flagged frame from its good neighbours (a local quadratic in time through
 /// up to three good frames on each side, within 0.3 s); without good

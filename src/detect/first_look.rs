@@ -3,32 +3,11 @@
 //! wire's geometry found in them.
 
 use super::*;
-
-/// The first look's decoder goes on into the streaming pass when the look is at full
-/// size and the frames asked for, at the look's region, amount to at most this many
-/// bytes (so that no decoder starts again, and the look's frames are not decoded
-/// twice); a longer video starts a decoder that crops to the region of interest, whose
-/// fewer bytes through the pipe then outweigh a second decoder's start. Measured with
-/// `make bench`: see docs/detector.md.
-pub(super) const DECODE_ONCE_MAX_BYTES: u64 = 256 << 20;
-
-/// The first look's frames, as decoded, held for the streaming pass at most to this
-/// many bytes: a look expected to need more (a high frame rate at a large region:
-/// 960x540 at 60 frames/s) is not decoded once, and one that comes to need more (a long
-/// still start) starts a decoder again for the streaming pass.
-pub(super) const HELD_MAX_BYTES: usize = 48 << 20;
-
-/// The first look's frames kept for the geometry at most to about this many bytes: at a
-/// large working side (`--work-side 4096` on 4K, 8 MB a frame) the look keeps every
-/// `k`-th frame over the same [`INIT_SECONDS`] instead of every frame (1.4 GB at 60
-/// frames/s), and at least [`LOOK_MIN_FRAMES`] of them. At the default working side a
-/// look of [`LOOK_MAX_FRAMES`] frames of 640 x 640 px is 123 MB: every frame is kept.
-pub(super) const LOOK_MAX_BYTES: usize = 160 << 20;
-
-/// The fewest frames a look thinned by [`LOOK_MAX_BYTES`] keeps: one every tenth of a
-/// second over [`INIT_SECONDS`], as the geometry judges a line's jumps and roughness
-/// from step to step (`geometry::search`).
-pub(super) const LOOK_MIN_FRAMES: usize = 25;
+use crate::detect::tuning::{
+    DECODE_ONCE_MAX_BYTES, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S, LOOK_MAX_BYTES,
+    LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, READ_AHEAD_BYTES, STILL_KEEP,
+    STILL_MAX_SECONDS, WORK_SIDE_PX,
+};
 
 /// Every how many frames the look keeps one, for frames of `bytes` each and a video of
 /// `info`'s rate: 1 unless its [`INIT_SECONDS`] would hold more than [`LOOK_MAX_BYTES`].
@@ -45,14 +24,6 @@ pub(super) fn look_stride(info: &crate::video::VideoInfo, bytes: usize) -> u64 {
     let keep = (LOOK_MAX_BYTES / bytes.max(1)).max(LOOK_MIN_FRAMES);
     look.div_ceil(keep).max(1) as u64
 }
-
-/// What the first look's decoder may decode ahead of the look, bytes: the frames after
-/// the look come while its geometry is worked out, so that the decoder does not wait on
-/// the geometry. A 960x540 look's geometry takes 0.2-0.3 s, in which the decoder gives
-/// about 150 frames of 0.5 MB; with 24 MiB it stopped after 48 of them, and the
-/// streaming pass waited 0.2 s for frames. Bounded: a video decoded once is at most
-/// [`DECODE_ONCE_MAX_BYTES`] in all, and its frames go as the streaming pass takes them.
-pub(super) const READ_AHEAD_BYTES: usize = 96 << 20;
 
 /// Whether the first look at `shrink` over `bound` decodes once for the whole detection
 /// ([`DECODE_ONCE_MAX_BYTES`]).
@@ -98,17 +69,10 @@ pub(super) struct Located<'a> {
     /// The look kept one frame in this many ([`look_stride`]).
     pub(super) stride: usize,
     /// The camera moved in the look (a frame displaced by more than
-    /// [`steady::MOVING_PX`]): its frames were warped back onto its first, and the
+    /// [`MOVING_PX`]): its frames were warped back onto its first, and the
     /// streaming pass's are too.
     pub(super) moving: bool,
 }
-
-/// The working side, px, by default (`video.work_side_px` asks for a larger one): a
-/// frame is shrunk by a whole factor towards this size for the first look, and the
-/// streaming pass works at the look's scale. A 1280x720 video is so measured at half
-/// size, its 2 px wire sampled as 1 px: at full size its angles err less, for about
-/// twice the detector's own processor time (docs/detector.md, "Working scale").
-pub(super) const WORK_SIDE_PX: f64 = 640.0;
 
 /// What every first look at one video shares: the input, the options, the region
 /// asked for, the frames asked for and the detection's start (for the timing lines).
@@ -242,7 +206,7 @@ impl<'a> FirstLook<'a> {
         let mut t_first = None;
         let mut decoded = 0u64;
         // The camera's motion against the first frame: glanced at every
-        // `steady::LOOK_EVERY`th frame, `steady::LOOK_EVERY_S` apart at least; when
+        // `LOOK_EVERY`th frame, `LOOK_EVERY_S` apart at least; when
         // enough of them moved, measured on all,
         // and the look's frames are warped back.
         let mut steady: Option<steady::Steady> = None;
@@ -278,14 +242,13 @@ impl<'a> FirstLook<'a> {
                 Some(st) => st,
                 None => steady.insert(steady::Steady::new(&frame)?),
             };
-            let glance = last_glance.is_none_or(|(k, t)| {
-                decoded - k >= steady::LOOK_EVERY && frame.t_s - t >= steady::LOOK_EVERY_S
-            });
+            let glance = last_glance
+                .is_none_or(|(k, t)| decoded - k >= LOOK_EVERY && frame.t_s - t >= LOOK_EVERY_S);
             if glance {
                 last_glance = Some((decoded, frame.t_s));
                 measured += 1;
                 let m = st.glance(&frame)?;
-                if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > steady::MOVING_PX)
+                if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > MOVING_PX)
                     && st.explains()?
                 {
                     moved += 1;
@@ -323,7 +286,7 @@ impl<'a> FirstLook<'a> {
         // The camera moved when enough frames did (a still camera's single frames may
         // measure a little off on a plain wall): every frame's motion is measured (the
         // frames in between too) and the look's frames are warped back.
-        let moving = moved as f64 > steady::MOVING_SHARE * measured as f64;
+        let moving = moved as f64 > MOVING_SHARE * measured as f64;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!("steady: the look glanced at {measured} frames, {moved} moved");
         }

@@ -21,8 +21,12 @@ mod faint;
 mod pivot;
 mod search;
 
+use crate::detect::tuning::{
+    FAINT_MIN_DIRECTIONS, HOUGH_MAX_GAP_PX, HOUGH_MIN_VOTES, HOUGH_VOTE_SHARE, LINE_APART_DEG,
+    LINE_PIXELS_PX, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG, THRESHOLD_MAX_LEVELS,
+};
+use faint::faint_threshold_map;
 pub use faint::FAINT_STAGE;
-use faint::{faint_threshold_map, FAINT_MIN_DIRECTIONS};
 pub use pivot::intersect;
 use pivot::{ransac_pivot, through_tol, Seen};
 use search::find_against;
@@ -34,9 +38,6 @@ use anyhow::{bail, Result};
 use opencv::core::{self, Mat, Point, Vector};
 use opencv::imgproc;
 use opencv::prelude::*;
-
-/// At most this many threads look for the first look's lines (one per processor).
-const GEOMETRY_THREADS: usize = 4;
 
 /// The geometry found (or given), in full-frame pixel coordinates.
 #[derive(Clone, Debug)]
@@ -68,13 +69,6 @@ pub struct WireGeometry {
     /// (looked for only when neither `video.pivot` nor `video.roi` is given).
     pub second: Option<Pt>,
 }
-
-/// A second pendulum ([`WireGeometry::second`]) counts when its pivot lies this share of
-/// the look's larger side away from the first's at least,
-const SECOND_APART: f64 = 0.1;
-/// and as many directions of lines (half-degree bins) point at it, and half the
-/// first's at least (a ball's or a hand's edges meet in many points, each with a few).
-const SECOND_MIN_DIRECTIONS: usize = 10;
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.
 pub struct InitFrames {
@@ -109,9 +103,9 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
         &mut segs,
         1.0,
         std::f64::consts::PI / 360.0,
-        (min_len * 0.5).max(10.0) as i32,
+        (min_len * HOUGH_VOTE_SHARE).max(HOUGH_MIN_VOTES) as i32,
         min_len,
-        4.0,
+        HOUGH_MAX_GAP_PX,
     )?;
     let mut segs: Vec<(Pt, Pt)> = segs
         .iter()
@@ -128,7 +122,7 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
         let d = (sg.1 - sg.0).normalize();
         if chosen
             .iter()
-            .all(|c| (c.1 - c.0).normalize().dot(&d).abs() < 8f64.to_radians().cos())
+            .all(|c| (c.1 - c.0).normalize().dot(&d).abs() < LINE_APART_DEG.to_radians().cos())
         {
             chosen.push(sg);
             if chosen.len() == 3 {
@@ -150,7 +144,7 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
         for p in nz.iter() {
             let q = Pt::new(p.x as f64, p.y as f64);
             let along = (q - p0).dot(&seg.dir);
-            if seg.distance(q) <= 1.5 && along >= -0.1 * len && along <= 1.1 * len {
+            if seg.distance(q) <= LINE_PIXELS_PX && along >= -0.1 * len && along <= 1.1 * len {
                 let w = *evidence.at_2d::<u8>(p.y, p.x)? as f64;
                 pts.push((q, w));
             }
@@ -188,7 +182,7 @@ pub fn threshold_map(init: &InitFrames, noise: &[u8], sigmas: f64, floor: f64) -
         .iter()
         .map(|&m| {
             let sigma = (m as f64 / 0.95).max(1.0);
-            ((sigmas + 2.0) * sigma).clamp(floor, 250.0) as u8
+            ((sigmas + 2.0) * sigma).clamp(floor, THRESHOLD_MAX_LEVELS) as u8
         })
         .collect();
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
@@ -244,10 +238,6 @@ enum Background {
     /// bob's rim, its glints) is gone, at the price of the wire where the bob dwells.
     Median,
 }
-
-/// Widest sweep of a pendulum's wire seen in the first look: lines that fan out over
-/// more than this are an outline (a bob's trail), not a wire.
-const MAX_SWEEP_DEG: f64 = 120.0;
 
 /// Find polarity, pivot, band and ROI from the first seconds' frames: against the
 /// running extreme first, which sees the most of the wire; when that finds no wire, or
@@ -403,12 +393,6 @@ fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<W
     }
 }
 
-/// Lines through one pivot that make a wire (with `video.pivot` given, three do).
-const MIN_WIRE_LINES: usize = 6;
-
-/// Jumps a first look may show and still be a pendulum's wire ([`jumps`]).
-const MAX_JUMPS: usize = 1;
-
 /// How often the wire's angle jumps by more than half of `sweep` between two frames
 /// looked at one after the other (`stride` frames apart). A wire does not: moving half
 /// its sweep within one look's step (at most a tenth of a second) takes a pendulum of
@@ -431,9 +415,6 @@ fn seen_in_steps(angles: &[Option<f64>], stride: usize) -> Vec<(f64, f64)> {
         .filter_map(|(k, a)| a.map(|a| (k as f64 / stride as f64, a)))
         .collect()
 }
-
-/// The roughness a first look may show and still be a pendulum's wire ([`roughness`]).
-const MAX_ROUGHNESS: f64 = 0.35;
 
 /// How irregularly the angle turns: the RMS second divided difference of the angles
 /// of three lines seen one after the other (at most four looks apart; in units of the

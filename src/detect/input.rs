@@ -5,6 +5,7 @@
 //! made in memory, so that the whole detector can be tested without a decoder or a
 //! file.
 
+use crate::detect::tuning::MAX_FRAME_PIXELS;
 use crate::video::{Decoder, Frame, FrameSource, Roi, VideoInfo};
 use anyhow::{bail, Result};
 use std::path::{Path, PathBuf};
@@ -31,10 +32,6 @@ pub trait VideoInput {
     /// start-up overlaps the work in between (by default, nothing to do).
     fn prepare(&self) {}
 }
-
-/// The largest frame a video may have, px: the detector's buffers (a region of a frame,
-/// a few kept for Figure 11) are sized from it before anything is decoded.
-pub const MAX_FRAME_PIXELS: u64 = 8192 * 8192;
 
 /// A video file, decoded by the `ffmpeg` program (luma plane, cropped and shrunk by
 /// ffmpeg). The decoder that described the video at [`VideoFile::open`] serves the first

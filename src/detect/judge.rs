@@ -6,6 +6,11 @@
 mod swing;
 
 use super::{AngleRow, Status};
+use crate::detect::tuning::{
+    ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
+    NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, STALL_RANGE,
+    STALL_SHARE_MAX, STALL_WINDOW,
+};
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
 use swing::*;
@@ -100,40 +105,6 @@ impl Seen {
         )
     }
 }
-
-/// Least share of frames found (`ok`) for a detection to be trusted.
-pub const FOUND_MIN: f64 = 0.6;
-/// Largest spread of the periods from swing to swing (robust, relative to their median).
-pub const PERIOD_SPREAD_MAX: f64 = 0.05;
-/// Largest noise from frame to frame, as a share of the swing's amplitude.
-pub const NOISE_SHARE_MAX: f64 = 0.02;
-/// A stall: the angle stays within this share of the amplitude over [`STALL_WINDOW`] of
-/// a period (a turning point moves by 5 % of the amplitude over a tenth of a period
-/// centred on it, more off centre).
-pub const STALL_RANGE: f64 = 0.02;
-/// The stretch a stall is judged over, in periods.
-pub const STALL_WINDOW: f64 = 0.1;
-/// Largest share of frames in stalls.
-pub const STALL_SHARE_MAX: f64 = 0.02;
-/// Largest wander of the rest angle about its trend from turning point to turning point
-/// (RMS), deg, at a low noise,
-pub const REST_WANDER_MAX_DEG: f64 = 0.04;
-/// and in multiples of what the angle noise alone gives it.
-pub const REST_NOISE_FACTOR: f64 = 4.0;
-/// Largest scatter of the swings from turning point to turning point about a smooth
-/// decay (RMS), deg, at a low noise,
-pub const ENVELOPE_MAX_DEG: f64 = 0.1;
-/// or this share of the mean swing (real strings scatter so: a swing of 47 deg by 0.08
-/// deg, one of 21 deg at 480x360 and 30 frames/s by 0.07: a ball that swings a little
-/// out of the plane; the sweep's worst twin measured well, by 0.04),
-pub const ENVELOPE_SHARE: f64 = 0.003;
-/// or this many times what the angle noise alone gives it.
-pub const ENVELOPE_NOISE_FACTOR: f64 = 4.0;
-/// The longest gap between found frames a crossing of the rest angle is timed across,
-/// s (a person passing hides the wire for a second or two).
-const MAX_GAP_S: f64 = 0.2;
-/// The hysteresis of a crossing of the rest angle, as a share of the amplitude.
-const HYSTERESIS: f64 = 0.3;
 
 /// A check: `measured` says what was measured against what; `meaning`, what a failure
 /// means, is added to it when the check failed.

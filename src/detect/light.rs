@@ -8,16 +8,10 @@
 //! over a sparse grid of pixels, of the ratio frame / reference: the moving wire and
 //! ball change a minority of the pixels and do not move the median.
 
-/// Every `SAMPLE_STEP`-th pixel votes for the gain (a few thousand votes per frame).
-const SAMPLE_STEP: usize = 7;
-/// Ratios are counted in bins of `1 / RATIO_SCALE` (0.1 %) from 0 to 4.
-const RATIO_SCALE: u32 = 1024;
-const RATIO_BINS: usize = 4 * RATIO_SCALE as usize;
-/// Reference pixels darker than this carry too little light for a ratio.
-const MIN_REFERENCE: u8 = 16;
-/// Gains closer to 1 than this leave the frame as it is (bit for bit): steadily lit
-/// footage is not touched.
-const DEAD_BAND: f64 = 0.004;
+use crate::detect::tuning::{
+    COVERED_FOLLOW, COVERED_GAIN, COVERED_SHARE, COVERED_TIMES, DEAD_BAND, FOREIGN_RATIO,
+    LIGHT_SAMPLE_STEP, MIN_REFERENCE, RATIO_BINS, RATIO_SCALE,
+};
 
 /// The gain of frames against one reference frame, with buffers reused from frame to
 /// frame.
@@ -35,24 +29,6 @@ pub(super) struct Brightness {
     gain_ref: Option<f64>,
 }
 
-/// A frame is covered (a person in front of the plate) when more of its region than
-/// this many times the typical share, and than [`COVERED_SHARE`], shows something else
-/// than the first look's reference ([`Brightness::foreign`]) ...
-const COVERED_TIMES: f64 = 3.0;
-/// ... (see [`COVERED_TIMES`]) ...
-const COVERED_SHARE: f64 = 0.35;
-/// ... or when its brightness departs from the typical by more than this factor (a
-/// person covering most of the region: the gain follows it; flicker of 15 % and a
-/// slow drift stay well within).
-const COVERED_GAIN: f64 = 1.35;
-/// How much of each frame not covered the typical foreign share and gain take in.
-const COVERED_FOLLOW: f64 = 0.01;
-
-/// A vote whose ratio lies beyond this factor of the frame's gain (either way) is
-/// foreign: the pixel shows something else than the reference did (the ball, or a
-/// person in front of the plate), not the same scene lit otherwise.
-const FOREIGN_RATIO: f64 = 1.25;
-
 impl Brightness {
     /// Gains against `reference` (the bytes of one frame; later frames have the same
     /// size).
@@ -60,7 +36,7 @@ impl Brightness {
         let samples = reference
             .iter()
             .enumerate()
-            .step_by(SAMPLE_STEP)
+            .step_by(LIGHT_SAMPLE_STEP)
             .filter(|(_, &v)| v >= MIN_REFERENCE)
             .map(|(i, &v)| (i as u32, (1u32 << 20) / v as u32))
             .collect();

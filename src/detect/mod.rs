@@ -55,7 +55,11 @@ pub mod steady;
 mod still;
 pub mod summary;
 mod track;
+pub mod tuning;
 
+use crate::detect::tuning::{
+    INIT_SECONDS, LOOK_MAX_FRAMES, PER_SIDE, SWING_SCALE_RETRY, WORK_SIDE_PX,
+};
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
@@ -89,13 +93,6 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
     (p - origin - Pt::repeat(0.5 * (s - 1.0))) / s
 }
 
-/// Length of the first look at the video (geometry and background), s: more than half
-/// a swing of any pendulum up to a 5 s period.
-const INIT_SECONDS: f64 = 2.5;
-
-/// The most frames a first look keeps (a high frame rate's [`INIT_SECONDS`]).
-const LOOK_MAX_FRAMES: usize = 300;
-
 /// The detector's peak memory at a working side, estimated before it starts, MiB: a
 /// base of 40 MiB and 2.3 copies of the first look's frames at the scale the working
 /// side gives (the look's frames, its background and the frames held for the streaming
@@ -117,15 +114,6 @@ pub fn peak_memory_estimate_mib(info: &crate::video::VideoInfo, work_side_px: f6
     let kept = (frames / stride).ceil();
     40.0 + 2.3 * kept * frame / f64::from(1u32 << 20)
 }
-
-/// Of a still start (a held ball, see [`still`]), the first look keeps the last this
-/// many frames and starts its clock at the first of them. A release from an extreme
-/// without a hold moves the wire visibly within a few frames at any frame rate.
-const STILL_KEEP: usize = 8;
-
-/// A still start longer than this (s) is taken as the motion's start: the look does
-/// not wait for ever on a wire it cannot see move.
-const STILL_MAX_SECONDS: f64 = 10.0;
 
 /// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`).
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
@@ -243,13 +231,6 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     Ok(kept)
 }
 
-/// A swing scale ([`Tracker::swing_scale`]) further than this from 1 has the other
-/// working scale's look measured too ([`detect_from`]). On the robustness sweep's twins
-/// (both seeds, 126 measured) it lies within 0.002 of 1, and within 0.001 for 122 of
-/// them; a 960x540 twin whose shrunk look took a wire and its shadow for one line gave
-/// 1.09.
-const SWING_SCALE_RETRY: f64 = 0.02;
-
 /// The working scale [`FirstLook::at_best_scale`] did not keep: its look (when it found a
 /// wire), or its shrink factor (not looked at).
 enum Other<'a> {
@@ -318,7 +299,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         .map(|n| n.min(last.saturating_add(1)).saturating_sub(first));
     let tty = std::io::stderr().is_terminal() && opts.progress.is_none();
     let mut rows = Vec::new();
-    let mut keeper = figure11::Keeper::new(figure11::PER_SIDE);
+    let mut keeper = figure11::Keeper::new(PER_SIDE);
     let mut review = review::Keeper::new();
     // A camera the first look saw still may start to move later (a slow drift, a bump):
     // glanced at now and then on the region's own frames, and steadied from then on.

@@ -1,6 +1,7 @@
 //! The settings of one detection.
 
 use crate::config::{Polarity, Video};
+use crate::detect::tuning::WORK_SIDE_PX;
 use crate::video::Roi;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -72,7 +73,7 @@ impl Default for DetectOptions {
             steps: None,
             progress: None,
             decode_once: true,
-            work_side_px: super::WORK_SIDE_PX,
+            work_side_px: WORK_SIDE_PX,
         }
     }
 }
@@ -90,7 +91,7 @@ impl DetectOptions {
             gate_deg: v.gate_deg.unwrap_or(1.5),
             marks: v.marks.clone(),
             lens: v.lens,
-            work_side_px: v.work_side_px.map_or(super::WORK_SIDE_PX, f64::from),
+            work_side_px: v.work_side_px.map_or(WORK_SIDE_PX, f64::from),
             ..Self::default()
         }
     }

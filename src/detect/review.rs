@@ -18,21 +18,13 @@
 //! At the largest, `(MAX_FLAGGED + HOLD_FRAMES) * MAX_SIDE^2` bytes: 20 MiB.
 
 use super::{AngleRow, Flag};
+use crate::detect::tuning::{HOLD_DEG, HOLD_FRAMES, MAX_FLAGGED, MAX_SIDE};
 use crate::video::Frame;
 use anyhow::{Context, Result};
 use opencv::core::{self, Mat};
 use opencv::imgproc;
 use opencv::prelude::*;
 use std::collections::VecDeque;
-
-/// Flagged frames kept at most.
-pub const MAX_FLAGGED: usize = 48;
-/// Frames of the start kept at most (the release frame is looked for among them).
-pub const HOLD_FRAMES: usize = 32;
-/// The start's frames are kept until the wire leaves its first angle by this, degrees.
-pub const HOLD_DEG: f64 = 1.0;
-/// Longer side of a picture at most, px.
-pub const MAX_SIDE: usize = 512;
 
 /// One kept frame: its region of interest, grey (shrunk to at most [`MAX_SIDE`]), and
 /// what the streaming pass saw in it.

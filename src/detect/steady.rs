@@ -12,104 +12,16 @@
 //! It starts from the previous frame's motion, first on a frame shrunk twice
 //! more, then on the measuring scale.
 
+use crate::detect::tuning::{
+    CONVERGED_PX, EST_SIDE, EXPLAINS, EXPLAIN_PX, ITERATIONS, LEVEL_SPREAD, MAX_GAIN, MAX_POINTS,
+    MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG, MEASURE_PX, MIN_GRADIENT, MIN_INFO, RESTART, SMOOTH_PX,
+    TUKEY_LEVELS,
+};
 use crate::video::Frame;
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar, Size};
 use opencv::imgproc;
 use opencv::prelude::*;
-
-/// The frame is measured shrunk to at most this side, px (block means).
-const EST_SIDE: f64 = 480.0;
-
-/// The measured frames are brought to this spread of their grey levels between the
-/// quartiles (whatever the exposure and the scene's own contrast) ...
-const LEVEL_SPREAD: f64 = 40.0;
-
-/// ... by a gain of at most this (or at least its inverse): a plain wall's noise is not
-/// made a texture.
-const MAX_GAIN: f64 = 4.0;
-
-/// The smoothing of the measured frames (a Gaussian's standard deviation, px of the
-/// shrunk frame): it widens the basin the alignment converges from to a few px.
-const SMOOTH_PX: f64 = 1.2;
-
-/// At most this many iterations of the alignment at each of the two scales ...
-const ITERATIONS: usize = 10;
-
-/// ... which stop when a step moves the frame's corners less than this, px of the
-/// scale aligned.
-const CONVERGED_PX: f64 = 0.01;
-
-/// The first frame's pixels with a gradient below this (grey levels per px, on the
-/// measuring scale, smoothed) are not read: they hold no information on the motion.
-const MIN_GRADIENT: f32 = 0.5;
-
-/// At most this many pixels are read (the strongest gradients).
-const MAX_POINTS: usize = 12_000;
-
-/// See [`Steady::measure`].
-const RESTART: f64 = 1.2;
-
-/// Whether the camera moved is judged with Tukey's scale widened by what this much
-/// misalignment changes a pixel's grey by along its gradient, px: an edge a little
-/// misaligned is not yet an outlier.
-const EXPLAIN_PX: f32 = 0.5;
-
-/// The same for the measurement. On the hand-held twin the angles err 0.015 deg RMS at
-/// 0 px, 0.033 at 0.3 and 0.08 at 0.5; but on real clips moved by ffmpeg (two rods; a
-/// split screen with an exposure drift) 0 px lets the alignment follow the rods or
-/// drift, and at 0.3 the rods of the still two-rod clip measure as a camera moving 4.5
-/// px: 0.5 is the one that errs on none of them.
-const MEASURE_PX: f32 = 0.5;
-
-/// A pixel differing from the first frame by more than this (grey levels), once
-/// aligned, weighs nothing (Tukey's biweight): it sees something that moved.
-const TUKEY_LEVELS: f32 = 10.0;
-
-/// A direction of motion along which the scene's pixels hold less information than
-/// this (the weighted mean of the squared gradient along it, grey levels squared per px
-/// squared, on the measuring scale) is not measured: the frame is not moved along it. A
-/// textured scene holds 4 to 50 along every direction, the twin's plate 0.2 to 12 (its
-/// turn the least: at 0.3 the turn of a hand-held twin was mostly left in, 0.26 deg
-/// angle RMS, at 0.15 0.05 deg), a plain wall 0.04 to 0.13 along its least.
-const MIN_INFO: f64 = 0.15;
-
-/// A frame whose alignment leaves the static scene's pixels (weighted) this far off on
-/// average (grey levels RMS, each pixel's weight its Tukey weight) is not taken as
-/// measured.
-const MAX_RESIDUAL: f64 = 40.0;
-
-/// A frame measured farther from the first than this share of the frame's side, or
-/// turned by more than [`MAX_TURN_DEG`], is not taken as measured: a camera held still
-/// by hand or on a tripod does not go so far, and an alignment that did has followed
-/// something that moves (on a plain wall, the ball) rather than the scene.
-const MAX_SHIFT: f64 = 0.02;
-
-/// See [`MAX_SHIFT`], degrees.
-const MAX_TURN_DEG: f64 = 3.0;
-
-/// A frame of the first look counts as moved only when its pixels, aligned, differ from
-/// the first frame's (Tukey's loss) by less than this share of what they differ
-/// unaligned (see [`Steady::explains`]).
-const EXPLAINS: f64 = 0.6;
-
-/// The camera is taken as moving when a frame of the first look is displaced, at its
-/// farthest corner, by more than this many px of the frame as measured ...
-pub(super) const MOVING_PX: f64 = 0.4;
-
-/// The first look measures every this many frames to tell whether the camera moves
-/// (all of them once it does): a still camera's look costs a third of the measurement.
-pub(super) const LOOK_EVERY: u64 = 6;
-
-/// ... and [`LOOK_EVERY_S`] apart at least: 13 glances over the look at 30 frames/s or
-/// less, not 25 at 60 (a still 60 fps clip's detection took a fifth more of the
-/// processor than without them). A glance every 0.24 s whatever the rate left the
-/// two-rod clip, moved, 2 glances of 10 that found it moved, and unsteadied.
-pub(super) const LOOK_EVERY_S: f64 = 0.2;
-
-/// ... in more than this share of the first look's frames: a still camera's frames
-/// measure within a few hundredths of a pixel of the first.
-pub(super) const MOVING_SHARE: f64 = 0.2;
 
 /// A frame's displacement against the first frame: a point `p` of the first frame is
 /// seen at `c + R(rot) (p - c) + t` in this one (`c` the frame's centre), frame px.

@@ -9,20 +9,9 @@
 //! from the first two frames: the wire and the ball cover a minority of the pixels, so
 //! the median difference is the noise's whether or not they move.
 
-/// Every `SAMPLE_STEP`-th pixel is compared (tens of thousands per frame).
-const SAMPLE_STEP: usize = 7;
-/// A pixel has moved when it differs from the first frame by more than this many
-/// standard deviations of the two-frame noise ...
-const MOVED_SIGMAS: f64 = 6.0;
-/// ... and by at least this many grey levels (compression noise is quantised: a
-/// still frame's differences are a few levels, a keyframe's up to about 9).
-const MOVED_LEVELS: f64 = 16.0;
-/// The scene moves when more than this share of the compared pixels moved (a still
-/// frame: a few in ten thousand; the ball and the wire leaving their place: several
-/// in a thousand) ...
-const MOVING_SHARE: f64 = 5e-4;
-/// ... and at least this many.
-const MOVING_MIN: usize = 8;
+use crate::detect::tuning::{
+    MOVED_LEVELS, MOVED_SIGMAS, MOVING_MIN, STILL_MOVING_SHARE, STILL_SAMPLE_STEP,
+};
 
 /// Whether the scene has moved since the first frame (latched: once moving, always).
 pub(super) struct Stillness {
@@ -35,7 +24,7 @@ impl Stillness {
     /// Against `first`, the look's first frame (brightness-normalised frames follow).
     pub(super) fn new(first: &[u8]) -> Self {
         Self {
-            first: first.iter().step_by(SAMPLE_STEP).copied().collect(),
+            first: first.iter().step_by(STILL_SAMPLE_STEP).copied().collect(),
             threshold: None,
             moving: false,
         }
@@ -46,7 +35,7 @@ impl Stillness {
         if self.moving {
             return true;
         }
-        let samples = frame.iter().step_by(SAMPLE_STEP);
+        let samples = frame.iter().step_by(STILL_SAMPLE_STEP);
         if samples.len() != self.first.len() || self.first.is_empty() {
             self.moving = true;
             return true;
@@ -67,7 +56,8 @@ impl Stillness {
             .zip(&self.first)
             .filter(|(a, b)| a.abs_diff(**b) > threshold)
             .count();
-        self.moving = moved > MOVING_MIN.max((MOVING_SHARE * self.first.len() as f64) as usize);
+        self.moving =
+            moved > MOVING_MIN.max((STILL_MOVING_SHARE * self.first.len() as f64) as usize);
         self.moving
     }
 }

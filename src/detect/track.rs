@@ -10,6 +10,9 @@ mod pivot;
 use super::geometry::WireGeometry;
 use super::light::Brightness;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
+use crate::detect::tuning::{
+    LONG_FIT_FRAMES, LONG_FIT_S, REANCHOR_AWAY_GATES, REANCHOR_STILL_DEG, START_FRAMES,
+};
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
 use opencv::core::{self, Mat, Scalar};
@@ -497,21 +500,6 @@ impl Tracker {
         (base + 0.5 * step * reach) * (1.0 + self.since_good as f64) * short
     }
 }
-
-/// A re-anchoring's three raw measurements that move less than this (deg) and lie
-/// more than [`REANCHOR_AWAY_GATES`] gate from the last accepted angle are a fixed
-/// mark, not the wire (`Tracker::step`).
-const REANCHOR_STILL_DEG: f64 = 0.25;
-const REANCHOR_AWAY_GATES: f64 = 1.0;
-
-/// After a refused frame, the prediction is the least-squares quadratic of the
-/// accepted angles of the last `LONG_FIT_S` s, when there are `LONG_FIT_FRAMES` or
-/// more of them (`Tracker::predict_raw`).
-const LONG_FIT_S: f64 = 0.3;
-const LONG_FIT_FRAMES: usize = 6;
-
-/// Accepted frames that make a track: the quadratic prediction needs three.
-const START_FRAMES: usize = 3;
 
 /// Mean of every `step`-th byte.
 fn sampled_mean(d: &[u8], step: usize) -> f64 {

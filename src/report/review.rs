@@ -12,7 +12,6 @@
 
 use super::OutputFile;
 use crate::config::Experiment;
-use crate::detect::review;
 use crate::detect::summary::{DetectionSummary, ReviewPicture};
 use crate::fit::FitResult;
 use crate::series::AngleRow;
@@ -129,9 +128,9 @@ pub(super) fn review_files(
         marks,
         frames: frames.into_values().collect(),
         limits: Limits {
-            flagged: review::MAX_FLAGGED,
-            hold: review::HOLD_FRAMES,
-            side: review::MAX_SIDE,
+            flagged: crate::detect::tuning::MAX_FLAGGED,
+            hold: crate::detect::tuning::HOLD_FRAMES,
+            side: crate::detect::tuning::MAX_SIDE,
         },
     };
     let json = script_json(&data)?;

@@ -4,32 +4,21 @@
 //! median), and kept where its pixels run without a gap.
 
 use super::*;
+use crate::detect::tuning::{
+    FAINT_CANDIDATES, FAINT_GAP, FAINT_SIGMAS, FAINT_VOTES, LINE_APART_DEG, LINE_PIXELS_PX,
+    THRESHOLD_MAX_LEVELS,
+};
 
 /// [`WireGeometry::stage`] of a wire found by the faint look.
 pub const FAINT_STAGE: usize = 4;
-
-/// The faint look's threshold: this many noise sigmas above the median (no allowance
-/// for the running extreme's own offset), at least one grey level.
-const FAINT_SIGMAS: f64 = 1.5;
-
-/// Directions the faint look's lines must take (its threshold lets the noise through).
-pub(super) const FAINT_MIN_DIRECTIONS: usize = 8;
-
-/// A faint line's votes, as a share of the shortest wire: its pixels over the faint
-/// threshold along it.
-const FAINT_VOTES: f64 = 0.5;
-
-/// The strongest lines of a frame the faint look weighs, and the widest gap (px) along
-/// one between pixels over its threshold that still joins them into one wire: the
-/// noise that passes the faint threshold (a few pixels in a hundred) leaves wider gaps.
-const FAINT_CANDIDATES: usize = 12;
-const FAINT_GAP: f64 = 3.0;
 
 /// The faint look's per-pixel threshold ([`FAINT_SIGMAS`]).
 pub(super) fn faint_threshold_map(init: &InitFrames, noise: &[u8]) -> Result<Mat> {
     let t: Vec<u8> = noise
         .iter()
-        .map(|&m| (FAINT_SIGMAS * (m as f64 / 0.95).max(1.0)).clamp(1.0, 250.0) as u8)
+        .map(|&m| {
+            (FAINT_SIGMAS * (m as f64 / 0.95).max(1.0)).clamp(1.0, THRESHOLD_MAX_LEVELS) as u8
+        })
         .collect();
     Ok(Mat::new_rows_cols_with_data(init.h as i32, init.w as i32, &t)?.try_clone()?)
 }
@@ -67,7 +56,7 @@ pub(super) fn faint_frame_lines(
         let dir = Pt::new(-th.sin(), th.cos());
         if dirs
             .iter()
-            .any(|d| d.dot(&dir).abs() >= 8f64.to_radians().cos())
+            .any(|d| d.dot(&dir).abs() >= LINE_APART_DEG.to_radians().cos())
         {
             continue;
         }
@@ -78,7 +67,7 @@ pub(super) fn faint_frame_lines(
         let mut along: Vec<(f64, Pt)> = nz
             .iter()
             .map(|p| Pt::new(p.x as f64, p.y as f64))
-            .filter(|q| line.distance(*q) <= 1.5)
+            .filter(|q| line.distance(*q) <= LINE_PIXELS_PX)
             .map(|q| ((q - line.point).dot(&dir), q))
             .collect();
         along.sort_by(|a, b| a.0.total_cmp(&b.0));

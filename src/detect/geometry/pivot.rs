@@ -3,6 +3,7 @@
 //! intersection of lines.
 
 use super::FrameLine;
+use crate::detect::tuning::RANSAC_TRIES;
 use crate::detect::{Line, Pt};
 use anyhow::{bail, Result};
 
@@ -77,7 +78,7 @@ fn ransac(lines: &[Seen], center: Pt, base_tol: f64) -> Option<(usize, Pt)> {
         bins.len()
     };
     let mut best: Option<(usize, Pt)> = None;
-    for _ in 0..600 {
+    for _ in 0..RANSAC_TRIES {
         let i = (rng.uniform() * n as f64) as usize % n;
         let j = (rng.uniform() * n as f64) as usize % n;
         let (li, lj) = (lines[i].line, lines[j].line);

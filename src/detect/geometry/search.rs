@@ -5,6 +5,11 @@
 use super::faint::faint_frame_lines;
 use super::pivot::second_pivot;
 use super::*;
+use crate::detect::tuning::{
+    BAND_INNER_PCT, BAND_INNER_SLACK, BAND_OUTER_PCT, BAND_OUTER_SLACK, BASE_TOL_PX,
+    BASE_TOL_SHARE, GEOMETRY_THREADS, LOOK_CLOSE_FRAMES, MAX_JUMPS, MAX_ROUGHNESS, MIN_LEN_SHARE,
+    MIN_WIRE_LINES, ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS,
+};
 
 /// The second polarity's look against the first's directions (`beat`): it is given up
 /// as soon as the directions seen so far, one more for each frame still to look at,
@@ -72,7 +77,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
         Background::Extreme => None,
     };
     // The wire is long; the bob's edges and a hand's fingers are short.
-    let min_len = 0.2 * (w.min(h) as f64);
+    let min_len = MIN_LEN_SHARE * (w.min(h) as f64);
     let candidates: Vec<bool> = match polarity {
         Polarity::Dark => vec![true],
         Polarity::Light => vec![false],
@@ -80,7 +85,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
     };
     // Per frame (every `stride`-th, at most about 60 looked at closely), the longest
     // straight thin structures darker (`dark`) or brighter than `bg`.
-    let stride = init.data.len().div_ceil(60).max(1);
+    let stride = init.data.len().div_ceil(LOOK_CLOSE_FRAMES).max(1);
     let frame_lines_against =
         |bg: &Mat, dark: bool, k: usize, sc: &mut Scratch| -> Result<Vec<FrameLine>> {
             if !k.is_multiple_of(stride) {
@@ -205,7 +210,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
     let to_full = |p: Pt| shrunk_to_full(p, origin, init.shrink);
     // Pivot: the robust intersection of the lines (shrunk coordinates).
     let center = Pt::new(w as f64 / 2.0, h as f64 / 2.0);
-    let base_tol = 2.0f64.max(0.005 * (w.max(h) as f64));
+    let base_tol = BASE_TOL_PX.max(BASE_TOL_SHARE * (w.max(h) as f64));
     let pivot_s = match pivot_given {
         Some(p) => full_to_shrunk(p, origin, init.shrink),
         None => match ransac_pivot(&found, center, base_tol) {
@@ -256,7 +261,10 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
         .collect();
     radii.sort_by(f64::total_cmp);
     let pct = |p: f64| radii[((radii.len() - 1) as f64 * p) as usize];
-    let (r_lo, r_hi) = (pct(0.08) * 0.97, pct(0.98) * 1.02);
+    let (r_lo, r_hi) = (
+        pct(BAND_INNER_PCT) * BAND_INNER_SLACK,
+        pct(BAND_OUTER_PCT) * BAND_OUTER_SLACK,
+    );
     let angle_about = |f: &FrameLine, pivot_s: Pt| {
         let c = f.line.point - pivot_s;
         let d = if c.dot(&f.line.dir) >= 0.0 {
@@ -294,7 +302,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
     // ROI: the sector the wire can sweep (its angles so far plus a margin), in the band.
     let pivot = to_full(pivot_s);
     let (r_lo_f, r_hi_f) = (r_lo * init.shrink, r_hi * init.shrink);
-    let margin = 10f64.to_radians();
+    let margin = ROI_MARGIN_DEG.to_radians();
     let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
     for i in 0..=40 {
         let th = theta_min - margin + (theta_max - theta_min + 2.0 * margin) * i as f64 / 40.0;
@@ -306,7 +314,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             y1 = y1.max(p.y);
         }
     }
-    let pad = 8.0;
+    let pad = ROI_PAD_PX;
     let bound = roi_given.unwrap_or(Roi {
         x: 0,
         y: 0,

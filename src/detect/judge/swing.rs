@@ -2,7 +2,7 @@
 //! turning points between them, the periods, the noise, the stalls, the rest angle from
 //! turning points and the spans between them.
 
-use super::{MAX_GAP_S, STALL_RANGE};
+use crate::detect::tuning::{MAX_GAP_S, STALL_RANGE};
 use crate::detect::{AngleRow, Status};
 
 /// The swing's crossings of `rest` and its turning points.

@@ -1,7 +1,8 @@
 //! Following the camera through a pass: a camera found moving later ([`Late`]), and
 //! the frames' motions summed for the detection's record ([`CameraMotion`]).
 
-use super::{Motion, Steady, MOVING_PX};
+use super::{Motion, Steady};
+use crate::detect::tuning::{LATE_EVERY_S, LATE_GLANCES, MOVING_PX};
 use crate::video::Frame;
 use anyhow::Result;
 
@@ -19,14 +20,6 @@ pub(in crate::detect) struct Late {
     glances: usize,
     followed: Followed,
 }
-
-/// See [`Late`]: so many glances in a row must find the camera moved.
-const LATE_GLANCES: usize = 2;
-
-/// See [`Late`], s: a drift or a bump is caught within two of these; a still camera pays
-/// one measurement each (at 1 s, a 22 s 60 fps clip took 4 % more of the processor than
-/// at 2 s; the drift twin's angles erred the same).
-const LATE_EVERY_S: f64 = 2.0;
 
 impl Late {
     /// The pass's next frame, warped back when the camera has moved.

@@ -16,33 +16,13 @@
 //! scene 39) leaned towards its rest direction: swing 0.42 % small, angle RMS 0.028
 //! deg; with both, 0.10 % and 0.007 deg.
 
+use crate::detect::tuning::{
+    CONTRAST_FLOOR, MARKS_MAX_SHARE, MARK_MIN_LEVELS, MARK_SHARE, MARK_SIZE, WEIGHT_SCALE,
+};
 use anyhow::Result;
 use opencv::core::{self, Mat};
 use opencv::imgproc;
 use opencv::prelude::*;
-
-/// The evidence of a pixel of the background's level `b` is divided by its contrast
-/// (`b` for a dark wire, `255 - b` for a light one), at least this many grey levels.
-const CONTRAST_FLOOR: f64 = 10.0;
-
-/// The weights' common scale: a pixel of contrast 100 weighs its evidence.
-const WEIGHT_SCALE: f64 = 100.0;
-
-/// Static marks are found at this size, px: a closing (dark wire) or opening (light
-/// wire) of the background by an ellipse this wide fills ticks, numerals and edges
-/// narrower than it.
-const MARK_SIZE: i32 = 9;
-
-/// A pixel is a mark when the closing lifts it (or the opening lowers it) by more than
-/// this many grey levels ...
-const MARK_MIN_LEVELS: f64 = 8.0;
-
-/// ... and more than this share of the surroundings' level.
-const MARK_SHARE: f64 = 0.1;
-
-/// Marks over more than this share of the region are a textured background (wood,
-/// cloth), not marks: then none is left out.
-const MARKS_MAX_SHARE: f64 = 0.25;
 
 /// The contrast behind each pixel for a dark or a light wire, and the static marks.
 pub(super) struct Contrast {

@@ -10,17 +10,12 @@
 //! [`EVIDENCE_MARGIN`] of the wedge.
 
 use super::Tracker;
+use crate::detect::tuning::EVIDENCE_MARGIN;
 use crate::detect::Pt;
 use anyhow::Result;
 use opencv::core::{self, Mat, Rect, Scalar};
 use opencv::prelude::*;
 use std::f64::consts::{FRAC_PI_2, TAU};
-
-/// Around the wedge's rectangle, the evidence is exact this far (px of the working
-/// scale): the strips of the line fit (2.5 px either side of a line in the wedge, 4 px
-/// when rival peaks are weighed, each with its half-pixel edge) and a fitted line's
-/// tilt within the strip.
-const EVIDENCE_MARGIN: f64 = 8.0;
 
 /// How far the top-hat of a pixel reaches, px: the erosion and then the dilation of the
 /// 7 x 7 structuring element, 3 px each ([`super::morph`]).

@@ -9,6 +9,13 @@ use super::Tracker;
 use crate::detect::line::{
     fit_line_through, line_through_moments, moments, moments_of, unwrap_near, Line, Moments,
 };
+use crate::detect::tuning::{
+    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_HALF, FREE_STRIP_PASSES, HIST_BIN_PX, HIST_MAX_BINS,
+    HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX, PAIR_MIN_VOTES,
+    PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO, PEAK_STEP_BINS, RIVAL_COVER,
+    RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED,
+    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, WIDTH_STRIP,
+};
 use crate::detect::Pt;
 use anyhow::Result;
 use band::*;
@@ -76,8 +83,8 @@ impl Tracker {
         let piv = self.piv;
         let (r_lo, r_hi) = (self.r_lo, self.r_hi);
         let r_mid = 0.5 * (r_lo + r_hi);
-        let bin_w = (0.75 / r_mid).max(1e-4);
-        let nb = (((hi - lo) / bin_w).ceil() as usize).clamp(8, 20_000);
+        let bin_w = (HIST_BIN_PX / r_mid).max(1e-4);
+        let nb = (((hi - lo) / bin_w).ceil() as usize).clamp(HIST_MIN_BINS, HIST_MAX_BINS);
         b.histo.clear();
         b.histo.resize(nb, 0.0);
         b.cells.clear();
@@ -101,16 +108,16 @@ impl Tracker {
             let k = (((th - lo) / bin_w) as usize).min(nb - 1);
             b.cells[k * CELLS + band_part(r, (r_lo, r_hi))] += wgt;
             b.cand.push((q, wgt, th));
-            if b.cand.len() > 200_000 {
+            if b.cand.len() > MAX_CANDIDATES {
                 break;
             }
         }
-        if b.cand.len() < 5 {
+        if b.cand.len() < MIN_LINE_PIXELS {
             return Ok(None);
         }
         covered_bins(&b.cells, &mut b.histo);
         // Sharpest peak: a bin's mass against its neighbourhood (a broad blob scores low).
-        let k = 4usize;
+        let k = PEAK_STEP_BINS;
         let histo = &b.histo;
         b.sm.clear();
         b.sm.extend(
@@ -146,7 +153,7 @@ impl Tracker {
         };
         // Pixels along that line, then the orthogonal fit constrained to the pivot
         // (twice, tightening the strip).
-        for strip in [4.0, 2.5] {
+        for strip in [SELECT_STRIP_WIDE, SELECT_STRIP_NARROW] {
             b.sel.clear();
             b.sel.extend(
                 b.cand
@@ -159,7 +166,7 @@ impl Tracker {
                 None => return Ok(None),
             }
         }
-        if b.sel.len() < 5 {
+        if b.sel.len() < MIN_LINE_PIXELS {
             return Ok(None);
         }
         // Coverage of the band by the selected pixels.
@@ -171,7 +178,7 @@ impl Tracker {
         // The angle itself from every pixel of the strip, below the threshold too: the
         // threshold, which differs from pixel to pixel, would cut the blurred wire's
         // flanks unevenly and tilt the fit (by about 0.4 % of the swing on a light wire).
-        for _ in 0..2 {
+        for _ in 0..STRIP_REFITS {
             self.strip_pixels(&line, STRIP_HALF, &mut b.strip)?;
             match fit_line_through(piv, &b.strip) {
                 Some(l) => line = l,
@@ -186,7 +193,7 @@ impl Tracker {
             std::mem::swap(&mut b.sel, &mut b.strip);
         }
         let sel = &b.sel;
-        if sel.len() < 5 {
+        if sel.len() < MIN_LINE_PIXELS {
             return Ok(None);
         }
         // Point the direction away from the pivot, towards the pixels.
@@ -228,7 +235,7 @@ impl Tracker {
                 return Ok(fallback);
             }
             self.strip_pixels(&free, FREE_STRIP_HALF, &mut b.strip)?;
-            if b.strip.len() < 5 {
+            if b.strip.len() < MIN_LINE_PIXELS {
                 return Ok(fallback);
             }
             m = moments(&b.strip);
@@ -299,68 +306,6 @@ impl Tracker {
 /// The block [`over_threshold`] passes over at once, bytes.
 const SCAN_BLOCK: usize = 32;
 
-/// Half the width of the strip the wire's line is fitted to, px of the working scale.
-const STRIP_HALF: f64 = 2.5;
-/// Times the kept moments' strip is re-centred on the wire's free line
-/// ([`Tracker::free_strip_moments`]): a pivot 3 px off along or across the wire of a
-/// 960x540 twin is then refined to within 0.1 px.
-const FREE_STRIP_PASSES: usize = 3;
-/// Half the width of the re-centred strip, px of the working scale. Narrower than
-/// [`STRIP_HALF`]: at 2.5 px, a soft shadow diverging 4 deg from a faint wire pulled
-/// its free lines and the pivot 1.5 px off (angles 0.55 deg off), and on a 1280x720
-/// twin (thin dark wire, shrunk by two) rolled to 45 or 60 deg the swing came out
-/// 0.4 % small; at 1.75 px, 0.7 px and 0.27 deg, and 0.2 %. Narrower still (1.25 px)
-/// helps those two more but leaves a wider wire's pivot, given 4 px off along it,
-/// 0.3 px short of the wire (the aluminum twin, 960x540).
-const FREE_STRIP_HALF: f64 = 1.75;
-/// Farthest a free line may lie from the line through the pivot at the band's ends, px
-/// of the working scale, for its strip to be kept.
-const FREE_STRIP_DRIFT: f64 = 3.0;
-
-/// A rival peak must score this share of the strongest to be weighed at all.
-const RIVAL_SCORE: f64 = 0.15;
-/// ... cover this share of the band that the strongest covers (a wire runs the band's
-/// length; a scale's radial tick mark does not) ...
-const RIVAL_COVER: f64 = 0.6;
-/// ... and be this much narrower across than the strongest to win outright: a wire's soft
-/// shadow, diverging from the fulcrum beside it, can hold more evidence than a faint
-/// wire, but it is wide and the wire is a sharp ridge.
-const RIVAL_SHARPER: f64 = 0.7;
-/// ... or this much narrower while the track begins (fewer than three frames accepted,
-/// the whole sweep searched) or starts again (lost: no prediction): there is no track
-/// to keep, and a wire beside a stronger shadow of a similar width (1.12 px against
-/// 1.40, 1.17 against 1.28 on 640x480 and 1280x720 twins) is told by its sharper
-/// ridge. On a 1280x720 twin with a 1 px wire (worked at half size), a lost track that
-/// took the strongest ridge took the numerals of a protractor the wire had left (their
-/// ridge 1.25 times as wide as the wire's), and stayed on them for 45 frames.
-const RIVAL_SHARPER_START: f64 = 0.92;
-/// A rival within the gate of the prediction, the strongest peak outside it, is the wire
-/// unless this much wider than the strongest.
-const RIVAL_WIDER_GATED: f64 = 1.25;
-/// Evidence within this many px of a peak's line counts towards its width.
-const WIDTH_STRIP: f64 = 4.0;
-
-/// A rival this close in angle to the strongest peak (rad, 10 deg) makes a pair with
-/// it: a wire and its shadow, diverging from the fulcrum a few degrees apart.
-const PAIR_MAX: f64 = 0.1745;
-/// A pair votes for the side its narrower ridge lies on when that ridge is at most this
-/// share of the other's width (nearly equal widths say nothing).
-const PAIR_VOTE_RATIO: f64 = 0.97;
-/// Votes before the side is known, and how far one side must lead, in standard
-/// deviations of a fair coin's lead (`sqrt(votes)`): ridges with no side of their own
-/// (a wire passing a fixed line) lead that far by chance at any one count about 3 times
-/// in 1000 (more often over a long video, as the lead is weighed at every vote).
-const PAIR_MIN_VOTES: usize = 12;
-const PAIR_LEAD_SIGMAS: f64 = 3.0;
-/// A pair is the learnt one when its separation is within this share of the learnt
-/// separation.
-const PAIR_SEP_TOL: f64 = 0.5;
-/// A pair votes again only once its narrower ridge has moved this far (rad, 0.5 deg)
-/// from where it last voted: a shadow moves with the wire, while a wire at rest beside
-/// a fixed line (a scale's tick the background does not quite hide) would otherwise
-/// vote for that line's side frame after frame.
-const PAIR_MOVE: f64 = 0.0087;
-
 /// Which side of a pair of ridges the wire lies on, as the frames showing both have told
 /// it. A soft shadow beside a wire lies on the same side of it all along, a few degrees
 /// off, and the wire is the sharper ridge, though in any one frame the two widths may
@@ -408,7 +353,7 @@ impl Ridges {
     /// farthest a pair like the learnt one (separation `sep`) lies, and the room the
     /// histogram's peak score needs beyond it.
     pub(super) fn reach(sep: f64) -> f64 {
-        (1.0 + PAIR_SEP_TOL) * sep + 2f64.to_radians()
+        (1.0 + PAIR_SEP_TOL) * sep + PAIR_REACH_MARGIN_DEG.to_radians()
     }
 }
 
@@ -428,7 +373,7 @@ impl Tracker {
         pred: Option<f64>,
         gate: f64,
     ) -> Result<usize> {
-        let reach = 4usize;
+        let reach = RIVAL_REACH_BINS;
         let own = scores[best.1];
         let is_rival = |i: usize| {
             let s = scores[i];

@@ -4,6 +4,10 @@
 use super::Tracker;
 use crate::detect::geometry;
 use crate::detect::line::{Line, Moments};
+use crate::detect::tuning::{
+    DRIFT_WINDOW_S, REFINE_CENTRAL, REFINE_LINES, REFINE_SPREAD_DEG, SWING_SCALE_FRAMES,
+    SWING_SCALE_SPREAD_DEG,
+};
 use crate::detect::{full_to_shrunk, shrunk_to_full, unwrap_near, AngleRow, Pt, Status};
 use crate::lens::Lens;
 
@@ -162,10 +166,6 @@ impl Tracker {
     }
 }
 
-/// Fewest accepted frames, and smallest spread of their angles, for [`Tracker::swing_scale`].
-const SWING_SCALE_FRAMES: usize = 20;
-const SWING_SCALE_SPREAD_DEG: f64 = 2.0;
-
 /// How far the wire's free lines pass from the pivot `p` for a while, as an angle seen
 /// from the band's middle radius `r` (px, the lines' scale): the largest median signed
 /// distance over [`DRIFT_WINDOW_S`] windows, at `r`, deg. A camera that moved and was
@@ -205,9 +205,6 @@ pub(super) fn pivot_drift(timed: &[(f64, Line)], p: Pt, r: f64) -> Option<f64> {
     }
     Some((worst / r).atan().to_degrees())
 }
-
-/// The windows [`pivot_drift`] takes the median of, s.
-const DRIFT_WINDOW_S: f64 = 2.0;
 
 /// The standard uncertainty of `p`, the least-squares intersection of `lines`, px (the
 /// radius along its worst direction): the lines' scatter about it (those within three
@@ -272,9 +269,3 @@ pub(super) fn central_spread(lines: &[Line]) -> f64 {
     let tail = (0.5 * (1.0 - REFINE_CENTRAL) * (off.len() - 1) as f64).round() as usize;
     off[off.len() - 1 - tail] - off[tail]
 }
-
-/// Fewest free lines, and the share of them whose directions must spread over
-/// [`REFINE_SPREAD_DEG`], for [`refined_pivot`].
-const REFINE_LINES: usize = 20;
-const REFINE_CENTRAL: f64 = 0.8;
-const REFINE_SPREAD_DEG: f64 = 2.0;

@@ -2,15 +2,9 @@
 //! evidence reaches, and the parts whose pixels stray from the fitted line.
 
 use super::*;
-
-/// A histogram bin reaching this many of the band's parts counts whole
-/// ([`covered_bins`]). Counted by the share of all the parts, a faint wire (over its
-/// threshold in only some of them) lost frames to its soft shadow, which runs the band.
-pub(super) const COVERED_FULL: usize = CELLS / 2;
-
-/// Parts of the band, by distance from the pivot, that a histogram bin's evidence and a
-/// strip's pixels are counted in ([`covered_bins`], [`drop_stray_parts`]).
-pub(super) const CELLS: usize = 24;
+use crate::detect::tuning::{
+    CELLS, COVERED_FULL, HEAVY_COUNTS, HEAVY_TIMES, STRAY_MAX_SHARE, STRAY_MIN_PX, STRAY_TIMES,
+};
 
 /// The part of the band `r_lo..r_hi` (0 to [`CELLS`] - 1) a pixel `r` px from the pivot
 /// lies in.
@@ -36,20 +30,6 @@ pub(super) fn covered_bins(cells: &[f64], histo: &mut [f64]) {
         *h = sum * (seen as f64 / COVERED_FULL as f64).min(1.0);
     }
 }
-
-/// A part of the band whose strip pixels lie, on the whole, this far from the fitted
-/// line (px of the working scale) ...
-pub(super) const STRAY_MIN_PX: f64 = 0.75;
-/// ... and this many times as far as the median part's, is not the wire's
-/// ([`drop_stray_parts`]) ...
-pub(super) const STRAY_TIMES: f64 = 3.0;
-/// ... unless more than this share of the parts holding any pixel are.
-pub(super) const STRAY_MAX_SHARE: f64 = 0.25;
-/// A part holding more than this many times the evidence of the median part is heavy:
-/// the stray parts are judged against the line fitted with each heavy part counting as
-/// [`HEAVY_COUNTS`] times the median part.
-pub(super) const HEAVY_TIMES: f64 = 3.0;
-pub(super) const HEAVY_COUNTS: f64 = 1.5;
 
 /// Drops from a strip (`pts`, about `piv` in the band `r_lo..r_hi`, fitted by `fitted`)
 /// the pixels of the band's parts ([`CELLS`]) whose weighted mean distance across the

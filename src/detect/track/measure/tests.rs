@@ -1,6 +1,7 @@
 //! The unit tests of `detect/track/measure.rs`.
 
 use super::*;
+use crate::detect::tuning::CELLS;
 
 #[test]
 fn the_wedge_test_passes_over_only_pixels_outside_the_wedge_by_their_angle() {

@@ -1,0 +1,145 @@
+//! Knobs of the geometry: the wire's lines and pivot in the first look.
+
+use super::Knob;
+
+knobs! {
+    table GEOMETRY_KNOBS, stage "geometry";
+
+    // From geometry.rs.
+    /// At most this many threads look for the first look's lines (one per processor).
+    GEOMETRY_THREADS: usize = 4, "threads",
+        what "most threads that look for the first look's lines",
+        chosen_by "83f0959: geometry of the 960x540 bench twin 0.25 -> 0.14 s (angles byte-identical)";
+
+    /// A second pendulum (`WireGeometry::second`) counts when its pivot lies this share of
+    /// the look's larger side away from the first's at least,
+    SECOND_APART: f64 = 0.1, "share",
+        what "a second pendulum's pivot lies this share of the larger side away at least",
+        chosen_by "dcaed79: the split-screen real clip refused as two pendulums; not swept";
+
+    /// and as many directions of lines (half-degree bins) point at it, and half the
+    /// first's at least (a ball's or a hand's edges meet in many points, each with a few).
+    SECOND_MIN_DIRECTIONS: usize = 10, "directions",
+        what "fewest line directions (0.5 deg bins) through a second pendulum's pivot",
+        chosen_by "dcaed79: the split-screen real clip refused as two pendulums; not swept";
+
+    /// Widest sweep of a pendulum's wire seen in the first look: lines that fan out over
+    /// more than this are an outline (a bob's trail), not a wire.
+    MAX_SWEEP_DEG: f64 = 120.0, "deg",
+        what "widest fan of first-look lines a wire may make (wider: an outline)",
+        chosen_by "bf532b5: the off-screen-pivot clip finds its pivot (988, -629), 0 frames missing";
+
+    /// Lines through one pivot that make a wire (with `video.pivot` given, three do).
+    MIN_WIRE_LINES: usize = 6, "lines",
+        what "lines through one pivot that make a wire",
+        chosen_by "034348f: hand-picked; no figure in the history";
+
+    /// Jumps a first look may show and still be a pendulum's wire (`jumps`).
+    MAX_JUMPS: usize = 1, "jumps",
+        what "jumps a first look may show and still be a wire",
+        chosen_by "034348f: lines that jump refused as no pendulum's; no figure";
+
+    /// The roughness a first look may show and still be a pendulum's wire (`roughness`).
+    MAX_ROUGHNESS: f64 = 0.35, "ratio",
+        what "roughness a first look may show and still be a wire",
+        chosen_by "034348f: lines that jitter refused as no pendulum's; no figure";
+
+    // From geometry/faint.rs.
+    /// The faint look's threshold: this many noise sigmas above the median (no allowance
+    /// for the running extreme's own offset), at least one grey level.
+    FAINT_SIGMAS: f64 = 1.5, "sigmas",
+        what "the faint look's threshold over the median",
+        chosen_by "90a2d18: a pixel-wide wire a few levels dark under flicker found; videos detected before unchanged";
+
+    /// Directions the faint look's lines must take (its threshold lets the noise through).
+    FAINT_MIN_DIRECTIONS: usize = 8, "directions",
+        what "directions the faint look's lines must take",
+        chosen_by "90a2d18: hand-picked; not swept";
+
+    /// A faint line's votes, as a share of the shortest wire: its pixels over the faint
+    /// threshold along it.
+    FAINT_VOTES: f64 = 0.5, "share",
+        what "a faint line's votes, as a share of the shortest wire",
+        chosen_by "90a2d18: hand-picked; not swept";
+
+    /// The strongest lines of a frame the faint look weighs, and the widest gap (px) along
+    /// one between pixels over its threshold that still joins them into one wire: the
+    /// noise that passes the faint threshold (a few pixels in a hundred) leaves wider gaps.
+    FAINT_CANDIDATES: usize = 12, "lines",
+        what "strongest lines of a frame the faint look weighs",
+        chosen_by "90a2d18: hand-picked; not swept";
+
+    FAINT_GAP: f64 = 3.0, "px",
+        what "widest gap along a faint line that still joins one wire",
+        chosen_by "90a2d18: noise over the faint threshold leaves wider gaps; not swept";
+
+    // Lifted from geometry.rs and geometry/.
+
+    HOUGH_VOTE_SHARE: f64 = 0.5, "share",
+        what "a frame's Hough segment needs votes of this share of the shortest wire",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    HOUGH_MIN_VOTES: f64 = 10.0, "votes",
+        what "... and at least this many",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    HOUGH_MAX_GAP_PX: f64 = 4.0, "px",
+        what "widest gap a Hough segment bridges",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    LINE_APART_DEG: f64 = 8.0, "deg",
+        what "a frame's lines (up to three) differ in direction by this much at least",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    LINE_PIXELS_PX: f64 = 1.5, "px",
+        what "pixels within this of a segment's line are fitted to it",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    THRESHOLD_MAX_LEVELS: f64 = 250.0, "grey levels",
+        what "highest a pixel's threshold may be",
+        chosen_by "034348f: hand-picked; not measured";
+
+    MIN_LEN_SHARE: f64 = 0.2, "share",
+        what "shortest wire, as a share of the look's smaller side",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    LOOK_CLOSE_FRAMES: usize = 60, "frames",
+        what "about this many of the look's frames are searched for lines",
+        chosen_by "895feef: hand-picked; not measured";
+
+    BASE_TOL_PX: f64 = 2.0, "px",
+        what "a line passes through a RANSAC pivot within this at least",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BASE_TOL_SHARE: f64 = 0.005, "share",
+        what "... or this share of the look's larger side",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_INNER_PCT: f64 = 0.08, "share",
+        what "the band starts at this percentile of the lines' pixels' radii",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_INNER_SLACK: f64 = 0.97, "ratio",
+        what "... times this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_OUTER_PCT: f64 = 0.98, "share",
+        what "the band ends at this percentile of the radii",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    BAND_OUTER_SLACK: f64 = 1.02, "ratio",
+        what "... times this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    ROI_MARGIN_DEG: f64 = 10.0, "deg",
+        what "the region covers the angles seen in the look widened by this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    ROI_PAD_PX: f64 = 8.0, "px",
+        what "and is padded by this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    RANSAC_TRIES: usize = 600, "pairs",
+        what "pairs of lines the pivot's RANSAC tries",
+        chosen_by "297050c: the first detector's value; not measured";
+}

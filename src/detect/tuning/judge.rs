@@ -1,0 +1,80 @@
+//! Knobs of the judge: the checks of the verdict on what was followed.
+
+use super::Knob;
+
+knobs! {
+    table JUDGE_KNOBS, stage "judge";
+
+    // From judge.rs.
+    /// Least share of frames found (`ok`) for a detection to be trusted.
+    FOUND_MIN: f64 = 0.6, "share",
+        what "least share of frames ok for a trusted detection",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// Largest spread of the periods from swing to swing (robust, relative to their median).
+    PERIOD_SPREAD_MAX: f64 = 0.05, "share",
+        what "largest spread of the periods swing to swing (of the median)",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// Largest noise from frame to frame, as a share of the swing's amplitude.
+    NOISE_SHARE_MAX: f64 = 0.02, "share",
+        what "largest frame-to-frame noise, as a share of the amplitude",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// A stall: the angle stays within this share of the amplitude over `STALL_WINDOW` of
+    /// a period (a turning point moves by 5 % of the amplitude over a tenth of a period
+    /// centred on it, more off centre).
+    STALL_RANGE: f64 = 0.02, "share",
+        what "a stall: the angle stays within this share of the amplitude",
+        chosen_by "dcaed79: a turning point moves 5 % over a tenth of a period; the real-clip verdicts";
+
+    /// The stretch a stall is judged over, in periods.
+    STALL_WINDOW: f64 = 0.1, "periods",
+        what "the stretch a stall is judged over",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// Largest share of frames in stalls.
+    STALL_SHARE_MAX: f64 = 0.02, "share",
+        what "largest share of frames in stalls",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// Largest wander of the rest angle about its trend from turning point to turning point
+    /// (RMS), deg, at a low noise,
+    REST_WANDER_MAX_DEG: f64 = 0.04, "deg",
+        what "largest wander of the rest angle about its trend at low noise",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// and in multiples of what the angle noise alone gives it.
+    REST_NOISE_FACTOR: f64 = 4.0, "times",
+        what "... or this many times what the noise alone gives",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// Largest scatter of the swings from turning point to turning point about a smooth
+    /// decay (RMS), deg, at a low noise,
+    ENVELOPE_MAX_DEG: f64 = 0.1, "deg",
+        what "largest scatter of the swings about a smooth decay at low noise",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// or this share of the mean swing (real strings scatter so: a swing of 47 deg by 0.08
+    /// deg, one of 21 deg at 480x360 and 30 frames/s by 0.07: a ball that swings a little
+    /// out of the plane; the sweep's worst twin measured well, by 0.04),
+    ENVELOPE_SHARE: f64 = 0.003, "share",
+        what "... or this share of the mean swing",
+        chosen_by "dcaed79: real strings 0.08 deg at 47 deg, 0.07 at 21 deg; the sweep's worst twin 0.04";
+
+    /// or this many times what the angle noise alone gives it.
+    ENVELOPE_NOISE_FACTOR: f64 = 4.0, "times",
+        what "... or this many times what the noise alone gives",
+        chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
+
+    /// The longest gap between found frames a crossing of the rest angle is timed across,
+    /// s (a person passing hides the wire for a second or two).
+    MAX_GAP_S: f64 = 0.2, "s",
+        what "longest gap between found frames a rest crossing is timed across",
+        chosen_by "dcaed79: hand-picked; not measured";
+
+    /// The hysteresis of a crossing of the rest angle, as a share of the amplitude.
+    HYSTERESIS: f64 = 0.3, "share",
+        what "hysteresis of a rest crossing, as a share of the amplitude",
+        chosen_by "dcaed79: hand-picked; not measured";
+}

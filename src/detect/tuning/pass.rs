@@ -1,0 +1,90 @@
+//! Knobs of the streaming pass: the track and its gate, the pivot, filling.
+
+use super::Knob;
+
+knobs! {
+    table PASS_KNOBS, stage "streaming pass";
+
+    // From track.rs.
+    /// A re-anchoring's three raw measurements that move less than this (deg) and lie
+    /// more than `REANCHOR_AWAY_GATES` gate from the last accepted angle are a fixed
+    /// mark, not the wire (`Tracker::step`).
+    REANCHOR_STILL_DEG: f64 = 0.25, "deg",
+        what "a re-anchoring's measurements moving less than this are a fixed mark",
+        chosen_by "1a89afa (issue 10): hand-picked; no figure";
+
+    REANCHOR_AWAY_GATES: f64 = 1.0, "gates",
+        what "... when they lie this many gates from the last accepted angle",
+        chosen_by "1a89afa (issue 10): hand-picked; no figure";
+
+    /// After a refused frame, the prediction is the least-squares quadratic of the
+    /// accepted angles of the last `LONG_FIT_S` s, when there are `LONG_FIT_FRAMES` or
+    /// more of them (`Tracker::predict_raw`).
+    LONG_FIT_S: f64 = 0.3, "s",
+        what "after a refused frame, predict from the accepted angles of the last this long",
+        chosen_by "1a89afa (issue 10): replaces three noisy angles; no figure";
+
+    LONG_FIT_FRAMES: usize = 6, "frames",
+        what "fewest angles for that prediction",
+        chosen_by "1a89afa (issue 10): hand-picked; no figure";
+
+    /// Accepted frames that make a track: the quadratic prediction needs three.
+    START_FRAMES: usize = 3, "frames",
+        what "accepted frames that make a track",
+        chosen_by "b04360b: the quadratic prediction needs three points";
+
+    // From track/pivot.rs.
+    /// Fewest accepted frames, and smallest spread of their angles, for `Tracker::swing_scale`.
+    SWING_SCALE_FRAMES: usize = 20, "frames",
+        what "fewest accepted frames for a swing scale",
+        chosen_by "4883570: hand-picked; not measured";
+
+    SWING_SCALE_SPREAD_DEG: f64 = 2.0, "deg",
+        what "smallest spread of their angles for a swing scale",
+        chosen_by "4883570: hand-picked; not measured";
+
+    /// The windows `pivot_drift` takes the median of, s.
+    DRIFT_WINDOW_S: f64 = 2.0, "s",
+        what "windows the pivot's drift takes the median of",
+        chosen_by "dcaed79: hand-picked; not measured";
+
+    /// Fewest free lines, and the share of them whose directions must spread over
+    /// `REFINE_SPREAD_DEG`, for `refined_pivot`.
+    REFINE_LINES: usize = 20, "lines",
+        what "fewest free lines for the pivot's refinement",
+        chosen_by "09b4502 (issue 10): hand-picked; no figure";
+
+    REFINE_CENTRAL: f64 = 0.8, "share",
+        what "share of the free lines whose directions must spread (not the extremes)",
+        chosen_by "09b4502 (issue 10): central 80 % instead of the extremes; no figure";
+
+    REFINE_SPREAD_DEG: f64 = 2.0, "deg",
+        what "spread of those directions the refinement needs",
+        chosen_by "09b4502 (issue 10): hand-picked; no figure";
+
+    // From mod.rs.
+    /// A swing scale (`Tracker::swing_scale`) further than this from 1 has the other
+    /// working scale's look measured too (`detect_from`). On the robustness sweep's twins
+    /// (both seeds, 126 measured) it lies within 0.002 of 1, and within 0.001 for 122 of
+    /// them; a 960x540 twin whose shrunk look took a wire and its shadow for one line gave
+    /// 1.09.
+    SWING_SCALE_RETRY: f64 = 0.02, "ratio",
+        what "a swing scale this far from 1 has the other working scale measured too",
+        chosen_by "8e7bd01: sweep both seeds, 126 twins within 0.002; seed 2 scene 16: 1.058 -> 1.0001, 2.1 -> 0.019 deg RMS";
+
+    // From fill.rs.
+    /// Good frames in a run shorter than this, between two losses of the wire, are
+    /// flagged `Flag::Isolated`.
+    ISOLATED_RUN: usize = 5, "frames",
+        what "good runs shorter than this between two losses are flagged isolated",
+        chosen_by "27c1bbf: a walker twin's two frames 7.5 deg off, called ok, now missing; not swept";
+
+    /// A loss of the wire: at least this many frames in a row flagged or without an angle.
+    LOSS_FRAMES: usize = 3, "frames",
+        what "a loss of the wire: this many frames in a row flagged or without an angle",
+        chosen_by "27c1bbf: the same walker twin; not swept";
+
+    FILL_REACH_S: f64 = 0.3, "s",
+        what "a flagged frame is filled from good frames at most this far in time",
+        chosen_by "297050c: the first detector's value; not measured";
+}

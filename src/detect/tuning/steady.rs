@@ -1,0 +1,156 @@
+//! Knobs of steadying a moving camera: the alignment and whether the camera moves.
+
+use super::Knob;
+
+knobs! {
+    table STEADY_KNOBS, stage "steadying a moving camera";
+
+    // From steady.rs.
+    /// The frame is measured shrunk to at most this side, px (block means).
+    EST_SIDE: f64 = 480.0, "px",
+        what "a frame is measured shrunk to at most this side",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// The measured frames are brought to this spread of their grey levels between the
+    /// quartiles (whatever the exposure and the scene's own contrast) ...
+    LEVEL_SPREAD: f64 = 40.0, "grey levels",
+        what "measured frames are brought to this spread between the quartiles",
+        chosen_by "96db5d0: an exposure drift no longer reads as motion; moved real clips within 0.2 deg";
+
+    /// ... by a gain of at most this (or at least its inverse): a plain wall's noise is not
+    /// made a texture.
+    MAX_GAIN: f64 = 4.0, "ratio",
+        what "most gain that levelling may apply",
+        chosen_by "96db5d0: a plain wall's noise not made a texture; not swept";
+
+    /// The smoothing of the measured frames (a Gaussian's standard deviation, px of the
+    /// shrunk frame): it widens the basin the alignment converges from to a few px.
+    SMOOTH_PX: f64 = 1.2, "px",
+        what "smoothing of the measured frames (Gaussian sigma)",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// At most this many iterations of the alignment at each of the two scales ...
+    ITERATIONS: usize = 10, "iterations",
+        what "most iterations of the alignment at each scale",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// ... which stop when a step moves the frame's corners less than this, px of the
+    /// scale aligned.
+    CONVERGED_PX: f64 = 0.01, "px",
+        what "the alignment stops when a step moves the corners less than this",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// The first frame's pixels with a gradient below this (grey levels per px, on the
+    /// measuring scale, smoothed) are not read: they hold no information on the motion.
+    MIN_GRADIENT: f32 = 0.5, "grey levels/px",
+        what "first-frame pixels with a weaker gradient are not read",
+        chosen_by "96db5d0: a sixth of the time; angles unchanged";
+
+    /// At most this many pixels are read (the strongest gradients).
+    MAX_POINTS: usize = 12_000, "pixels",
+        what "most pixels read (the strongest gradients)",
+        chosen_by "96db5d0: hand-picked; not swept";
+
+    /// See `Steady::measure`.
+    RESTART: f64 = 1.2, "ratio",
+        what "restart from no motion when the previous start aligns this much worse",
+        chosen_by "96db5d0: hand-picked; not swept";
+
+    /// Whether the camera moved is judged with Tukey's scale widened by what this much
+    /// misalignment changes a pixel's grey by along its gradient, px: an edge a little
+    /// misaligned is not yet an outlier.
+    EXPLAIN_PX: f32 = 0.5, "px",
+        what "Tukey's scale widening for whether the camera moved",
+        chosen_by "96db5d0: half a pixel; not swept";
+
+    /// The same for the measurement. On the hand-held twin the angles err 0.015 deg RMS at
+    /// 0 px, 0.033 at 0.3 and 0.08 at 0.5; but on real clips moved by ffmpeg (two rods; a
+    /// split screen with an exposure drift) 0 px lets the alignment follow the rods or
+    /// drift, and at 0.3 the rods of the still two-rod clip measure as a camera moving 4.5
+    /// px: 0.5 is the one that errs on none of them.
+    MEASURE_PX: f32 = 0.5, "px",
+        what "Tukey's scale widening for the measurement",
+        chosen_by "hand-held twin 0 / 0.3 / 0.5 px: 0.015 / 0.033 / 0.08 deg RMS; real two-rod clip at 0.3 px read 4.5 px of camera motion";
+
+    /// A pixel differing from the first frame by more than this (grey levels), once
+    /// aligned, weighs nothing (Tukey's biweight): it sees something that moved.
+    TUKEY_LEVELS: f32 = 10.0, "grey levels",
+        what "a pixel off by more than this, aligned, weighs nothing",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// A direction of motion along which the scene's pixels hold less information than
+    /// this (the weighted mean of the squared gradient along it, grey levels squared per px
+    /// squared, on the measuring scale) is not measured: the frame is not moved along it. A
+    /// textured scene holds 4 to 50 along every direction, the twin's plate 0.2 to 12 (its
+    /// turn the least: at 0.3 the turn of a hand-held twin was mostly left in, 0.26 deg
+    /// angle RMS, at 0.15 0.05 deg), a plain wall 0.04 to 0.13 along its least.
+    MIN_INFO: f64 = 0.15, "grey levels^2/px^2",
+        what "a direction of motion with less information is not measured",
+        chosen_by "hand-held twin: 0.3 -> 0.26 deg RMS, 0.15 -> 0.05 deg; plain wall 0.04-0.13, texture 4-50";
+
+    /// A frame whose alignment leaves the static scene's pixels (weighted) this far off on
+    /// average (grey levels RMS, each pixel's weight its Tukey weight) is not taken as
+    /// measured.
+    MAX_RESIDUAL: f64 = 40.0, "grey levels",
+        what "a frame aligned this far off on average is not taken as measured",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// A frame measured farther from the first than this share of the frame's side, or
+    /// turned by more than `MAX_TURN_DEG`, is not taken as measured: a camera held still
+    /// by hand or on a tripod does not go so far, and an alignment that did has followed
+    /// something that moves (on a plain wall, the ball) rather than the scene.
+    MAX_SHIFT: f64 = 0.02, "share",
+        what "farthest shift, as a share of the side, taken as measured",
+        chosen_by "96db5d0: motions beyond 2 % of the side refused; not swept";
+
+    /// See `MAX_SHIFT`, degrees.
+    MAX_TURN_DEG: f64 = 3.0, "deg",
+        what "largest turn taken as measured",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    /// A frame of the first look counts as moved only when its pixels, aligned, differ from
+    /// the first frame's (Tukey's loss) by less than this share of what they differ
+    /// unaligned (see `Steady::explains`).
+    EXPLAINS: f64 = 0.6, "share",
+        what "a look frame counts as moved when aligned it differs less than this share",
+        chosen_by "96db5d0: hand-picked; not swept";
+
+    /// The camera is taken as moving when a frame of the first look is displaced, at its
+    /// farthest corner, by more than this many px of the frame as measured ...
+    MOVING_PX: f64 = 0.4, "px",
+        what "a look frame displaced more than this at its farthest corner moved",
+        chosen_by "f48638b: a still camera measures within a few hundredths of a px; not swept";
+
+    /// The first look measures every this many frames to tell whether the camera moves
+    /// (all of them once it does): a still camera's look costs a third of the measurement.
+    LOOK_EVERY: u64 = 6, "frames",
+        what "the first look measures every this many frames",
+        chosen_by "b57b00c: a still 60 fps clip's CPU 1.16 -> 1.08 of unsteadied";
+
+    /// ... and `LOOK_EVERY_S` apart at least: 13 glances over the look at 30 frames/s or
+    /// less, not 25 at 60 (a still 60 fps clip's detection took a fifth more of the
+    /// processor than without them). A glance every 0.24 s whatever the rate left the
+    /// two-rod clip, moved, 2 glances of 10 that found it moved, and unsteadied.
+    LOOK_EVERY_S: f64 = 0.2, "s",
+        what "... and this far apart at least",
+        chosen_by "b57b00c: 0.24 s whatever the rate left the moved two-rod clip unsteadied";
+
+    /// ... in more than this share of the first look's frames: a still camera's frames
+    /// measure within a few hundredths of a pixel of the first.
+    MOVING_SHARE: f64 = 0.2, "share",
+        what "the camera moves when more than this share of look frames moved",
+        chosen_by "f48638b: hand-picked; not swept";
+
+    // From steady/follow.rs.
+    /// See `Late`: so many glances in a row must find the camera moved.
+    LATE_GLANCES: usize = 2, "glances",
+        what "glances in a row that must find a still-seen camera moved",
+        chosen_by "5d8c5fd: drift twin (8 px over 20 s) angle RMS 0.55 -> 0.067 deg";
+
+    /// See `Late`, s: a drift or a bump is caught within two of these; a still camera pays
+    /// one measurement each (at 1 s, a 22 s 60 fps clip took 4 % more of the processor than
+    /// at 2 s; the drift twin's angles erred the same).
+    LATE_EVERY_S: f64 = 2.0, "s",
+        what "a camera seen still is glanced at this often on the pass",
+        chosen_by "010dc75: at 1 s a 22 s 60 fps clip took 4 % more CPU; the drift twin errs the same at 2 s";
+}

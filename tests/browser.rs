@@ -4,10 +4,14 @@
 //! material page's review page too). A second test uses a review page as a person would:
 //! it clicks the wire on a flagged frame and rebuilds with the marks the page wrote.
 //!
-//! It drives Debian's `chromium` through `chromedriver`'s W3C WebDriver JSON API with a
-//! small std-only HTTP/1.1 client; `make deps` installs both (`chromium chromium-driver`).
-//! Before the reports, the same browser session judges a few fake pages (a missing
-//! figure, a thrown error, a `console.error`, no figure at all) to prove the checks bite.
+//! Debian's `chromium` runs headless under `chromedriver` (`make deps` installs both:
+//! `chromium chromium-driver`), driven through the WebDriver client crate `fantoccini`;
+//! the errors are chromedriver's browser log (`goog:loggingPrefs`), which also holds
+//! failed loads. Before the reports, the same browser session judges a few fake pages (a
+//! missing figure, a thrown error, a `console.error`, no figure at all) to prove the
+//! checks bite. Without `chromium` or `chromedriver` the tests fail rather than skip,
+//! whatever `ROLLFRIC_REQUIRE_TOOLS` says (the review test's real clip is a fixture: it
+//! may skip, see `tests/common`).
 //!
 //! Environment:
 //! - `ROLLFRIC_REPORTS`: check this report folder instead of building a small one
@@ -18,19 +22,28 @@
 
 mod common;
 
-use common::{rollfric, root};
+use common::{rollfric_ok, root};
+use fantoccini::actions::{
+    InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
+};
+use fantoccini::key::Key;
+use fantoccini::wd::WebDriverCompatibleCommand;
+use fantoccini::{Client, ClientBuilder};
+use hyper_util::client::legacy::connect::HttpConnector;
+use serde::Deserialize;
 use serde_json::{json, Value};
 use std::ffi::OsStr;
+use std::fmt::Display;
 use std::fs;
-use std::io::{BufRead, BufReader, Write};
-use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::future::Future;
+use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Longest wait for one HTTP answer of chromedriver (a page load included).
-const HTTP_TIMEOUT: Duration = Duration::from_secs(60);
-/// Longest wait for chromedriver to answer `/status` with `ready`.
+/// Longest wait for one WebDriver command (a page load included).
+const COMMAND_TIMEOUT: Duration = Duration::from_secs(60);
+/// Longest wait for chromedriver to listen on its port.
 const DRIVER_START_TIMEOUT: Duration = Duration::from_secs(30);
 /// Chromium as root in a closed network: no sandbox, no GPU, and none of the background
 /// connections (their refusals would otherwise show up as errors and delays).
@@ -47,14 +60,14 @@ const CHROMIUM_FLAGS: [&str; 10] = [
     "--window-size=1280,2000",
 ];
 /// Tallest screenshot taken, CSS px (a longer page is cut there).
-const MAX_SHOT_HEIGHT: f64 = 16_000.0;
+const MAX_SHOT_HEIGHT: u32 = 16_000;
 const DEFAULT_PAGE: &str = "glass-fiber-fabric.html";
 const MAKE_DEPS: &str = "run `make deps` (the Makefile installs the Debian packages \
                          chromium and chromium-driver), or point ROLLFRIC_CHROMIUM / \
                          ROLLFRIC_CHROMEDRIVER at them";
 
 // ---------------------------------------------------------------------------------------
-// The test.
+// The tests.
 
 #[test]
 fn reports_render_in_chromium() {
@@ -83,23 +96,20 @@ fn reports_render_in_chromium() {
     println!(
         "chromium {} via chromedriver on port {} ({:.1} s to start)",
         browser.version,
-        browser.port,
+        browser.driver.port,
         started.elapsed().as_secs_f64()
     );
 
     self_check(&browser);
 
     let shots = root().join("target/screenshots");
-    fs::create_dir_all(&shots).unwrap_or_else(|e| panic!("create {}: {e}", shots.display()));
     let mut failures = Vec::new();
     for (file, stem) in &pages {
         let path = reports.join(file);
         let seen = browser.observe(&path);
         let shot = shots.join(format!("{stem}.png"));
-        match browser.screenshot(&shot) {
-            Ok((w, h)) => println!("screenshot {} ({w}x{h} px)", shot.display()),
-            Err(e) => failures.push(format!("{file}: screenshot failed: {e}")),
-        }
+        let (w, h) = browser.screenshot(&shot);
+        println!("screenshot {} ({w}x{h} px)", shot.display());
         for line in &seen.log {
             println!("  {file} browser log: {line}");
         }
@@ -124,8 +134,6 @@ fn reports_render_in_chromium() {
     );
 }
 
-/// Fake pages in a temporary folder, judged in the same session: the good one must pass,
-/// each broken one must fail for its own reason.
 /// The review page in use: on the split-screen clip's flagged frames (a build of the
 /// experiment `rollfric init` wrote, its geometry filled in), the arrow keys move
 /// between frames, two clicks at known pixels on a flagged frame mark the wire, the page
@@ -178,54 +186,39 @@ fn review_page_marks_a_frame_that_the_rebuild_measures() {
     let shots = root().join("target/screenshots");
     let shot = |name: &str| {
         let path = shots.join(name);
-        let (w, h) = browser
-            .screenshot(&path)
-            .unwrap_or_else(|e| panic!("screenshot {}: {e}", path.display()));
+        let (w, h) = browser.screenshot(&path);
         println!("screenshot {} ({w}x{h} px)", path.display());
     };
     let seen = browser.observe(&page);
     verdict(&seen).unwrap_or_else(|e| panic!("{}:\n{e}", page.display()));
     shot("review.png");
-    let data =
-        browser.script("return JSON.parse(document.getElementById('review-data').textContent)");
-    let frames = data["frames"].as_array().expect("frames").clone();
-    let pictured: Vec<&Value> = frames.iter().filter(|f| f["picture"].is_string()).collect();
+    let data = browser.review_data();
+    let frames = &data.frames;
+    let pictured = frames.iter().filter(|f| f.picture.is_some()).count();
     assert!(
-        pictured.len() >= 10,
-        "the split-screen clip has about 20 flagged frames, the page pictures {}",
-        pictured.len()
+        pictured >= 10,
+        "the split-screen clip has about 20 flagged frames, the page pictures {pictured}"
     );
     // The first flagged frame with a picture that the gate rejected (not a repeat):
-    // reached from the first frame with the right arrow key.
+    // reached from the first frame with a picture by the right arrow key.
+    let start = frames.iter().position(|f| f.picture.is_some()).unwrap();
     let target_index = frames
         .iter()
-        .position(|f| f["picture"].is_string() && f["flag"] == json!("gate"))
+        .position(|f| f.picture.is_some() && f.flag.as_deref() == Some("gate"))
         .expect("a frame the gate flagged");
-    let target = frames[target_index].clone();
-    let frame_no = target["frame"].as_u64().unwrap();
-    let start = frames
-        .iter()
-        .position(|f| f["picture"].is_string())
-        .unwrap();
-    let info = || browser.script("return document.getElementById('info').textContent");
-    assert!(
-        info().as_str().unwrap().starts_with(&format!(
-            "Frame {} ",
-            frames[start]["frame"].as_u64().unwrap()
-        )),
-        "{}",
-        info()
-    );
+    let target = &frames[target_index];
+    let frame_no = target.frame;
+    let info = || browser.text("info");
+    let first = format!("Frame {} ", frames[start].frame);
+    assert!(info().starts_with(&first), "{}", info());
     for _ in start..target_index {
-        browser.key("\u{E014}"); // ArrowRight
+        browser.key(Key::Right);
     }
-    browser.key("\u{E014}");
-    browser.key("\u{E012}"); // ArrowLeft: one past, and back
+    // One past, and back.
+    browser.key(Key::Right);
+    browser.key(Key::Left);
     assert!(
-        info()
-            .as_str()
-            .unwrap()
-            .starts_with(&format!("Frame {frame_no} ")),
+        info().starts_with(&format!("Frame {frame_no} ")),
         "after {} right arrows and a left one: {}",
         target_index - start + 1,
         info()
@@ -233,18 +226,16 @@ fn review_page_marks_a_frame_that_the_rebuild_measures() {
 
     // Two points 0.8 deg off the angle the series has for this frame (so that the
     // manual angle cannot come from the detector), at whole CSS pixels of the viewport.
-    let [rx, ry, rw, rh] = [0, 1, 2, 3].map(|i| data["region"][i].as_f64().unwrap());
-    let [px, py] = [0, 1].map(|i| data["pivot"][i].as_f64().unwrap());
-    let (w, h) = (
-        target["width"].as_f64().unwrap(),
-        target["height"].as_f64().unwrap(),
-    );
+    let [rx, ry, rw, rh] = data.region;
+    let [px, py] = data.pivot;
+    let (w, h) = (target.width, target.height);
     let rect = browser.script(
         "const e = document.getElementById('overlay'); e.scrollIntoView({block: 'center'}); \
          const r = e.getBoundingClientRect(); return [r.left, r.top, r.width, r.height];",
     );
     let [left, top, width, height] = [0, 1, 2, 3].map(|i| rect[i].as_f64().unwrap());
-    let a = (target["angle_deg"].as_f64().unwrap() + 0.8).to_radians();
+    let series_deg = target.angle_deg.expect("the series' angle of the frame");
+    let a = (series_deg + 0.8).to_radians();
     // Full-frame pixel (centres at whole numbers) -> viewport px, and back as the page
     // maps a click.
     let to_view = |x: f64, y: f64| {
@@ -300,11 +291,8 @@ fn review_page_marks_a_frame_that_the_rebuild_measures() {
         same_deg(shown, clicked_deg) < 1e-6,
         "the page shows {shown} deg, the clicks make {clicked_deg} deg"
     );
-    let block = browser
-        .script("return document.getElementById('yaml').value")
-        .as_str()
-        .unwrap()
-        .to_string();
+    let block = browser.script("return document.getElementById('yaml').value");
+    let block = block.as_str().expect("the YAML block");
     let line = format!(
         "    {frame_no}: [[{}, {}], [{}, {}]]",
         fmt1(points[0].0),
@@ -317,12 +305,13 @@ fn review_page_marks_a_frame_that_the_rebuild_measures() {
         "the YAML block lacks {line:?}:\n{block}"
     );
     browser.script("document.getElementById('copy').click(); return null");
-    let copied = browser.script("return document.getElementById('copied').textContent");
-    assert!(copied.as_str().is_some_and(|s| !s.is_empty()), "{copied}");
+    assert!(
+        !browser.text("copied").is_empty(),
+        "the copy button says nothing"
+    );
     shot("review-marked.png");
     println!(
-        "marked frame {frame_no} at {clicked_deg:.3} deg (the series had {:.3} deg):\n{block}",
-        target["angle_deg"].as_f64().unwrap()
+        "marked frame {frame_no} at {clicked_deg:.3} deg (the series had {series_deg:.3} deg):\n{block}"
     );
 
     // The block under `video:` in the experiment, and a rebuild.
@@ -332,17 +321,14 @@ fn review_page_marks_a_frame_that_the_rebuild_measures() {
     build();
     let seen = browser.observe(&page);
     verdict(&seen).unwrap_or_else(|e| panic!("{} after the rebuild:\n{e}", page.display()));
-    let data =
-        browser.script("return JSON.parse(document.getElementById('review-data').textContent)");
-    let after = data["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|f| f["frame"].as_u64() == Some(frame_no))
-        .unwrap_or_else(|| panic!("frame {frame_no} left the review page"))
-        .clone();
-    let measured = after["angle_deg"].as_f64().unwrap();
-    assert_eq!(after["status"], json!("manual"), "{after}");
+    let after = browser
+        .review_data()
+        .frames
+        .into_iter()
+        .find(|f| f.frame == frame_no)
+        .unwrap_or_else(|| panic!("frame {frame_no} left the review page"));
+    assert_eq!(after.status, "manual", "{after:?}");
+    let measured = after.angle_deg.expect("the manual angle");
     assert!(
         same_deg(measured, clicked_deg) < 0.1,
         "frame {frame_no}: the rebuild measured {measured} deg, the clicks make {clicked_deg} deg"
@@ -377,6 +363,30 @@ fn fmt1(v: f64) -> String {
     }
 }
 
+/// What the test reads of a review page's data.
+#[derive(Debug, Deserialize)]
+struct ReviewData {
+    /// The region of interest in full-frame pixels: x, y, width, height.
+    region: [f64; 4],
+    pivot: [f64; 2],
+    frames: Vec<ReviewFrame>,
+}
+
+#[derive(Debug, Deserialize)]
+struct ReviewFrame {
+    frame: u64,
+    status: String,
+    flag: Option<String>,
+    /// The angle of the series (the build's) at this frame.
+    angle_deg: Option<f64>,
+    /// The picture's file and size in px (`None`, 0 and 0 when the page has none).
+    picture: Option<String>,
+    width: f64,
+    height: f64,
+}
+
+/// Fake pages in a temporary folder, judged in the same session: the good one must pass,
+/// each broken one must fail for its own reason.
 fn self_check(browser: &Browser) {
     let dir = tempfile::tempdir().expect("temp dir");
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="120" height="60"><rect width="120" height="60" fill="teal"/></svg>"#;
@@ -447,7 +457,9 @@ fn self_check(browser: &Browser) {
 // ---------------------------------------------------------------------------------------
 // What is checked on a page (pure, unit-tested below).
 
-#[derive(Debug, Clone, PartialEq)]
+/// One `<img>` as [`IMAGES_SCRIPT`] returns it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(rename_all = "camelCase")]
 struct Img {
     src: String,
     complete: bool,
@@ -459,6 +471,26 @@ struct Observation {
     images: Vec<Img>,
     /// Browser log entries as `LEVEL source: message`.
     log: Vec<String>,
+}
+
+impl Observation {
+    /// From the answers to [`IMAGES_SCRIPT`] and to a read of the browser log.
+    fn from_answers(images: Value, log: Value) -> Result<Observation, serde_json::Error> {
+        #[derive(Deserialize)]
+        struct Entry {
+            level: String,
+            source: String,
+            message: String,
+        }
+        let log: Vec<Entry> = serde_json::from_value(log)?;
+        Ok(Observation {
+            images: serde_json::from_value(images)?,
+            log: log
+                .into_iter()
+                .map(|e| format!("{} {}: {}", e.level, e.source, e.message))
+                .collect(),
+        })
+    }
 }
 
 /// `Ok` when the page shows at least one image, all of them loaded and decoded, and the
@@ -501,40 +533,6 @@ fn verdict(seen: &Observation) -> Result<(), String> {
     } else {
         Err(problems.join("\n"))
     }
-}
-
-/// The `<img>` list returned by [`IMAGES_SCRIPT`].
-fn parse_images(v: &Value) -> Result<Vec<Img>, String> {
-    let list = v
-        .as_array()
-        .ok_or_else(|| format!("image list is not an array: {v}"))?;
-    Ok(list
-        .iter()
-        .map(|i| Img {
-            src: i["src"].as_str().unwrap_or("").to_string(),
-            complete: i["complete"].as_bool().unwrap_or(false),
-            natural_width: i["naturalWidth"].as_u64().unwrap_or(0),
-        })
-        .collect())
-}
-
-/// The entries of chromedriver's browser log as `LEVEL source: message`.
-fn parse_log(v: &Value) -> Vec<String> {
-    v.as_array()
-        .map(|entries| {
-            entries
-                .iter()
-                .map(|e| {
-                    format!(
-                        "{} {}: {}",
-                        e["level"].as_str().unwrap_or("?"),
-                        e["source"].as_str().unwrap_or("?"),
-                        e["message"].as_str().unwrap_or("")
-                    )
-                })
-                .collect()
-        })
-        .unwrap_or_default()
 }
 
 /// Async script: lazy images are made eager, every image is waited for (20 s at most),
@@ -626,40 +624,17 @@ fn reports_dir() -> PathBuf {
     assert!(experiment.is_file(), "{} is missing", experiment.display());
     // A JSON string is a YAML double-quoted scalar: any path is quoted right.
     let quoted = serde_json::to_string(&experiment.to_string_lossy()).unwrap();
-    let manifest = work.join("manifest.yaml");
     fs::write(
-        &manifest,
+        work.join("manifest.yaml"),
         format!("title: Browser test\nexperiments:\n  - {quoted}\n"),
     )
-    .unwrap_or_else(|e| panic!("write {}: {e}", manifest.display()));
+    .unwrap();
     let out = work.join("reports");
     if out.exists() {
         fs::remove_dir_all(&out).unwrap_or_else(|e| panic!("clear {}: {e}", out.display()));
     }
-    let cache = work.join("cache");
     let started = Instant::now();
-    let run = rollfric(
-        &[
-            OsStr::new("build"),
-            OsStr::new("--manifest"),
-            manifest.as_os_str(),
-            OsStr::new("--out"),
-            out.as_os_str(),
-            OsStr::new("--cache"),
-            cache.as_os_str(),
-        ],
-        &root(),
-    );
-    assert!(
-        run.status.success(),
-        "rollfric build --manifest {} --out {} --cache {} failed ({}):\n--- stdout\n{}\n--- stderr\n{}",
-        manifest.display(),
-        out.display(),
-        cache.display(),
-        run.status,
-        String::from_utf8_lossy(&run.stdout),
-        String::from_utf8_lossy(&run.stderr)
-    );
+    rollfric_ok(&common::BUILD_INTO_REPORTS, &work);
     println!(
         "built the reports into {} in {:.1} s",
         out.display(),
@@ -668,463 +643,277 @@ fn reports_dir() -> PathBuf {
     out
 }
 
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .map(|a| a.port())
-        .expect("bind a free local port")
-}
-
+/// The `file://` URL of a page, percent-escaped.
 fn file_url(path: &Path) -> String {
     let abs = fs::canonicalize(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut url = String::from("file://");
-    for b in abs.to_string_lossy().bytes() {
-        match b {
-            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'/' | b'-' | b'_' | b'.' | b'~' => {
-                url.push(b as char)
-            }
-            _ => url.push_str(&format!("%{b:02X}")),
-        }
-    }
-    url
+    url::Url::from_file_path(&abs)
+        .unwrap_or_else(|()| panic!("no file URL for {}", abs.display()))
+        .into()
 }
 
 // ---------------------------------------------------------------------------------------
-// chromedriver and its session. Dropping the `Browser` deletes the session (chromium
-// quits) and kills chromedriver, also when a check panics.
+// chromedriver and a chromium session under it, driven with fantoccini from a runtime of
+// the `Browser`'s own: the tests read as plain steps, and dropping the `Browser` (also
+// when a check panics) can wait for the session's end (chromium quits) before
+// chromedriver is killed.
+
+/// A chromedriver on a free local port, its output in `target/browser/chromedriver.log`;
+/// killed on drop.
+struct Driver {
+    child: Child,
+    port: u16,
+    log: PathBuf,
+}
+
+impl Driver {
+    fn start(chromedriver: &Path) -> Driver {
+        let port = TcpListener::bind("127.0.0.1:0")
+            .and_then(|l| l.local_addr())
+            .map(|a| a.port())
+            .expect("bind a free local port");
+        let log = root().join("target/browser/chromedriver.log");
+        fs::create_dir_all(log.parent().unwrap()).unwrap();
+        let out = fs::File::create(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
+        let child = Command::new(chromedriver)
+            .arg(format!("--port={port}"))
+            .stdin(Stdio::null())
+            .stdout(out.try_clone().expect("clone log file"))
+            .stderr(out)
+            .spawn()
+            .unwrap_or_else(|e| panic!("start {}: {e}; {MAKE_DEPS}", chromedriver.display()));
+        let mut driver = Driver { child, port, log };
+        let start = Instant::now();
+        while TcpStream::connect(("127.0.0.1", port)).is_err() {
+            if let Ok(Some(status)) = driver.child.try_wait() {
+                panic!(
+                    "chromedriver exited at start ({status})\n{}",
+                    driver.log_tail()
+                );
+            }
+            assert!(
+                start.elapsed() < DRIVER_START_TIMEOUT,
+                "chromedriver not listening on port {port} after {} s\n{}",
+                DRIVER_START_TIMEOUT.as_secs(),
+                driver.log_tail()
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        driver
+    }
+
+    /// The last 30 lines of chromedriver's output, for a failure's message.
+    fn log_tail(&self) -> String {
+        let text = fs::read_to_string(&self.log).unwrap_or_default();
+        let lines: Vec<&str> = text.lines().collect();
+        let tail = lines[lines.len().saturating_sub(30)..].join("\n");
+        format!("--- {} (tail)\n{tail}", self.log.display())
+    }
+}
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
 
 struct Browser {
-    port: u16,
-    child: Child,
-    session: Option<String>,
-    /// chromium's own process id, killed if the session cannot be deleted.
-    chromium_pid: Option<u64>,
+    client: Client,
+    rt: tokio::runtime::Runtime,
     version: String,
-    log_path: PathBuf,
-    /// Chromium's fresh profile; a field, so it is removed only after chromium quits.
+    /// chromium's own process id, killed if the session cannot be ended.
+    chromium_pid: Option<u64>,
+    driver: Driver,
+    /// Chromium's fresh profile, removed after chromium quits (fields drop in order).
     _profile: tempfile::TempDir,
 }
 
 impl Browser {
     fn start(chromium: &Path, chromedriver: &Path) -> Browser {
-        let port = free_port();
-        let log_path = root().join("target/browser/chromedriver.log");
-        if let Some(dir) = log_path.parent() {
-            fs::create_dir_all(dir).unwrap_or_else(|e| panic!("create {}: {e}", dir.display()));
-        }
-        let log = fs::File::create(&log_path)
-            .unwrap_or_else(|e| panic!("create {}: {e}", log_path.display()));
-        let child = Command::new(chromedriver)
-            .arg(format!("--port={port}"))
-            .stdin(Stdio::null())
-            .stdout(log.try_clone().expect("clone log file"))
-            .stderr(log)
-            .spawn()
-            .unwrap_or_else(|e| panic!("start {}: {e}; {MAKE_DEPS}", chromedriver.display()));
+        let driver = Driver::start(chromedriver);
         let profile = tempfile::Builder::new()
             .prefix("rollfric-chromium-")
             .tempdir()
             .expect("temp dir for the chromium profile");
-        let mut browser = Browser {
-            port,
-            child,
-            session: None,
-            chromium_pid: None,
-            version: String::new(),
-            log_path,
-            _profile: profile,
-        };
-        browser.wait_ready();
-        browser.open_session(chromium);
-        browser
-    }
-
-    fn driver_log(&self) -> String {
-        let text = fs::read_to_string(&self.log_path).unwrap_or_default();
-        let tail: Vec<&str> = text.lines().rev().take(30).collect();
-        let tail: Vec<&str> = tail.into_iter().rev().collect();
-        format!(
-            "--- {} (tail)\n{}",
-            self.log_path.display(),
-            tail.join("\n")
-        )
-    }
-
-    fn wait_ready(&mut self) {
-        let start = Instant::now();
-        let mut last = String::from("no answer yet");
-        while start.elapsed() < DRIVER_START_TIMEOUT {
-            if let Ok(Some(status)) = self.child.try_wait() {
-                panic!(
-                    "chromedriver exited at start ({status})\n{}",
-                    self.driver_log()
-                );
-            }
-            match http(self.port, "GET", "/status", None, Duration::from_secs(5)) {
-                Ok((200, v)) if v["value"]["ready"] == json!(true) => return,
-                Ok((code, v)) => last = format!("HTTP {code}: {v}"),
-                Err(e) => last = e,
-            }
-            std::thread::sleep(Duration::from_millis(100));
-        }
-        panic!(
-            "chromedriver on port {} not ready after {} s (last: {last})\n{}",
-            self.port,
-            DRIVER_START_TIMEOUT.as_secs(),
-            self.driver_log()
-        );
-    }
-
-    fn open_session(&mut self, chromium: &Path) {
-        let mut args: Vec<String> = CHROMIUM_FLAGS.iter().map(|s| s.to_string()).collect();
-        args.push(format!(
-            "--user-data-dir={}",
-            self._profile.path().display()
-        ));
-        let caps = json!({"capabilities": {"alwaysMatch": {
+        let mut args = CHROMIUM_FLAGS.map(String::from).to_vec();
+        args.push(format!("--user-data-dir={}", profile.path().display()));
+        let Value::Object(caps) = json!({
             "browserName": "chrome",
             "pageLoadStrategy": "normal",
             "timeouts": {"pageLoad": 50_000, "script": 40_000, "implicit": 0},
             "goog:chromeOptions": {"binary": chromium.to_string_lossy(), "args": args},
             "goog:loggingPrefs": {"browser": "ALL"},
-        }}});
-        let v = match self.call("POST", "/session", Some(&caps)) {
-            Ok(v) => v,
-            Err(e) => panic!(
+        }) else {
+            unreachable!()
+        };
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("a tokio runtime");
+        let url = format!("http://127.0.0.1:{}", driver.port);
+        let mut session = ClientBuilder::new(HttpConnector::new());
+        session.capabilities(caps);
+        let client = within(&rt, "open a session", session.connect(&url)).unwrap_or_else(|e| {
+            panic!(
                 "chromedriver could not start {}: {e}\n(does `{} --headless --no-sandbox \
                  --dump-dom about:blank` work?)\n{}",
                 chromium.display(),
                 chromium.display(),
-                self.driver_log()
-            ),
-        };
-        let id = v["sessionId"]
-            .as_str()
-            .unwrap_or_else(|| panic!("no sessionId in {v}"));
-        self.session = Some(id.to_string());
-        self.chromium_pid = v["capabilities"]["goog:processID"].as_u64();
-        self.version = v["capabilities"]["browserVersion"]
-            .as_str()
-            .unwrap_or("?")
-            .to_string();
-    }
-
-    /// One WebDriver command: its `value`, or the driver's error.
-    fn call(&self, method: &str, path: &str, body: Option<&Value>) -> Result<Value, String> {
-        let (code, v) = http(self.port, method, path, body, HTTP_TIMEOUT)?;
-        if code == 200 {
-            return Ok(v["value"].clone());
+                driver.log_tail()
+            )
+        });
+        let caps = client.capabilities().cloned().unwrap_or_default();
+        Browser {
+            version: caps["browserVersion"].as_str().unwrap_or("?").to_string(),
+            chromium_pid: caps.get("goog:processID").and_then(Value::as_u64),
+            client,
+            rt,
+            driver,
+            _profile: profile,
         }
-        let err = &v["value"];
-        Err(format!(
-            "{method} {path}: HTTP {code} {}: {}",
-            err["error"].as_str().unwrap_or("?"),
-            err["message"].as_str().unwrap_or(&v.to_string())
-        ))
     }
 
-    /// A command of the open session (`suffix` starts with `/`).
-    fn session_call(
-        &self,
-        method: &str,
-        suffix: &str,
-        body: Option<&Value>,
-    ) -> Result<Value, String> {
-        let id = self.session.as_deref().ok_or("no WebDriver session")?;
-        self.call(method, &format!("/session/{id}{suffix}"), body)
+    /// The outcome of one exchange with chromedriver; a failure panics with the tail of
+    /// chromedriver's log.
+    fn run<T, E: Display>(&self, what: &str, exchange: impl Future<Output = Result<T, E>>) -> T {
+        within(&self.rt, what, exchange)
+            .unwrap_or_else(|e| panic!("{e}\n{}", self.driver.log_tail()))
     }
 
-    fn cdp(&self, cmd: &str, params: Value) -> Result<Value, String> {
-        self.session_call(
-            "POST",
-            "/goog/cdp/execute",
-            Some(&json!({"cmd": cmd, "params": params})),
-        )
-    }
-
-    /// Load a page, wait for it and its images, and drain the browser log.
+    /// Load a page (the "normal" load strategy returns once the document is complete),
+    /// wait for its images, and drain the browser log.
     fn observe(&self, page: &Path) -> Observation {
         let url = file_url(page);
-        let ok = |what: &str, r: Result<Value, String>| {
-            r.unwrap_or_else(|e| panic!("{what} on {url}: {e}\n{}", self.driver_log()))
-        };
-        ok(
-            "navigate",
-            self.session_call("POST", "/url", Some(&json!({"url": url}))),
+        self.run(&format!("open {url}"), self.client.goto(&url));
+        let images = self.run(
+            &format!("list the images of {url}"),
+            self.client.execute_async(IMAGES_SCRIPT, vec![]),
         );
-        let start = Instant::now();
-        loop {
-            let state = ok(
-                "read document.readyState",
-                self.session_call(
-                    "POST",
-                    "/execute/sync",
-                    Some(&json!({"script": "return document.readyState", "args": []})),
-                ),
-            );
-            if state == json!("complete") {
-                break;
-            }
-            assert!(
-                start.elapsed() < HTTP_TIMEOUT,
-                "{url}: document.readyState still {state} after {} s",
-                HTTP_TIMEOUT.as_secs()
-            );
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        let images = ok(
-            "list the images",
-            self.session_call(
-                "POST",
-                "/execute/async",
-                Some(&json!({"script": IMAGES_SCRIPT, "args": []})),
-            ),
-        );
-        let images = parse_images(&images).unwrap_or_else(|e| panic!("{url}: {e}"));
-        // chromedriver (W3C mode) serves the legacy log endpoint under /se/log; each read
-        // returns the entries logged since the previous one.
-        let log = ok(
-            "read the browser log",
-            self.session_call("POST", "/se/log", Some(&json!({"type": "browser"}))),
-        );
-        Observation {
-            images,
-            log: parse_log(&log),
-        }
+        let log = self.run("read the browser log", self.client.issue_cmd(BrowserLog));
+        Observation::from_answers(images, log).unwrap_or_else(|e| panic!("{url}: {e}"))
     }
 
-    /// Run `js` in the page (WebDriver "execute sync"); its return value.
+    /// Run `js` in the page; its return value.
     fn script(&self, js: &str) -> Value {
-        self.session_call(
-            "POST",
-            "/execute/sync",
-            Some(&json!({"script": js, "args": []})),
-        )
-        .unwrap_or_else(|e| panic!("script {js:?}: {e}\n{}", self.driver_log()))
+        self.run(&format!("script {js:?}"), self.client.execute(js, vec![]))
     }
 
-    /// Press and release one key (a WebDriver key value, e.g. `\u{E014}` ArrowRight).
-    fn key(&self, key: &str) {
-        let actions = json!({"actions": [{"type": "key", "id": "keyboard", "actions": [
-            {"type": "keyDown", "value": key}, {"type": "keyUp", "value": key}]}]});
-        self.session_call("POST", "/actions", Some(&actions))
-            .unwrap_or_else(|e| panic!("key {key:?}: {e}"));
+    /// The text of the page's element `id`.
+    fn text(&self, id: &str) -> String {
+        let js = format!("return document.getElementById('{id}').textContent");
+        let text = self.script(&js);
+        text.as_str()
+            .unwrap_or_else(|| panic!("#{id}: {text}"))
+            .to_string()
+    }
+
+    /// A review page's own data (`<script id="review-data">`).
+    fn review_data(&self) -> ReviewData {
+        let data =
+            self.script("return JSON.parse(document.getElementById('review-data').textContent)");
+        serde_json::from_value(data).unwrap_or_else(|e| panic!("the review page's data: {e}"))
+    }
+
+    /// Press and release one key.
+    fn key(&self, key: Key) {
+        let press = KeyActions::new("keyboard".into())
+            .then(KeyAction::Down { value: key.into() })
+            .then(KeyAction::Up { value: key.into() });
+        self.run(
+            &format!("press {key:?}"),
+            self.client.perform_actions(press),
+        );
     }
 
     /// A left click at viewport CSS pixel `(x, y)`.
     fn click_at(&self, x: f64, y: f64) {
-        let actions = json!({"actions": [{"type": "pointer", "id": "mouse",
-            "parameters": {"pointerType": "mouse"}, "actions": [
-            {"type": "pointerMove", "duration": 0, "origin": "viewport", "x": x as i64, "y": y as i64},
-            {"type": "pointerDown", "button": 0}, {"type": "pointerUp", "button": 0}]}]});
-        self.session_call("POST", "/actions", Some(&actions))
-            .unwrap_or_else(|e| panic!("click at ({x}, {y}): {e}"));
+        let button = MOUSE_BUTTON_LEFT;
+        let to = PointerAction::MoveTo {
+            duration: None,
+            x,
+            y,
+        };
+        let click = MouseActions::new("mouse".into())
+            .then(to)
+            .then(PointerAction::Down { button })
+            .then(PointerAction::Up { button });
+        self.run(
+            &format!("click at ({x}, {y})"),
+            self.client.perform_actions(click),
+        );
     }
 
-    /// A full-page PNG of the current page (DevTools `Page.captureScreenshot` beyond the
-    /// viewport; the plain WebDriver viewport screenshot if that fails). Returns its size.
-    fn screenshot(&self, path: &Path) -> Result<(u32, u32), String> {
-        let data = match self.full_page_png() {
-            Ok(data) => data,
-            Err(e) => {
-                println!("full-page screenshot failed ({e}); taking the viewport only");
-                let v = self.session_call("GET", "/screenshot", None)?;
-                v.as_str().ok_or("screenshot is not a string")?.to_string()
-            }
-        };
-        let png = base64_decode(&data)?;
-        let size = png_size(&png).ok_or("the screenshot is not a PNG")?;
-        if let Some(dir) = path.parent() {
-            fs::create_dir_all(dir).map_err(|e| format!("create {}: {e}", dir.display()))?;
-        }
-        fs::write(path, &png).map_err(|e| format!("write {}: {e}", path.display()))?;
-        Ok(size)
-    }
-
-    fn full_page_png(&self) -> Result<String, String> {
-        let m = self.cdp("Page.getLayoutMetrics", json!({}))?;
-        let size = if m["cssContentSize"].is_object() {
-            &m["cssContentSize"]
-        } else {
-            &m["contentSize"]
-        };
-        let (w, h) = (size["width"].as_f64(), size["height"].as_f64());
-        let (w, h) = w.zip(h).ok_or_else(|| format!("no content size in {m}"))?;
-        let clip = json!({"x": 0, "y": 0, "width": w.ceil(), "height": h.ceil().min(MAX_SHOT_HEIGHT), "scale": 1});
-        let shot = self.cdp(
-            "Page.captureScreenshot",
-            json!({"format": "png", "captureBeyondViewport": true, "clip": clip}),
-        )?;
-        shot["data"]
-            .as_str()
-            .map(str::to_string)
-            .ok_or_else(|| "no data in Page.captureScreenshot".to_string())
+    /// A full-page PNG of the current page into `path`: the window grown to the page's
+    /// height (at most [`MAX_SHOT_HEIGHT`]) for the shot, then set back. Its size in px.
+    fn screenshot(&self, path: &Path) -> (u32, u32) {
+        let c = &self.client;
+        let (w, h) = self.run("read the window size", c.get_window_size());
+        let (w, h) = (w as u32, h as u32);
+        let js = "const d = document.documentElement; \
+                  return d.scrollHeight + window.outerHeight - window.innerHeight";
+        let tall = self.script(js).as_u64().expect("a height") as u32;
+        self.run(
+            "grow the window",
+            c.set_window_size(w, tall.min(MAX_SHOT_HEIGHT)),
+        );
+        let png = self.run("take a screenshot", c.screenshot());
+        self.run("restore the window", c.set_window_size(w, h));
+        let png_info = png::Decoder::new(std::io::Cursor::new(&png)).read_info();
+        let info = png_info.unwrap_or_else(|e| panic!("the screenshot is no PNG: {e}"));
+        fs::create_dir_all(path.parent().unwrap()).unwrap();
+        fs::write(path, &png).unwrap_or_else(|e| panic!("write {}: {e}", path.display()));
+        (info.info().width, info.info().height)
     }
 }
 
 impl Drop for Browser {
     fn drop(&mut self) {
-        let mut quit = self.session.is_none();
-        if let Some(id) = self.session.take() {
-            let path = format!("/session/{id}");
-            quit = matches!(
-                http(self.port, "DELETE", &path, None, Duration::from_secs(15)),
-                Ok((200, _))
-            );
-        }
-        if !quit {
-            // The session could not be closed: end the chromium this test started.
+        let ended = within(&self.rt, "end the session", self.client.clone().close());
+        if ended.is_err() {
+            // The session could not be ended: end the chromium this test started.
             if let Some(pid) = self.chromium_pid {
                 let _ = Command::new("kill")
                     .args(["-KILL", &pid.to_string()])
                     .status();
             }
         }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
     }
 }
 
-// ---------------------------------------------------------------------------------------
-// A minimal HTTP/1.1 client for chromedriver's JSON API.
-
-fn http(
-    port: u16,
-    method: &str,
-    path: &str,
-    body: Option<&Value>,
-    timeout: Duration,
-) -> Result<(u16, Value), String> {
-    let addr = SocketAddr::from(([127, 0, 0, 1], port));
-    let what = format!("{method} http://127.0.0.1:{port}{path}");
-    let mut stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5))
-        .map_err(|e| format!("{what}: connect: {e}"))?;
-    stream
-        .set_read_timeout(Some(timeout))
-        .and_then(|()| stream.set_write_timeout(Some(timeout)))
-        .map_err(|e| format!("{what}: {e}"))?;
-    let body = body.map(Value::to_string).unwrap_or_default();
-    let request = format!(
-        "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nAccept: application/json\r\n\
-         Content-Type: application/json; charset=utf-8\r\nContent-Length: {}\r\n\
-         Connection: close\r\n\r\n{body}",
-        body.len()
-    );
-    stream
-        .write_all(request.as_bytes())
-        .map_err(|e| format!("{what}: send: {e}"))?;
-    let (code, bytes) = read_response(&mut BufReader::new(stream))
-        .map_err(|e| format!("{what}: {e} (timeout {} s)", timeout.as_secs()))?;
-    if bytes.iter().all(u8::is_ascii_whitespace) {
-        return Ok((code, Value::Null));
+/// `exchange` run to its end on `rt`, waited for at most [`COMMAND_TIMEOUT`].
+fn within<T, E: Display>(
+    rt: &tokio::runtime::Runtime,
+    what: &str,
+    exchange: impl Future<Output = Result<T, E>>,
+) -> Result<T, String> {
+    // The timer is made in the runtime, as tokio requires.
+    match rt.block_on(async { tokio::time::timeout(COMMAND_TIMEOUT, exchange).await }) {
+        Ok(outcome) => outcome.map_err(|e| format!("{what}: {e}")),
+        Err(_) => Err(format!(
+            "{what}: no answer in {} s",
+            COMMAND_TIMEOUT.as_secs()
+        )),
     }
-    let v = serde_json::from_slice(&bytes).map_err(|e| {
-        let text = String::from_utf8_lossy(&bytes);
-        format!(
-            "{what}: HTTP {code}, not JSON ({e}): {}",
-            &text[..text.len().min(500)]
-        )
-    })?;
-    Ok((code, v))
 }
 
-/// Status code and body of one HTTP/1.1 response (Content-Length, chunked, or to EOF).
-fn read_response(r: &mut impl BufRead) -> Result<(u16, Vec<u8>), String> {
-    let mut line = String::new();
-    r.read_line(&mut line)
-        .map_err(|e| format!("read status: {e}"))?;
-    let code = line
-        .split_whitespace()
-        .nth(1)
-        .and_then(|c| c.parse::<u16>().ok())
-        .ok_or_else(|| format!("bad status line {line:?}"))?;
-    let (mut length, mut chunked) = (None, false);
-    loop {
-        line.clear();
-        r.read_line(&mut line)
-            .map_err(|e| format!("read headers: {e}"))?;
-        let header = line.trim_end();
-        if header.is_empty() {
-            break;
-        }
-        if let Some((name, value)) = header.split_once(':') {
-            let (name, value) = (name.trim().to_ascii_lowercase(), value.trim());
-            if name == "content-length" {
-                length = Some(
-                    value
-                        .parse::<usize>()
-                        .map_err(|e| format!("Content-Length: {e}"))?,
-                );
-            } else if name == "transfer-encoding" && value.to_ascii_lowercase().contains("chunked")
-            {
-                chunked = true;
-            }
-        }
-    }
-    let mut body = Vec::new();
-    if chunked {
-        loop {
-            line.clear();
-            r.read_line(&mut line)
-                .map_err(|e| format!("read chunk size: {e}"))?;
-            let hex = line.trim().split(';').next().unwrap_or("");
-            let n =
-                usize::from_str_radix(hex, 16).map_err(|e| format!("chunk size {hex:?}: {e}"))?;
-            if n == 0 {
-                break;
-            }
-            let at = body.len();
-            body.resize(at + n, 0);
-            r.read_exact(&mut body[at..])
-                .map_err(|e| format!("read chunk: {e}"))?;
-            line.clear();
-            r.read_line(&mut line)
-                .map_err(|e| format!("read chunk end: {e}"))?;
-        }
-    } else if let Some(n) = length {
-        body.resize(n, 0);
-        r.read_exact(&mut body)
-            .map_err(|e| format!("read body: {e}"))?;
-    } else {
-        r.read_to_end(&mut body)
-            .map_err(|e| format!("read body: {e}"))?;
-    }
-    Ok((code, body))
-}
+/// A read of the browser log, the entries since the previous read: chromedriver keeps the
+/// legacy log endpoint under `/se/log` in W3C mode, and fantoccini has no call for it.
+#[derive(Debug)]
+struct BrowserLog;
 
-/// Standard base64 (padding and whitespace allowed).
-fn base64_decode(text: &str) -> Result<Vec<u8>, String> {
-    let mut out = Vec::with_capacity(text.len() / 4 * 3);
-    let (mut acc, mut bits) = (0u32, 0u32);
-    for c in text.bytes() {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            b'=' => break,
-            c if c.is_ascii_whitespace() => continue,
-            c => return Err(format!("bad base64 byte {c:#04x}")),
-        };
-        acc = (acc << 6) | u32::from(v);
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
+impl WebDriverCompatibleCommand for BrowserLog {
+    fn endpoint(
+        &self,
+        base: &url::Url,
+        session: Option<&str>,
+    ) -> Result<url::Url, url::ParseError> {
+        base.join(&format!("session/{}/se/log", session.unwrap_or_default()))
     }
-    Ok(out)
-}
 
-/// Width and height of a PNG, from its IHDR chunk.
-fn png_size(png: &[u8]) -> Option<(u32, u32)> {
-    if png.len() < 24 || &png[..8] != b"\x89PNG\r\n\x1a\n" || &png[12..16] != b"IHDR" {
-        return None;
+    fn method_and_body(&self, _: &url::Url) -> (http::Method, Option<String>) {
+        let body = json!({"type": "browser"}).to_string();
+        (http::Method::POST, Some(body))
     }
-    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
-    Some((be(&png[16..20]), be(&png[20..24])))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1166,49 +955,22 @@ fn verdict_names_broken_images_and_severe_entries() {
 
 #[test]
 fn chromedriver_answers_parse() {
-    let imgs = parse_images(&json!([
+    let images = json!([
         {"src": "file:///a.svg", "complete": true, "naturalWidth": 300},
-        {"src": "file:///b.svg", "complete": true, "naturalWidth": 0},
-    ]))
-    .unwrap();
-    assert_eq!(imgs.len(), 2);
-    assert_eq!(imgs[0].natural_width, 300);
-    assert!(parse_images(&json!(null)).is_err());
-    let log = parse_log(&json!([
+        {"src": "file:///b.svg", "complete": false, "naturalWidth": 0},
+    ]);
+    let log = json!([
         {"level": "SEVERE", "source": "network", "message": "x.svg - Failed to load resource", "timestamp": 1},
-    ]));
-    assert_eq!(log, ["SEVERE network: x.svg - Failed to load resource"]);
-}
-
-#[test]
-fn http_responses_parse() {
-    let fixed = b"HTTP/1.1 200 OK\r\nContent-Length: 13\r\ncontent-type: application/json\r\n\r\n{\"value\":nul}trailing";
-    let (code, body) = read_response(&mut &fixed[..]).unwrap();
-    assert_eq!((code, body.as_slice()), (200, &b"{\"value\":nul}"[..]));
-    let chunked = b"HTTP/1.1 404 Not Found\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nWiki\r\n5;x=y\r\npedia\r\n0\r\n\r\n";
-    let (code, body) = read_response(&mut &chunked[..]).unwrap();
-    assert_eq!((code, body.as_slice()), (404, &b"Wikipedia"[..]));
-    let to_eof = b"HTTP/1.0 500 Oops\r\n\r\nall of it";
-    assert_eq!(read_response(&mut &to_eof[..]).unwrap().1, b"all of it");
-    assert!(read_response(&mut &b"garbage\r\n\r\n"[..]).is_err());
-}
-
-#[test]
-fn base64_and_png_header() {
-    assert_eq!(base64_decode("").unwrap(), b"");
-    assert_eq!(base64_decode("Zg==").unwrap(), b"f");
-    assert_eq!(base64_decode("Zm8=").unwrap(), b"fo");
-    assert_eq!(base64_decode("Zm9v").unwrap(), b"foo");
-    assert_eq!(base64_decode("Zm9vYmFy\n").unwrap(), b"foobar");
-    assert_eq!(base64_decode("+/+/").unwrap(), [0xfb, 0xff, 0xbf]);
-    assert!(base64_decode("Zm9v!").is_err());
-    // A 1x1 PNG, base64 as chromedriver sends it.
-    let png = base64_decode(
-        "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGP4z8DwHwAFAAH/iZk9HQAAAABJRU5ErkJggg==",
-    )
-    .unwrap();
-    assert_eq!(png_size(&png), Some((1, 1)));
-    assert_eq!(png_size(b"GIF89a"), None);
+    ]);
+    let seen = Observation::from_answers(images, log).unwrap();
+    assert_eq!(seen.images.len(), 2);
+    assert_eq!(seen.images[0].natural_width, 300);
+    assert!(!seen.images[1].complete);
+    assert_eq!(
+        seen.log,
+        ["SEVERE network: x.svg - Failed to load resource"]
+    );
+    assert!(Observation::from_answers(json!(null), json!([])).is_err());
 }
 
 #[test]

@@ -54,6 +54,9 @@ struct Found {
     release: Option<(u64, f64, f64)>,
     /// The full swing as the fit measures it (twice the half-swing time), s.
     period_s: Option<f64>,
+    /// A suspect detection: its label (`suspect (period, stalls)`) and each failed
+    /// check's `name: reason`.
+    suspect: Option<(String, Vec<String>)>,
 }
 
 pub fn init(a: InitArgs) -> Result<String> {
@@ -118,6 +121,17 @@ pub fn init(a: InitArgs) -> Result<String> {
         out.display(),
         out.display()
     );
+    if let Some((label, reasons)) = &found.suspect {
+        let _ = writeln!(
+            msg,
+            "{}: detection {label}: {}; a result from it will be suspect (warning \
+             `detection`) until the wire is followed: draw a frame's steps (`rollfric detect \
+             {} -o angles.csv --steps N`), then give `--roi` or `--pivot` to `init`",
+            a.video.display(),
+            reasons.join("; "),
+            a.video.display()
+        );
+    }
     if let Some(m) = &a.manifest {
         if add_to_manifest(m, &out)? {
             let _ = writeln!(msg, "{}: lists {} now", m.display(), out.display());
@@ -165,6 +179,15 @@ fn measure(video: &Path, opts: &DetectOptions) -> Result<Found> {
         ok_share: d.count(Status::Ok) as f64 / d.rows.len().max(1) as f64,
         release,
         period_s: m.map(|m| m.period_s),
+        suspect: (d.verdict.verdict != crate::verdict::Status::Ok).then(|| {
+            (
+                d.verdict.label(),
+                d.verdict
+                    .failed()
+                    .map(|c| format!("{}: {}", c.check, c.reason))
+                    .collect(),
+            )
+        }),
     })
 }
 
@@ -273,6 +296,20 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
             y,
             "  # Given to `init` (--pivot): the pendulum measured, of those in the frame.\n  \
              pivot: [{px}, {py}]"
+        );
+    }
+    if let Some((label, reasons)) = &f.suspect {
+        let _ = writeln!(
+            y,
+            "  # CAUTION: the detection is {label}: it may not have followed a wire.\n  \
+             # A result from this file will be suspect (warning `detection`) until it does."
+        );
+        for r in reasons {
+            let _ = writeln!(y, "  #   {}", r.replace('\n', " "));
+        }
+        y.push_str(
+            "  # `rollfric detect VIDEO -o angles.csv --steps N` draws what it saw in frame N;\n\
+             \x20 # give `roi` or `pivot` above to say where the wire is.\n",
         );
     }
     match f.release {
@@ -409,6 +446,7 @@ mod tests {
             ok_share: 0.99,
             release: Some((31, 1.03, 1.0)),
             period_s: Some(1.334),
+            suspect: None,
         }
     }
 
@@ -426,6 +464,33 @@ mod tests {
         assert!(text.contains("L = 0.3159 m x sin(alpha)"), "{text}");
         assert!(text.contains("let go at 1.030 s (frame 31)"), "{text}");
         assert!(text.contains("polarity: dark"));
+        assert!(!text.contains("CAUTION"), "{text}");
+    }
+
+    /// A suspect detection is said in the file, each failed check on a comment line of
+    /// its own, and the file still loads once filled in.
+    #[test]
+    fn a_suspect_detection_is_said_in_the_file() {
+        let d = tempfile::tempdir().unwrap();
+        let f = Found {
+            suspect: Some((
+                "suspect (period)".into(),
+                vec!["period: varies by 80 %\nswing to swing".into()],
+            )),
+            ..found()
+        };
+        let text = yaml("rope", "rope.mp4", &f);
+        assert!(
+            text.contains("# CAUTION: the detection is suspect (period)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("  #   period: varies by 80 % swing to swing\n"),
+            "{text}"
+        );
+        let p = d.path().join("rope.yaml");
+        std::fs::write(&p, fill(&text)).unwrap();
+        Experiment::load(&p).expect("filled in, it loads");
     }
 
     #[test]

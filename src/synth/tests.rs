@@ -1,3 +1,5 @@
+//! The unit tests of `synth`: the twin's plan, its rendering and its YUV conversion.
+
 use super::plan::{Plan, Spoil};
 use super::twin::Twin;
 use super::yuv::{bgr_to_yuv420, YuvRange};

@@ -1,3 +1,5 @@
+//! The unit tests of `detect/judge.rs`: each check of the detection's verdict on hand-made angle series.
+
 use super::*;
 use crate::rng::Rng;
 

@@ -282,6 +282,15 @@ struct DetectionSeen {
     pace: Option<f64>,
 }
 
+/// `ROBUSTNESS_PACE`: the paired rounds per scene (0: not timed), read in `main`
+/// before any scene so that a bad value stops the sweep at once.
+fn pace_rounds() -> usize {
+    std::env::var("ROBUSTNESS_PACE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0)
+}
+
 /// Paired rounds of decoding alone (`ffmpeg -f null`, the floor) and `rollfric detect`
 /// (the binary beside this example's folder), whole processes, alternating which goes
 /// first: the median of the rounds' ratios decode-only wall / detector wall.
@@ -507,14 +516,16 @@ fn run(
         (Some(a), Some(b)) => b - a,
         _ => f64::NAN,
     };
-    let rounds: usize = std::env::var("ROBUSTNESS_PACE")
-        .ok()
-        .map(|v| v.parse())
-        .transpose()
-        .context("ROBUSTNESS_PACE: expected a whole number of rounds")?
-        .unwrap_or(0);
+    // A pace that cannot be timed costs the scene its pace only, not its figures.
+    let rounds = pace_rounds();
     let pace = if rounds > 0 && duration >= 30.0 {
-        Some(pace(&video, dir, given_pivot, rounds)?)
+        match pace(&video, dir, given_pivot, rounds) {
+            Ok(p) => Some(p),
+            Err(e) => {
+                eprintln!("pace not timed: {e:#}");
+                None
+            }
+        }
     } else {
         None
     };
@@ -608,6 +619,18 @@ fn main() -> Result<()> {
             .context("ROBUSTNESS_WORK_SIDE: expected a whole number of px")?;
         rollfric::config::work_side("ROBUSTNESS_WORK_SIDE", side)?;
         opts.work_side_px = f64::from(side);
+    }
+    if let Some(v) = std::env::var_os("ROBUSTNESS_PACE") {
+        v.to_string_lossy()
+            .parse::<usize>()
+            .context("ROBUSTNESS_PACE: expected a whole number of rounds")?;
+        if opts.work_side_px != DetectOptions::default().work_side_px
+            || std::env::var_os("ROBUSTNESS_LENS").is_some()
+        {
+            eprintln!(
+                "ROBUSTNESS_PACE times `rollfric detect` at its defaults (no work side, no lens)"
+            );
+        }
     }
     let mut rng = Rng::new(seed);
     let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());

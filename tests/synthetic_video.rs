@@ -700,7 +700,7 @@ fn detect_steps_pictures_one_frame() {
 
     let (_, said) = rollfric_ok(&["detect", "g.mp4", "-o", "b.csv", "--steps", "100000"], d);
     assert!(
-        said.contains("--steps 100000: that frame was not measured"),
+        said.contains("--steps 100000: no pictures: that frame was not measured"),
         "{said}"
     );
     assert!(!d.join("b.steps/frame-100000-4-angle.png").exists());

@@ -6,7 +6,7 @@ use crate::detect::{self, DetectOptions, Status};
 use crate::fsutil;
 use crate::pipeline;
 use crate::video::Roi;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use std::path::PathBuf;
 
 /// The flags of `rollfric detect` (defined here only).
@@ -169,12 +169,7 @@ fn options(a: &DetectArgs) -> Result<DetectOptions> {
     if a.diagnostics {
         opts.diag_dir = Some(a.output.with_extension("diag"));
     }
-    if let Some(frame) = a.steps {
-        opts.steps = Some(detect::StepsAt {
-            frame,
-            dir: a.output.with_extension("steps"),
-        });
-    }
+    opts.steps = a.steps;
     Ok(opts)
 }
 
@@ -255,29 +250,25 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     );
     if let Some(frame) = a.steps {
         let dir = a.output.with_extension("steps");
-        let tag = format!("frame-{frame:06}-");
-        let n = d
-            .diagnostics
-            .iter()
-            .filter(|p| {
-                p.starts_with(&dir)
-                    && p.file_name()
-                        .is_some_and(|f| f.to_string_lossy().starts_with(&tag))
-            })
-            .count();
-        if n > 0 {
+        if d.steps.is_empty() {
             eprintln!(
-                "{}: the steps of frame {frame}: {n} pictures in {}",
-                a.video.display(),
-                dir.display()
-            );
-        } else {
-            eprintln!(
-                "{}: --steps {frame}: that frame was not measured (the frames measured run \
-                 from {} to {}); no pictures written",
+                "{}: --steps {frame}: no pictures: that frame was not measured (a flash, or \
+                 outside the frames measured, {} to {})",
                 a.video.display(),
                 d.rows.first().map_or(0, |r| r.frame),
                 d.rows.last().map_or(0, |r| r.frame)
+            );
+        } else {
+            std::fs::create_dir_all(&dir)
+                .with_context(|| format!("{}: cannot create folder", dir.display()))?;
+            for (file, png) in &d.steps {
+                fsutil::write_atomic(&dir.join(file), png)?;
+            }
+            eprintln!(
+                "{}: the steps of frame {frame}: {} pictures in {}",
+                a.video.display(),
+                d.steps.len(),
+                dir.display()
             );
         }
     }

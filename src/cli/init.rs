@@ -126,7 +126,8 @@ pub fn init(a: InitArgs) -> Result<String> {
             msg,
             "{}: detection {label}: {}; a result from it will be suspect (warning \
              `detection`) until the wire is followed: draw a frame's steps (`rollfric detect \
-             {} -o angles.csv --steps N`), then give `--roi` or `--pivot` to `init`",
+             {} -o angles.csv --steps N`), then run `init` again with `--roi` or `--pivot` \
+             (and `--force` to replace the file)",
             a.video.display(),
             reasons.join("; "),
             a.video.display()
@@ -305,7 +306,11 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
              # A result from this file will be suspect (warning `detection`) until it does."
         );
         for r in reasons {
-            let _ = writeln!(y, "  #   {}", r.replace('\n', " "));
+            let one_line: String = r
+                .chars()
+                .map(|c| if c.is_control() { ' ' } else { c })
+                .collect();
+            let _ = writeln!(y, "  #   {one_line}");
         }
         y.push_str(
             "  # `rollfric detect VIDEO -o angles.csv --steps N` draws what it saw in frame N;\n\

@@ -281,6 +281,7 @@ mod tests {
             decoder: "test".into(),
             decodings: 1,
             diagnostics: Vec::new(),
+            steps: Vec::new(),
             figure11,
             review: Default::default(),
             swing_scale: None,

@@ -63,7 +63,7 @@ use crate::detect::tuning::{
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
-pub use options::{DetectOptions, FrameProgress, StepsAt};
+pub use options::{DetectOptions, FrameProgress};
 pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 
@@ -419,6 +419,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         decoder: input.decoder(),
         decodings,
         diagnostics: tracker.diagnostics,
+        steps: tracker.steps_drawn,
         figure11,
         review: review.take(),
         swing_scale,

@@ -24,8 +24,9 @@ pub struct DetectOptions {
     pub lens: Option<crate::config::LensSpec>,
     /// Folder for the diagnostic images of flagged frames (none if `None`).
     pub diag_dir: Option<PathBuf>,
-    /// Pictures of each step of the streaming pass on one frame (`detect --steps`).
-    pub steps: Option<StepsAt>,
+    /// Pictures of each step of the streaming pass on this frame (`detect --steps`),
+    /// kept in [`super::Detection::steps`].
+    pub steps: Option<u64>,
     /// Told the frames done (and the header's frame count) every 100 frames; when set,
     /// the detector prints no progress of its own.
     pub progress: Option<FrameProgress>,
@@ -37,14 +38,6 @@ pub struct DetectOptions {
     /// The side, px, a frame is shrunk towards by a whole factor before the wire is
     /// measured (`video.work_side_px`; see `FirstLook::at_best_scale`).
     pub work_side_px: f64,
-}
-
-/// Which frame `detect --steps` pictures, and the folder the pictures go to.
-#[derive(Clone, Debug)]
-pub struct StepsAt {
-    /// The frame's index in the video (0-based).
-    pub frame: u64,
-    pub dir: PathBuf,
 }
 
 /// A progress callback: `(frames done, frames expected)`.

@@ -89,6 +89,10 @@ pub struct Detection {
     #[serde(skip)]
     pub decodings: usize,
     pub diagnostics: Vec<PathBuf>,
+    /// `detect --steps`: the pictures of the frame's steps (file name, PNG bytes), of
+    /// the pass that was kept; empty when the frame was not measured.
+    #[serde(skip)]
+    pub steps: Vec<(String, Vec<u8>)>,
     /// The frame shown as Figure 11 ([`super::figure11_frame`]), kept by the pass.
     #[serde(skip)]
     pub figure11: Option<Figure11>,

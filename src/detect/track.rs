@@ -76,10 +76,11 @@ pub(super) struct Tracker {
     decay_every: u64,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
-    /// `detect --steps`: the frame to picture, and its frame and background as the
-    /// evidence saw them.
-    steps: Option<super::StepsAt>,
-    steps_seen: Option<(Mat, Mat)>,
+    /// `detect --steps`: the frame to picture; its index, frame and background as the
+    /// evidence saw them; the pictures drawn (file name, PNG).
+    steps: Option<u64>,
+    steps_seen: Option<(u64, Mat, Mat)>,
+    pub(super) steps_drawn: Vec<(String, Vec<u8>)>,
     /// `ROLLFRIC_DEBUG=frames` or `=mad`: a line per frame on stderr (read once).
     debug: Option<String>,
     /// The last frame's predicted angle.
@@ -134,11 +135,7 @@ impl Tracker {
         }
         let tmap = to_roi(&init_tmap)?;
         let reference = to_roi(&init_reference)?;
-        for d in opts
-            .diag_dir
-            .iter()
-            .chain(opts.steps.as_ref().map(|s| &s.dir))
-        {
+        if let Some(d) = &opts.diag_dir {
             std::fs::create_dir_all(d)
                 .with_context(|| format!("{}: cannot create folder", d.display()))?;
         }
@@ -177,8 +174,9 @@ impl Tracker {
             decay_every: 120,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
-            steps: opts.steps.clone(),
+            steps: opts.steps,
             steps_seen: None,
+            steps_drawn: Vec::new(),
             debug,
             last_pred: None,
         })

@@ -1,6 +1,10 @@
-//! The detector's tuning in one place: every knob, its unit and the figure that chose it.
+//! The detector's tuning in one place: its named knobs, their units and the figures that chose them.
 //!
-//! Every threshold, limit, window and count of the detector is declared here.
+//! Every named scalar threshold, limit, window and count of the detector is declared
+//! here. Not yet: `geometry::LOOK_THRESHOLDS` (an array of the first look's two
+//! threshold tries) and a few literals left in the code (the background's decay every
+//! 120 frames, the flash and repeated-frame ratios in `track.rs`, the first look's
+//! threshold floor).
 //! Each knob is written once, in the file of its stage (`tuning/*.rs`), through
 //! [`knobs!`]: that yields the `pub(crate) const` the detector reads and an entry of
 //! [`KNOBS`], the table `rollfric tuning` prints and docs/tuning.md lists. A constant
@@ -152,12 +156,15 @@ pub fn text() -> String {
 pub fn markdown() -> String {
     let mut out = String::from(
         "# The detector's tuning\n\n\
-         Every threshold, limit, window and count the detector uses, with its unit and the \
-         figure that chose it (a commit of the history, and the sweep, scene or clip it \
-         measured). Generated from the table in `src/detect/tuning/`: \
-         `rollfric tuning --markdown > docs/tuning.md`. Constants that are no choice (sizes \
-         fixed by the top-hat's 7x7 element, scan blocks, a rounding guard, sqrt(70)) stay \
-         beside their code.\n",
+         Every named threshold, limit, window and count the detector uses, with its unit and \
+         the figure that chose it (a commit of the history, and the sweep, scene or clip it \
+         measured, or the comment that stood beside it). Generated from the table in \
+         `src/detect/tuning/`: `rollfric tuning --markdown > docs/tuning.md`. Constants that \
+         are no choice (sizes fixed by the top-hat's 7x7 element, scan blocks, a rounding \
+         guard, sqrt(70)) stay beside their code. Not in the table yet: the first look's \
+         two threshold tries (`LOOK_THRESHOLDS` in `geometry.rs`, an array) and a few \
+         literals of `track.rs` (the background's decay every 120 frames, the flash and \
+         repeated-frame ratios) and `first_look.rs` (a threshold floor).\n",
     );
     let mut stage = "";
     for k in KNOBS {

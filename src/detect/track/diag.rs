@@ -65,8 +65,8 @@ impl Tracker {
     /// `detect --steps`: the frame and the background as the evidence of frame `index`
     /// saw them (before the background takes the frame in).
     pub(super) fn keep_step_inputs(&mut self, index: u64) -> Result<()> {
-        if self.steps.as_ref().is_some_and(|s| s.frame == index) {
-            self.steps_seen = Some((self.small.try_clone()?, self.bg.try_clone()?));
+        if self.steps == Some(index) {
+            self.steps_seen = Some((index, self.small.try_clone()?, self.bg.try_clone()?));
         }
         Ok(())
     }
@@ -82,10 +82,14 @@ impl Tracker {
         pred: Option<f64>,
         gate: f64,
     ) -> Result<()> {
-        let Some((frame, bg)) = self.steps_seen.take() else {
-            return Ok(());
-        };
-        let Some(dir) = self.steps.as_ref().map(|s| s.dir.clone()) else {
+        // Kept for this very frame (a flash frame is not measured: its inputs are
+        // dropped here, at the next frame).
+        let Some((frame, bg)) = self
+            .steps_seen
+            .take()
+            .filter(|s| s.0 == index)
+            .map(|s| (s.1, s.2))
+        else {
             return Ok(());
         };
         // A small region drawn larger (whole pixels, nearest), so that the lines and
@@ -222,12 +226,10 @@ impl Tracker {
             ("3-evidence", three),
             ("4-angle", four),
         ] {
-            let path = dir.join(format!("frame-{index:06}-{name}.png"));
+            let file = format!("frame-{index:06}-{name}.png");
             let png = crate::picture::encode_bgr_mat(&m)
-                .with_context(|| format!("{}: cannot encode", path.display()))?;
-            std::fs::write(&path, png)
-                .with_context(|| format!("{}: cannot write", path.display()))?;
-            self.diagnostics.push(path);
+                .with_context(|| format!("{file}: cannot encode"))?;
+            self.steps_drawn.push((file, png));
         }
         Ok(())
     }

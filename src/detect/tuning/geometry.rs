@@ -9,7 +9,7 @@ knobs! {
     /// At most this many threads look for the first look's lines (one per processor).
     GEOMETRY_THREADS: usize = 4, "threads",
         what "most threads that look for the first look's lines",
-        chosen_by "83f0959: geometry of the 960x540 bench twin 0.25 -> 0.14 s (angles byte-identical)";
+        chosen_by "83f0959 (then on every processor): geometry of the 960x540 bench twin 0.25 -> 0.14 s, angles byte-identical; the cap of 4 not measured";
 
     /// A second pendulum (`WireGeometry::second`) counts when its pivot lies this share of
     /// the look's larger side away from the first's at least,

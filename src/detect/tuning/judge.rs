@@ -26,7 +26,7 @@ knobs! {
     /// centred on it, more off centre).
     STALL_RANGE: f64 = 0.02, "share",
         what "a stall: the angle stays within this share of the amplitude",
-        chosen_by "dcaed79: a turning point moves 5 % over a tenth of a period; the real-clip verdicts";
+        chosen_by "dcaed79; the comment beside it: a turning point moves 5 % over a tenth of a period; the real-clip verdicts";
 
     /// The stretch a stall is judged over, in periods.
     STALL_WINDOW: f64 = 0.1, "periods",
@@ -60,7 +60,7 @@ knobs! {
     /// out of the plane; the sweep's worst twin measured well, by 0.04),
     ENVELOPE_SHARE: f64 = 0.003, "share",
         what "... or this share of the mean swing",
-        chosen_by "dcaed79: real strings 0.08 deg at 47 deg, 0.07 at 21 deg; the sweep's worst twin 0.04";
+        chosen_by "dcaed79; the comment beside it: real strings 0.08 deg at 47 deg, 0.07 at 21 deg; the sweep's worst twin 0.04";
 
     /// or this many times what the angle noise alone gives it.
     ENVELOPE_NOISE_FACTOR: f64 = 4.0, "times",

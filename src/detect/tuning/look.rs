@@ -80,7 +80,7 @@ knobs! {
     /// `DECODE_ONCE_MAX_BYTES` in all, and its frames go as the streaming pass takes them.
     READ_AHEAD_BYTES: usize = 96 << 20, "bytes",
         what "how far the look's decoder may decode ahead of the look",
-        chosen_by "761693f: 24 -> 96 MiB; at 24 MiB a 960x540 look's decoder stopped after 48 of ~150 frames and the pass waited 0.2 s";
+        chosen_by "761693f: 24 -> 96 MiB; the comment beside it: at 24 MiB a 960x540 look's decoder stopped after 48 of ~150 frames and the pass waited 0.2 s";
 
     /// The working side, px, by default (`video.work_side_px` asks for a larger one): a
     /// frame is shrunk by a whole factor towards this size for the first look, and the

@@ -62,7 +62,7 @@ knobs! {
     /// ridge 1.25 times as wide as the wire's), and stayed on them for 45 frames.
     RIVAL_SHARPER_START: f64 = 0.92, "ratio",
         what "width ratio for a rival to win while the track starts",
-        chosen_by "1fe0711: wire 1.12 vs shadow 1.40 px, 1.17 vs 1.28 (640x480, 1280x720 twins); numerals 1.25x as wide";
+        chosen_by "1fe0711; the comment beside it: wire 1.12 vs shadow 1.40 px, 1.17 vs 1.28 (640x480, 1280x720 twins); numerals 1.25x as wide";
 
     /// A rival within the gate of the prediction, the strongest peak outside it, is the wire
     /// unless this much wider than the strongest.

@@ -70,7 +70,7 @@ knobs! {
     /// 1.09.
     SWING_SCALE_RETRY: f64 = 0.02, "ratio",
         what "a swing scale this far from 1 has the other working scale measured too",
-        chosen_by "8e7bd01: sweep both seeds, 126 twins within 0.002; seed 2 scene 16: 1.058 -> 1.0001, 2.1 -> 0.019 deg RMS";
+        chosen_by "8e7bd01; the comment beside it: sweep both seeds, 126 twins within 0.002; seed 2 scene 16: 1.058 -> 1.0001, 2.1 -> 0.019 deg RMS";
 
     // From fill.rs.
     /// Good frames in a run shorter than this, between two losses of the wire, are

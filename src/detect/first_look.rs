@@ -5,8 +5,8 @@
 use super::*;
 use crate::detect::tuning::{
     DECODE_ONCE_MAX_BYTES, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S, LOOK_MAX_BYTES,
-    LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, READ_AHEAD_BYTES, STILL_KEEP,
-    STILL_MAX_SECONDS, WORK_SIDE_PX,
+    LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, PASS_FLOOR, READ_AHEAD_BYTES,
+    STILL_KEEP, STILL_MAX_SECONDS, WORK_SIDE_PX,
 };
 
 /// Every how many frames the look keeps one, for frames of `bytes` each and a video of
@@ -354,7 +354,8 @@ impl<'a> FirstLook<'a> {
             );
         }
         let init_bg = geometry::extreme_frame(&init, geo.dark)?;
-        let init_tmap = geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, 6.0)?;
+        let init_tmap =
+            geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, PASS_FLOOR)?;
         let init_reference = geometry::frame_mat(&init, 0)?;
         // The look's frames, done with, go to the decoder going on (see `recycle`).
         if let Some(rest) = stream.as_mut().and_then(|s| s.rest.as_mut()) {

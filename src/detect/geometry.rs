@@ -23,7 +23,8 @@ mod search;
 
 use crate::detect::tuning::{
     FAINT_MIN_DIRECTIONS, HOUGH_MAX_GAP_PX, HOUGH_MIN_VOTES, HOUGH_VOTE_SHARE, LINE_APART_DEG,
-    LINE_PIXELS_PX, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG, THRESHOLD_MAX_LEVELS,
+    LINE_PIXELS_PX, LOOK_DIRECTIONS, LOOK_FLOOR, LOOK_SIGMAS, LOW_DIRECTIONS, LOW_FLOOR,
+    LOW_SIGMAS, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG, THRESHOLD_MAX_LEVELS,
 };
 use faint::faint_threshold_map;
 pub use faint::FAINT_STAGE;
@@ -350,7 +351,10 @@ pub fn find(
 /// The first look's thresholds, in turn: noise sigmas above each pixel's noise, a
 /// floor in grey levels, and the directions the lines must take (a low threshold
 /// lets the noise make lines too: those do not turn with a pendulum).
-const LOOK_THRESHOLDS: [(f64, f64, usize); 2] = [(4.0, 6.0, 0), (2.0, 4.0, 8)];
+const LOOK_THRESHOLDS: [(f64, f64, usize); 2] = [
+    (LOOK_SIGMAS, LOOK_FLOOR, LOOK_DIRECTIONS),
+    (LOW_SIGMAS, LOW_FLOOR, LOW_DIRECTIONS),
+];
 
 /// How the reason for a look that found no line at all begins.
 const NO_WIRE: &str = "no moving wire found";

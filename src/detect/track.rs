@@ -11,7 +11,9 @@ use super::geometry::WireGeometry;
 use super::light::Brightness;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
-    LONG_FIT_FRAMES, LONG_FIT_S, REANCHOR_AWAY_GATES, REANCHOR_STILL_DEG, START_FRAMES,
+    BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
+    LONG_FIT_FRAMES, LONG_FIT_S, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES, REANCHOR_STILL_DEG,
+    REPEAT_MAD, REPEAT_SHARE, START_FRAMES,
 };
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
@@ -171,7 +173,7 @@ impl Tracker {
             innov: None,
             since_good: 0,
             repeats_since_good: 0,
-            decay_every: 120,
+            decay_every: BG_DECAY_FRAMES,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
             steps: opts.steps,
@@ -188,8 +190,8 @@ impl Tracker {
     }
 
     fn predict(&self, t: f64) -> Option<f64> {
-        let lo = self.geo.theta_min - 15f64.to_radians();
-        let hi = self.geo.theta_max + 15f64.to_radians();
+        let lo = self.geo.theta_min - PREDICT_BEYOND_SWEEP_DEG.to_radians();
+        let hi = self.geo.theta_max + PREDICT_BEYOND_SWEEP_DEG.to_radians();
         self.predict_raw(t)
             .filter(|p| *p > lo - 0.2 && *p < hi + 0.2)
             .map(|p| p.clamp(lo, hi))
@@ -236,7 +238,7 @@ impl Tracker {
         let level = sampled_mean(&f.data, 7);
         let flash = self
             .mean_level
-            .is_some_and(|m| (level - m).abs() > 0.2 * m.max(20.0));
+            .is_some_and(|m| (level - m).abs() > FLASH_SHARE * m.max(FLASH_MIN_LEVEL));
         // Flicker and slow lighting changes: the frame brought to the first look's
         // brightness before the background, the noise and the gate see it (at full
         // size, normalised as it is copied).
@@ -282,10 +284,13 @@ impl Tracker {
         } else {
             mean_abs_diff_sampled(self.small.data_bytes()?, &self.prev, 5)
         };
-        let duplicate = mad < 0.02 || self.mad_ref.is_some_and(|r| mad < 0.15 * r);
+        let duplicate = mad < REPEAT_MAD || self.mad_ref.is_some_and(|r| mad < REPEAT_SHARE * r);
         let foreign = if flash { 0.0 } else { self.light.foreign() };
         let covered = !flash && self.light.covered(gain);
-        let disturbed = covered || self.mad_ref.is_some_and(|r| mad > 4.0 * r.max(0.5));
+        let disturbed = covered
+            || self
+                .mad_ref
+                .is_some_and(|r| mad > DISTURBED_TIMES * r.max(DISTURBED_MIN_MAD));
         if self.debug.as_deref() == Some("mad") {
             eprintln!(
                 "mad {} {mad:.3} ref {:?} foreign {foreign:.3} gain {gain:.3} covered {covered}",

@@ -1,10 +1,9 @@
 //! The detector's tuning in one place: its named knobs, their units and the figures that chose them.
 //!
-//! Every named scalar threshold, limit, window and count of the detector is declared
-//! here. Not yet: `geometry::LOOK_THRESHOLDS` (an array of the first look's two
-//! threshold tries) and a few literals left in the code (the background's decay every
-//! 120 frames, the flash and repeated-frame ratios in `track.rs`, the first look's
-//! threshold floor).
+//! Every named threshold, limit, window and count of the detector is declared here.
+//! Not yet: some literals of the streaming pass's gate and prediction in `track.rs`
+//! (the weak-frame quality share, the innovations' factor of 4, the re-anchoring's
+//! windows, the running means' weights).
 //! Each knob is written once, in the file of its stage (`tuning/*.rs`), through
 //! [`knobs!`]: that yields the `pub(crate) const` the detector reads and an entry of
 //! [`KNOBS`], the table `rollfric tuning` prints and docs/tuning.md lists. A constant
@@ -161,10 +160,10 @@ pub fn markdown() -> String {
          measured, or the comment that stood beside it). Generated from the table in \
          `src/detect/tuning/`: `rollfric tuning --markdown > docs/tuning.md`. Constants that \
          are no choice (sizes fixed by the top-hat's 7x7 element, scan blocks, a rounding \
-         guard, sqrt(70)) stay beside their code. Not in the table yet: the first look's \
-         two threshold tries (`LOOK_THRESHOLDS` in `geometry.rs`, an array) and a few \
-         literals of `track.rs` (the background's decay every 120 frames, the flash and \
-         repeated-frame ratios) and `first_look.rs` (a threshold floor).\n",
+         guard, sqrt(70)) stay beside their code. Not in the table yet: some literals of the \
+         streaming pass's gate and prediction in `track.rs` (the weak-frame quality share, \
+         the innovations' factor of 4, the re-anchoring's windows, the running means' \
+         weights).\n",
     );
     let mut stage = "";
     for k in KNOBS {

@@ -44,6 +44,44 @@ knobs! {
         what "roughness a first look may show and still be a wire",
         chosen_by "034348f: lines that jitter refused as no pendulum's; no figure";
 
+    /// The first look's first try: pixels this many noise sigmas over each pixel's
+    /// noise ...
+    LOOK_SIGMAS: f64 = 4.0, "sigmas",
+        what "the first look's first threshold, noise sigmas",
+        chosen_by "034348f: the look at the first threshold; not swept";
+
+    /// ... and at least this many grey levels ...
+    LOOK_FLOOR: f64 = 6.0, "grey levels",
+        what "the first threshold's floor",
+        chosen_by "034348f: not swept";
+
+    /// ... whatever directions its lines take.
+    LOOK_DIRECTIONS: usize = 0, "directions",
+        what "directions the first try's lines must take",
+        chosen_by "034348f: none asked of the first threshold";
+
+    /// The second try, for a faint wire, at this many sigmas ...
+    LOW_SIGMAS: f64 = 2.0, "sigmas",
+        what "the second, lower threshold, noise sigmas",
+        chosen_by "034348f: a faint wire (a second look at a lower threshold); not swept";
+
+    /// ... and this floor ...
+    LOW_FLOOR: f64 = 4.0, "grey levels",
+        what "the lower threshold's floor",
+        chosen_by "034348f: not swept";
+
+    /// ... its lines turning through this many directions (half-degree bins): a low
+    /// threshold lets the noise make lines too, and those do not turn with a pendulum.
+    LOW_DIRECTIONS: usize = 8, "directions",
+        what "directions the lower threshold's lines must take",
+        chosen_by "034348f: noise lines do not turn with a pendulum; not swept";
+
+    /// The streaming pass's threshold floor (grey levels), under half the first
+    /// threshold's sigmas (`video.threshold_sigma`).
+    PASS_FLOOR: f64 = 6.0, "grey levels",
+        what "the streaming pass's threshold floor",
+        chosen_by "034348f: not swept";
+
     // From geometry/faint.rs.
     /// The faint look's threshold: this many noise sigmas above the median (no allowance
     /// for the running extreme's own offset), at least one grey level.

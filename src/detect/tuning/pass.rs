@@ -33,6 +33,48 @@ knobs! {
         what "accepted frames that make a track",
         chosen_by "b04360b: the quadratic prediction needs three points";
 
+    /// A frame whose mean grey moves from the running mean by more than this share of
+    /// it (of at least `FLASH_MIN_LEVEL`) is a flash, kept out of the background.
+    FLASH_SHARE: f64 = 0.2, "share",
+        what "a frame whose mean grey moves more than this share is a flash",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    FLASH_MIN_LEVEL: f64 = 20.0, "grey levels",
+        what "... of a running mean of at least this",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    /// A frame that differs from the previous one by less than this on average (grey
+    /// levels, every 5th byte), or by less than `REPEAT_SHARE` of the typical change,
+    /// is the previous one repeated.
+    REPEAT_MAD: f64 = 0.02, "grey levels",
+        what "a frame changing less than this on average repeats the previous one",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    REPEAT_SHARE: f64 = 0.15, "share",
+        what "... or less than this share of the typical change",
+        chosen_by "297050c: the first detector's value; not measured";
+
+    /// A frame that changes more than this many times the typical change (of at least
+    /// `DISTURBED_MIN_MAD`) is disturbed (a hand, a bump).
+    DISTURBED_TIMES: f64 = 4.0, "ratio",
+        what "a frame changing this many times the typical change is disturbed",
+        chosen_by "8ff29a6: the gate's disturbances flagged; not swept";
+
+    DISTURBED_MIN_MAD: f64 = 0.5, "grey levels",
+        what "... the typical change counted as at least this",
+        chosen_by "8ff29a6: the gate's disturbances flagged; not swept";
+
+    /// The background's running extreme moves one grey level back towards the scene
+    /// every this many frames, so that slow changes of the light are followed.
+    BG_DECAY_FRAMES: u64 = 120, "frames",
+        what "the background decays by one grey level every this many frames",
+        chosen_by "8ff29a6: hand-picked; not swept";
+
+    /// A prediction is clamped to the first look's sweep widened by this each side.
+    PREDICT_BEYOND_SWEEP_DEG: f64 = 15.0, "deg",
+        what "predictions are kept within the first look's sweep widened by this",
+        chosen_by "daae8f8: the first tracker's value; not measured";
+
     // From track/pivot.rs.
     /// Fewest accepted frames, and smallest spread of their angles, for `Tracker::swing_scale`.
     SWING_SCALE_FRAMES: usize = 20, "frames",

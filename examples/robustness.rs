@@ -282,15 +282,6 @@ struct DetectionSeen {
     pace: Option<f64>,
 }
 
-/// `ROBUSTNESS_PACE`: the paired rounds per scene (0: not timed), read in `main`
-/// before any scene so that a bad value stops the sweep at once.
-fn pace_rounds() -> usize {
-    std::env::var("ROBUSTNESS_PACE")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0)
-}
-
 /// Paired rounds of decoding alone (`ffmpeg -f null`, the floor) and `rollfric detect`
 /// (the binary beside this example's folder), whole processes, alternating which goes
 /// first: the median of the rounds' ratios decode-only wall / detector wall.
@@ -403,6 +394,7 @@ fn run(
     dir: &Path,
     duration: f64,
     opts: &DetectOptions,
+    pace_rounds: usize,
     seen: &mut Option<DetectionSeen>,
 ) -> Result<Outcome> {
     let exp = scene.experiment(root, dir, duration)?;
@@ -517,9 +509,8 @@ fn run(
         _ => f64::NAN,
     };
     // A pace that cannot be timed costs the scene its pace only, not its figures.
-    let rounds = pace_rounds();
-    let pace = if rounds > 0 && duration >= 30.0 {
-        match pace(&video, dir, given_pivot, rounds) {
+    let pace = if pace_rounds > 0 && duration >= 30.0 {
+        match pace(&video, dir, given_pivot, pace_rounds) {
             Ok(p) => Some(p),
             Err(e) => {
                 eprintln!("pace not timed: {e:#}");
@@ -620,17 +611,21 @@ fn main() -> Result<()> {
         rollfric::config::work_side("ROBUSTNESS_WORK_SIDE", side)?;
         opts.work_side_px = f64::from(side);
     }
-    if let Some(v) = std::env::var_os("ROBUSTNESS_PACE") {
-        v.to_string_lossy()
+    // `ROBUSTNESS_PACE`: the paired rounds timed per scene (0: none), read once.
+    let pace_rounds = match std::env::var_os("ROBUSTNESS_PACE") {
+        Some(v) => v
+            .to_string_lossy()
             .parse::<usize>()
-            .context("ROBUSTNESS_PACE: expected a whole number of rounds")?;
-        if opts.work_side_px != DetectOptions::default().work_side_px
-            || std::env::var_os("ROBUSTNESS_LENS").is_some()
-        {
-            eprintln!(
-                "ROBUSTNESS_PACE times `rollfric detect` at its defaults (no work side, no lens)"
-            );
-        }
+            .context("ROBUSTNESS_PACE: expected a whole number of rounds")?,
+        None => 0,
+    };
+    if pace_rounds > 0
+        && (opts.work_side_px != DetectOptions::default().work_side_px
+            || std::env::var_os("ROBUSTNESS_LENS").is_some())
+    {
+        eprintln!(
+            "ROBUSTNESS_PACE times `rollfric detect` at its defaults (no work side, no lens)"
+        );
     }
     let mut rng = Rng::new(seed);
     let (mut rms, mut errs, mut failures) = (Vec::new(), Vec::new(), Vec::new());
@@ -670,7 +665,15 @@ fn main() -> Result<()> {
         };
         let started = std::time::Instant::now();
         let mut seen = None;
-        let outcome = run(&scene, root, dir.path(), duration, &opts, &mut seen);
+        let outcome = run(
+            &scene,
+            root,
+            dir.path(),
+            duration,
+            &opts,
+            pace_rounds,
+            &mut seen,
+        );
         if let Some(s) = &seen {
             cpu_ms.push(s.cpu_ms_per_frame);
             if let Some(p) = s.pace {

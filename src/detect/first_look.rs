@@ -5,8 +5,8 @@
 use super::*;
 use crate::detect::tuning::{
     DECODE_ONCE_MAX_BYTES, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S, LOOK_MAX_BYTES,
-    LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, PASS_FLOOR, READ_AHEAD_BYTES,
-    STILL_KEEP, STILL_MAX_SECONDS, WORK_SIDE_PX,
+    LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, PASS_FLOOR, PRUNE_SHARE,
+    READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS, WORK_SIDE_PX,
 };
 
 /// Every how many frames the look keeps one, for frames of `bytes` each and a video of
@@ -240,7 +240,7 @@ impl<'a> FirstLook<'a> {
             init.h = frame.height;
             let st = match &mut steady {
                 Some(st) => st,
-                None => steady.insert(steady::Steady::new(&frame)?),
+                None => steady.insert(steady::Steady::new(&frame, None)?),
             };
             let glance = last_glance
                 .is_none_or(|(k, t)| decoded - k >= LOOK_EVERY && frame.t_s - t >= LOOK_EVERY_S);
@@ -292,6 +292,21 @@ impl<'a> FirstLook<'a> {
         }
         if moving {
             let st = steady.as_mut().expect("a frame was measured");
+            // Twice: first to tell the static scene from what moves in it (see
+            // `Steady::tally`), then on the static scene alone.
+            st.forget();
+            for data in &init.data {
+                let f = Frame {
+                    data: data.clone(),
+                    width: init.w,
+                    height: init.h,
+                    ..Frame::default()
+                };
+                if st.measure(&f)?.is_some() {
+                    st.tally()?;
+                }
+            }
+            st.prune(PRUNE_SHARE);
             let mut last = steady::Motion::default();
             for data in init.data.iter_mut() {
                 let mut f = Frame {

@@ -270,15 +270,26 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     // A moving camera's frames (see `steady`) are decoded at the look's region, each
     // warped back onto the first frame and cut to the region of interest.
     let steady = look.moving.then_some(first);
+    let sweep = |origin: Roi| {
+        steady::Sweep::around(
+            (geo.pivot.x, geo.pivot.y),
+            geo.r_hi,
+            (geo.theta_min, geo.theta_max),
+            (f64::from(origin.x), f64::from(origin.y)),
+        )
+    };
+    let in_look = sweep(look.bound);
     let mut src = match (stream, steady) {
-        (Some(from), _) => PassSource::Crop(Box::new(CropSource::new(from, geo.roi, steady)?)),
+        (Some(from), _) => {
+            PassSource::Crop(Box::new(CropSource::new(from, geo.roi, steady, in_look)?))
+        }
         (None, Some(_)) => {
             let from = Continued {
                 held: Default::default(),
                 rest: Some(input.open(look.bound, 1)?),
                 bound: look.bound,
             };
-            PassSource::Crop(Box::new(CropSource::new(from, geo.roi, steady)?))
+            PassSource::Crop(Box::new(CropSource::new(from, geo.roi, steady, in_look)?))
         }
         (None, None) => PassSource::Decoder(input.open(geo.roi, 1)?),
     };
@@ -303,7 +314,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let mut review = review::Keeper::new();
     // A camera the first look saw still may start to move later (a slow drift, a bump):
     // glanced at now and then on the region's own frames, and steadied from then on.
-    let mut late = (!look.moving).then(steady::Late::default);
+    let mut late = (!look.moving).then(|| steady::Late::new(sweep(geo.roi)));
     let mut k = 0usize;
     let mut waited = 0.0f64;
     loop {
@@ -451,6 +462,8 @@ struct CropSource<'a> {
     /// them.
     steady_from: Option<u64>,
     steady: Option<steady::Steady>,
+    /// The pendulum's part of the look's region, which the steadying does not read.
+    sweep: steady::Sweep,
     followed: steady::Followed,
     warped: opencv::core::Mat,
 }
@@ -458,7 +471,12 @@ struct CropSource<'a> {
 impl<'a> CropSource<'a> {
     /// The frames of `from` cut to `roi`, which must lie within the look's region; with
     /// `steady_from`, each frame from that index on warped back onto the first of them.
-    fn new(from: Continued<'a>, roi: Roi, steady_from: Option<u64>) -> Result<Self> {
+    fn new(
+        from: Continued<'a>,
+        roi: Roi,
+        steady_from: Option<u64>,
+        sweep: steady::Sweep,
+    ) -> Result<Self> {
         let bound = from.bound;
         ensure!(
             roi.x >= bound.x
@@ -473,6 +491,7 @@ impl<'a> CropSource<'a> {
             full: Frame::default(),
             steady_from,
             steady: None,
+            sweep,
             followed: steady::Followed::default(),
             warped: opencv::core::Mat::default(),
         })
@@ -538,7 +557,9 @@ impl FrameSource for CropSource<'_> {
             Some(_) => {
                 let st = match &mut self.steady {
                     Some(st) => st,
-                    None => self.steady.insert(steady::Steady::new(full)?),
+                    None => self
+                        .steady
+                        .insert(steady::Steady::new(full, Some(&self.sweep))?),
                 };
                 let m = self.followed.next(st, full)?;
                 steady::warp_into(full, m, origin, size, &mut self.warped)?;

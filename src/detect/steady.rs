@@ -13,11 +13,12 @@
 //! more, then on the measuring scale.
 
 use crate::detect::tuning::{
-    CONVERGED_PX, EST_SIDE, EXPLAINS, EXPLAIN_PX, ITERATIONS, LEVEL_SPREAD, MAX_GAIN, MAX_POINTS,
-    MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG, MEASURE_PX, MIN_GRADIENT, MIN_INFO, RESTART, SMOOTH_PX,
-    TUKEY_LEVELS,
+    CONVERGED_PX, EST_SIDE, EXPLAINS, EXPLAIN_PX, ITERATIONS, MAX_POINTS, MAX_RESIDUAL, MAX_SHIFT,
+    MAX_TURN_DEG, MEASURE_PX, MIN_GRADIENT, PRUNE_MIN_FRAMES, PRUNE_MIN_KEPT, RESTART,
+    SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
+use align::{align_step, prepare, Light, Reader};
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar, Size};
 use opencv::imgproc;
@@ -37,6 +38,53 @@ impl Motion {
     pub fn reach(&self, w: f64, h: f64) -> f64 {
         let r = 0.5 * w.hypot(h);
         self.dx.hypot(self.dy) + self.rot_rad.abs() * r
+    }
+}
+
+/// The part of the frame the pendulum sweeps (its wire, ball and their shadows), which
+/// the measurement does not read: it is not the static scene. Without it, a visible ball
+/// near where the first frame has it pulls the alignment round the pivot after it (on a
+/// hand-held twin, 2.4 deg within half a second). Frame px of the frame measured.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Sweep {
+    /// The pivot.
+    pub centre: (f64, f64),
+    /// The farthest reach from the pivot, px.
+    pub reach: f64,
+    /// The angles (image, from the x axis) swept, radians, `lo < hi`.
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl Sweep {
+    /// The sweep of a wire seen from `r_lo` to `r_hi` px from `pivot` at angles
+    /// `theta_min` to `theta_max`, widened for the ball at its end and the shadows
+    /// beside it ([`SWEEP_REACH`], [`SWEEP_MARGIN_DEG`]); `origin` is the measured
+    /// frame's corner in the same coordinates.
+    pub(super) fn around(
+        pivot: (f64, f64),
+        r_hi: f64,
+        theta: (f64, f64),
+        origin: (f64, f64),
+    ) -> Self {
+        let m = SWEEP_MARGIN_DEG.to_radians();
+        Self {
+            centre: (pivot.0 - origin.0, pivot.1 - origin.1),
+            reach: SWEEP_REACH * r_hi,
+            lo: theta.0.min(theta.1) - m,
+            hi: theta.0.max(theta.1) + m,
+        }
+    }
+
+    /// Whether frame px `(x, y)` lies within.
+    fn holds(&self, x: f64, y: f64) -> bool {
+        let (dx, dy) = (x - self.centre.0, y - self.centre.1);
+        if dx.hypot(dy) > self.reach {
+            return false;
+        }
+        let mid = 0.5 * (self.lo + self.hi);
+        let a = crate::detect::unwrap_near(dy.atan2(dx), mid);
+        a >= self.lo && a <= self.hi
     }
 }
 
@@ -62,7 +110,7 @@ struct Point {
 }
 
 impl Level {
-    fn new(img: &Mat, shrink: f64) -> Result<Self> {
+    fn new(img: &Mat, shrink: f64, sweep: Option<&Sweep>) -> Result<Self> {
         let (w, h) = (img.cols(), img.rows());
         let r = img.data_typed::<f32>()?;
         let (cx, cy) = (0.5 * (w as f32 - 1.0), 0.5 * (h as f32 - 1.0));
@@ -74,6 +122,11 @@ impl Level {
                 let gx = 0.5 * (r[i + 1] - r[i - 1]);
                 let gy = 0.5 * (r[i + wu] - r[i - wu]);
                 if gx * gx + gy * gy < MIN_GRADIENT * MIN_GRADIENT {
+                    continue;
+                }
+                // A pixel's centre, in frame px.
+                let at = |v: usize| (v as f64 + 0.5) * shrink - 0.5;
+                if sweep.is_some_and(|s| s.holds(at(x), at(y))) {
                     continue;
                 }
                 let (px, py) = (x as f32 - cx, y as f32 - cy);
@@ -107,6 +160,8 @@ pub(super) struct Steady {
     /// Frame px per px of the measuring scale.
     shrink: f64,
     levels: [Level; 2],
+    /// The first frame's level and contrast (see [`prepare`]).
+    norm: Option<(f64, f64)>,
     small: Mat,
     smooth: Mat,
     coarse: Mat,
@@ -115,31 +170,47 @@ pub(super) struct Steady {
     recent: Motion,
     /// Tukey's loss of the last measured frame, aligned.
     loss: f64,
+    /// Per level, per point: in how many of the frames tallied it differed from the
+    /// first frame once aligned (see [`Steady::tally`]).
+    off: [Vec<u32>; 2],
+    tallied: u32,
 }
 
 impl Steady {
-    /// The first frame as the reference; later frames are measured against it.
-    pub(super) fn new(first: &Frame) -> Result<Self> {
+    /// The first frame as the reference; later frames are measured against it, on the
+    /// static scene outside `sweep` when it is given.
+    pub(super) fn new(first: &Frame, sweep: Option<&Sweep>) -> Result<Self> {
         let (w, h) = (first.width, first.height);
         let shrink = (w.max(h) as f64 / EST_SIDE).max(1.0);
         let mut small = Mat::default();
         let mut smooth = Mat::default();
         let mut coarse = Mat::default();
-        prepare(first, shrink, &mut small, &mut smooth, &mut coarse)?;
+        let mut norm = None;
+        prepare(
+            first,
+            shrink,
+            &mut norm,
+            &mut small,
+            &mut smooth,
+            &mut coarse,
+        )?;
         let levels = [
-            Level::new(&coarse, 2.0 * shrink)?,
-            Level::new(&smooth, shrink)?,
+            Level::new(&coarse, 2.0 * shrink, sweep)?,
+            Level::new(&smooth, shrink, sweep)?,
         ];
         Ok(Self {
             size: (w, h),
             shrink,
             levels,
+            norm,
             small,
             smooth,
             coarse,
             warped: Mat::default(),
             recent: Motion::default(),
             loss: f64::INFINITY,
+            off: Default::default(),
+            tallied: 0,
         })
     }
 
@@ -153,6 +224,7 @@ impl Steady {
         prepare(
             f,
             self.shrink,
+            &mut self.norm,
             &mut self.small,
             &mut self.smooth,
             &mut self.coarse,
@@ -184,10 +256,11 @@ impl Steady {
     fn align_from(&mut self, start: Motion) -> Result<(Option<Motion>, f64, f64)> {
         let mut m = start;
         let (mut residual, mut loss) = (f64::INFINITY, f64::INFINITY);
+        let mut light = Light::at(&self.levels[0], &self.coarse, m)?;
         for (k, level) in self.levels.iter().enumerate() {
             let img = if k == 0 { &self.coarse } else { &self.smooth };
             for _ in 0..ITERATIONS {
-                let (step, r, l) = align_step(level, img, m, MEASURE_PX)?;
+                let (step, r, l) = align_step(level, img, m, MEASURE_PX, &mut light)?;
                 residual = r;
                 loss = l;
                 let Some(step) = step else {
@@ -209,6 +282,58 @@ impl Steady {
         Ok((Some(m), residual, loss))
     }
 
+    /// Counts, for the frame last measured, the first frame's pixels it does not show
+    /// alike once aligned: what moves in the scene (the pendulum, a person walking by)
+    /// differs in most frames, the static scene in few.
+    pub(super) fn tally(&mut self) -> Result<()> {
+        for (k, level) in self.levels.iter().enumerate() {
+            let img = if k == 0 { &self.coarse } else { &self.smooth };
+            let light = Light::at(level, img, self.recent)?;
+            let at = Reader::new(level, img, self.recent)?;
+            let off = &mut self.off[k];
+            off.resize(level.points.len(), 0);
+            for (p, n) in level.points.iter().zip(off.iter_mut()) {
+                let differs = at.grey(p).is_none_or(|g| {
+                    let e = light.gain * g + light.offset - p.grey;
+                    e.abs() >= TUKEY_LEVELS + MEASURE_PX * p.gradient
+                });
+                *n += u32::from(differs);
+            }
+        }
+        self.tallied += 1;
+        Ok(())
+    }
+
+    /// Drops the first frame's pixels that differed in more than `share` of the frames
+    /// tallied (the pendulum's, or another thing that moved), when enough were tallied
+    /// and the static scene keeps enough; then later frames are measured from no motion.
+    pub(super) fn prune(&mut self, share: f64) {
+        if self.tallied < PRUNE_MIN_FRAMES {
+            return;
+        }
+        let most = share * f64::from(self.tallied);
+        for (level, off) in self.levels.iter_mut().zip(&self.off) {
+            let kept = off.iter().filter(|&&n| f64::from(n) <= most).count();
+            if kept < PRUNE_MIN_KEPT * level.points.len() / 100 {
+                continue;
+            }
+            let mut i = 0;
+            level.points.retain(|_| {
+                i += 1;
+                f64::from(off[i - 1]) <= most
+            });
+        }
+        self.off = Default::default();
+        self.tallied = 0;
+        self.forget();
+    }
+
+    /// Later frames are measured from no motion, as the first frame's neighbours.
+    pub(super) fn forget(&mut self) {
+        self.recent = Motion::default();
+        self.loss = f64::INFINITY;
+    }
+
     /// Whether the motion last measured explains the frame better than none: the pixels
     /// that differ from the first frame (Tukey's loss) fewer by [`EXPLAINS`]. A motion
     /// that does not is the moving wire's or the ball's pull on a plain scene, not the
@@ -221,8 +346,11 @@ impl Steady {
     /// The loss of the frame last measured at its motion and at none.
     fn losses(&mut self) -> Result<(f64, f64)> {
         let (level, img) = (&self.levels[1], &self.smooth);
-        let (_, _, moved) = align_step(level, img, self.recent, EXPLAIN_PX)?;
-        let (_, _, still) = align_step(level, img, Motion::default(), EXPLAIN_PX)?;
+        let loss = |m: Motion| -> Result<f64> {
+            let mut light = Light::at(level, img, m)?;
+            Ok(align_step(level, img, m, EXPLAIN_PX, &mut light)?.2)
+        };
+        let (moved, still) = (loss(self.recent)?, loss(Motion::default())?);
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
                 "steady: {:?}: the frame's loss {moved:.3} aligned, {still:.3} not ({:.2})",
@@ -236,8 +364,7 @@ impl Steady {
     /// The motion of `f` measured from no motion (for frames far apart, as the first
     /// look's glances are: the previous one's motion is no guide).
     pub(super) fn glance(&mut self, f: &Frame) -> Result<Option<Motion>> {
-        self.recent = Motion::default();
-        self.loss = f64::INFINITY;
+        self.forget();
         self.measure(f)
     }
 
@@ -259,185 +386,6 @@ impl Steady {
         f.data.copy_from_slice(self.warped.data_bytes()?);
         Ok(())
     }
-}
-
-/// `f` shrunk `shrink` times (block means) as floats at a common level and contrast,
-/// smoothed, into `smooth`, and that shrunk twice more into `coarse`.
-fn prepare(
-    f: &Frame,
-    shrink: f64,
-    small: &mut Mat,
-    smooth: &mut Mat,
-    coarse: &mut Mat,
-) -> Result<()> {
-    let m = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
-    let (sw, sh) = (
-        ((f.width as f64 / shrink).round() as i32).max(1),
-        ((f.height as f64 / shrink).round() as i32).max(1),
-    );
-    let size = Size::new(sw, sh);
-    let mut shrunk = Mat::default();
-    if size.width < f.width as i32 {
-        imgproc::resize(&m, &mut shrunk, size, 0.0, 0.0, imgproc::INTER_AREA)?;
-    } else {
-        shrunk = m.try_clone()?;
-    }
-    // At a common level and contrast (the lights drift, a camera's exposure follows the
-    // scene): the median grey brought to 128 and the quartiles' spread to
-    // `LEVEL_SPREAD`, which a moving wire, ball or rod hardly moves.
-    let mut hist = [0usize; 256];
-    let bytes = shrunk.data_bytes()?;
-    for &v in bytes {
-        hist[usize::from(v)] += 1;
-    }
-    let quantile = |q: f64| {
-        let mut below = 0usize;
-        for (v, &n) in hist.iter().enumerate() {
-            below += n;
-            if below as f64 >= q * bytes.len() as f64 {
-                return v as f64;
-            }
-        }
-        255.0
-    };
-    let median = quantile(0.5);
-    let spread = quantile(0.75) - quantile(0.25);
-    let gain = (LEVEL_SPREAD / spread.max(1.0)).clamp(1.0 / MAX_GAIN, MAX_GAIN);
-    shrunk.convert_to(small, core::CV_32F, gain, 128.0 - gain * median)?;
-    imgproc::gaussian_blur(
-        &*small,
-        smooth,
-        Size::new(0, 0),
-        SMOOTH_PX,
-        SMOOTH_PX,
-        core::BORDER_REPLICATE,
-    )?;
-    imgproc::resize(
-        &*smooth,
-        coarse,
-        Size::new((sw / 2).max(1), (sh / 2).max(1)),
-        0.0,
-        0.0,
-        imgproc::INTER_AREA,
-    )?;
-    Ok(())
-}
-
-/// One Gauss-Newton step of the alignment at `level`: the frame `img` (at the level's
-/// scale) read through motion `m` at the first frame's informative pixels, their
-/// difference from the first frame, and the change of `m` that best removes it (none
-/// when the scene holds too little to fix it); with the weighted RMS difference, grey
-/// levels, and Tukey's loss per pixel.
-fn align_step(
-    level: &Level,
-    img: &Mat,
-    m: Motion,
-    tolerance_px: f32,
-) -> Result<(Option<Motion>, f64, f64)> {
-    let (c, s) = (m.rot_rad.cos() as f32, m.rot_rad.sin() as f32);
-    let (cx, cy) = (0.5 * (level.w as f32 - 1.0), 0.5 * (level.h as f32 - 1.0));
-    let (tx, ty) = ((m.dx / level.shrink) as f32, (m.dy / level.shrink) as f32);
-    let cur = img.data_typed::<f32>()?;
-    let wu = level.w as usize;
-    let (xmax, ymax) = (level.w as f32 - 1.001, level.h as f32 - 1.001);
-    let mut hm = [[0.0f64; 3]; 3];
-    let mut g = [0.0f64; 3];
-    let (mut sum_w, mut sum_we2) = (0.0f64, 0.0f64);
-    // Tukey's loss, summed, and the pixels it is summed over.
-    let (mut loss, mut count) = (0.0f64, 0.0f64);
-    for p in &level.points {
-        // Where the frame shows the first frame's pixel p: c + R (p - c) + t.
-        let (ux, uy) = (p.x - cx, p.y - cy);
-        let qx = cx + c * ux - s * uy + tx;
-        let qy = cy + s * ux + c * uy + ty;
-        if !(qx >= 0.0 && qy >= 0.0 && qx < xmax && qy < ymax) {
-            continue;
-        }
-        let (x0, y0) = (qx as usize, qy as usize);
-        let (fx, fy) = (qx - x0 as f32, qy - y0 as f32);
-        let i = y0 * wu + x0;
-        let top = cur[i] + fx * (cur[i + 1] - cur[i]);
-        let bottom = cur[i + wu] + fx * (cur[i + wu + 1] - cur[i + wu]);
-        let e = top + fy * (bottom - top) - p.grey;
-        // Tukey's biweight: a pixel far off weighs nothing.
-        let u = e / (TUKEY_LEVELS + tolerance_px * p.gradient);
-        // `v = 1 - u^2`: the weight is `v^2`, the loss `1 - v^3` (a power function
-        // here was a twentieth of a still clip's whole detection).
-        let v = if u.abs() < 1.0 { 1.0 - u * u } else { 0.0 };
-        let w = v * v;
-        let kept = v * w;
-        let (j0, j1, j2) = (
-            f64::from(p.jac[0]),
-            f64::from(p.jac[1]),
-            f64::from(p.jac[2]),
-        );
-        let (w, e) = (f64::from(w), f64::from(e));
-        hm[0][0] += w * j0 * j0;
-        hm[0][1] += w * j0 * j1;
-        hm[0][2] += w * j0 * j2;
-        hm[1][1] += w * j1 * j1;
-        hm[1][2] += w * j1 * j2;
-        hm[2][2] += w * j2 * j2;
-        g[0] += w * j0 * e;
-        g[1] += w * j1 * e;
-        g[2] += w * j2 * e;
-        sum_w += w;
-        sum_we2 += w * e * e;
-        loss += 1.0 - f64::from(kept);
-        count += 1.0;
-    }
-    if count < 1.0 {
-        return Ok((None, f64::INFINITY, f64::INFINITY));
-    }
-    let residual = (sum_we2 / sum_w.max(1.0)).sqrt();
-    // In units where a turn counts as the shift it gives at the frame's half side, per
-    // pixel of the frame (the informative ones weighed, the plain ones holding none):
-    // the information the scene holds on each direction of motion (grey levels squared
-    // per px squared).
-    let r = 0.5 * f64::from(level.w.max(level.h));
-    let n = f64::from(level.w * level.h) * (sum_w / count).max(1e-3);
-    let hn = nalgebra::Matrix3::new(
-        hm[0][0],
-        hm[0][1],
-        hm[0][2] / r,
-        hm[0][1],
-        hm[1][1],
-        hm[1][2] / r,
-        hm[0][2] / r,
-        hm[1][2] / r,
-        hm[2][2] / (r * r),
-    ) / n;
-    let gn = nalgebra::Vector3::new(g[0], g[1], g[2] / r) / n;
-    let now = nalgebra::Vector3::new(m.dx / level.shrink, m.dy / level.shrink, m.rot_rad * r);
-    let eig = hn.symmetric_eigen();
-    // Along a direction the scene fixes, the Gauss-Newton step; along one it does not (a
-    // plain wall, a single straight edge along itself), back to no motion: the frame is
-    // not moved on a guess.
-    let mut d = nalgebra::Vector3::zeros();
-    let mut fixed = 0;
-    for k in 0..3 {
-        let v = eig.eigenvectors.column(k);
-        let along = if eig.eigenvalues[k] >= MIN_INFO {
-            fixed += 1;
-            -v.dot(&gn) / eig.eigenvalues[k]
-        } else {
-            -v.dot(&now)
-        };
-        d += v * along;
-    }
-    if fixed == 0 {
-        return Ok((None, residual, loss / count.max(1.0)));
-    }
-    let d = nalgebra::Vector3::new(d[0], d[1], d[2] / r);
-    Ok((
-        Some(Motion {
-            dx: d[0] * level.shrink,
-            dy: d[1] * level.shrink,
-            rot_rad: d[2],
-        }),
-        residual,
-        loss / count.max(1.0),
-    ))
 }
 
 /// The `size` part of `f` at `origin` (frame px), as the first frame would show it
@@ -475,6 +423,7 @@ pub(super) fn bytes(m: &Mat) -> Result<&[u8]> {
     Ok(m.data_bytes()?)
 }
 
+mod align;
 mod follow;
 #[cfg(test)]
 mod tests;

@@ -1,7 +1,7 @@
 //! Following the camera through a pass: a camera found moving later ([`Late`]), and
 //! the frames' motions summed for the detection's record ([`CameraMotion`]).
 
-use super::{Motion, Steady};
+use super::{Motion, Steady, Sweep};
 use crate::detect::tuning::{LATE_EVERY_S, LATE_GLANCES, MOVING_PX};
 use crate::video::Frame;
 use anyhow::Result;
@@ -11,8 +11,9 @@ use anyhow::Result;
 /// find it moved (as the first look judges, [`MOVING_PX`] and `EXPLAINS`), every
 /// frame from there on is measured and warped back onto the pass's first frame, within
 /// the region.
-#[derive(Default)]
 pub(in crate::detect) struct Late {
+    /// The pendulum's part of the region, not read (see [`Sweep`]).
+    sweep: Sweep,
     steady: Option<Steady>,
     next_t: f64,
     on: bool,
@@ -22,11 +23,23 @@ pub(in crate::detect) struct Late {
 }
 
 impl Late {
+    /// A camera to glance at, on frames the pendulum sweeps `sweep` of.
+    pub(in crate::detect) fn new(sweep: Sweep) -> Self {
+        Self {
+            sweep,
+            steady: None,
+            next_t: 0.0,
+            on: false,
+            glances: 0,
+            followed: Followed::default(),
+        }
+    }
+
     /// The pass's next frame, warped back when the camera has moved.
     pub(in crate::detect) fn offer(&mut self, f: &mut Frame) -> Result<()> {
         let Some(st) = &mut self.steady else {
             self.next_t = f.t_s + LATE_EVERY_S;
-            self.steady = Some(Steady::new(f)?);
+            self.steady = Some(Steady::new(f, Some(&self.sweep))?);
             return Ok(());
         };
         if !self.on {

@@ -47,7 +47,7 @@ fn textured(w: usize, h: usize, m: Motion, index: u64) -> Frame {
 fn a_shift_and_a_turn_are_measured_and_undone() {
     let (w, h) = (640, 360);
     let first = textured(w, h, Motion::default(), 0);
-    let mut s = Steady::new(&first).unwrap();
+    let mut s = Steady::new(&first, None).unwrap();
     let still = s.measure(&first).unwrap().unwrap();
     assert!(still.reach(w as f64, h as f64) < 0.02, "{still:?}");
     let m = Motion {
@@ -85,6 +85,152 @@ fn a_plain_frame_has_no_motion_to_measure() {
         height: 240,
         data: vec![120; 320 * 240],
     };
-    let mut s = Steady::new(&f).unwrap();
+    let mut s = Steady::new(&f, None).unwrap();
     assert_eq!(s.measure(&f).unwrap(), None);
+}
+
+/// `f` with its pixels for `x >= from` darkened as under a person's shadow walking by:
+/// `v * keep + floor`.
+fn shadowed(mut f: Frame, from: usize, keep: f64, floor: f64) -> Frame {
+    for row in f.data.chunks_mut(f.width) {
+        for v in &mut row[from..] {
+            *v = (f64::from(*v) * keep + floor).round().clamp(0.0, 255.0) as u8;
+        }
+    }
+    f
+}
+
+#[test]
+fn a_person_walking_through_a_third_of_the_frame_does_not_lead_the_alignment() {
+    let (w, h) = (640, 360);
+    let first = textured(w, h, Motion::default(), 0);
+    let mut s = Steady::new(&first, None).unwrap();
+    let m = Motion {
+        dx: -1.7,
+        dy: 2.2,
+        rot_rad: -0.3f64.to_radians(),
+    };
+    // A dark figure over the right 40 %, and the camera's exposure a little up.
+    let mut moved = shadowed(textured(w, h, m, 1), 384, 0.3, 20.0);
+    for v in &mut moved.data {
+        *v = (f64::from(*v) * 1.1 + 6.0).min(255.0) as u8;
+    }
+    let got = s.measure(&moved).unwrap().expect("measured");
+    assert!((got.dx - m.dx).abs() < 0.1, "{got:?}");
+    assert!((got.dy - m.dy).abs() < 0.1, "{got:?}");
+    assert!(
+        (got.rot_rad - m.rot_rad).abs() < 0.02f64.to_radians(),
+        "{got:?}"
+    );
+}
+
+/// A nearly plain plate with a dark screw of radius 12 px at `pivot` and a dark ball of
+/// radius 24 px 160 px from it at `angle` (image, radians), seen under camera motion `m`.
+fn plate_with_ball(w: usize, h: usize, pivot: (f64, f64), angle: f64, m: Motion) -> Frame {
+    let plate = textured(w, h, m, 0);
+    let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
+    let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
+    let (bx, by) = (pivot.0 + 160.0 * angle.cos(), pivot.1 + 160.0 * angle.sin());
+    let mut data = plate.data;
+    for y in 0..h {
+        for x in 0..w {
+            // The plate's point seen here (see `textured`).
+            let (qx, qy) = (x as f64 - cx - m.dx, y as f64 - cy - m.dy);
+            let (px, py) = (c * qx + s * qy + cx, -s * qx + c * qy + cy);
+            let v = &mut data[y * w + x];
+            // The plate nearly plain, as a brushed metal plate is: its texture a fiftieth
+            // of `textured`'s.
+            *v = (110.0 + 0.02 * f64::from(*v)) as u8;
+            // The fulcrum's screw, static, and the ball.
+            if (px - pivot.0).hypot(py - pivot.1) < 12.0 {
+                *v = 40;
+            }
+            if (px - bx).hypot(py - by) < 24.0 {
+                *v = 15;
+            }
+        }
+    }
+    Frame { data, ..plate }
+}
+
+#[test]
+fn a_ball_near_where_the_first_frame_has_it_does_not_turn_the_picture_about_the_pivot() {
+    let (w, h) = (640, 360);
+    let pivot = (200.0, 60.0);
+    let a0 = 60f64.to_radians();
+    let first = plate_with_ball(w, h, pivot, a0, Motion::default());
+    // A still camera; the ball moves on from where the first frame has it, a little
+    // each frame, and each frame's alignment starts from the last one's.
+    let turned = |sweep: Option<&Sweep>| {
+        let mut s = Steady::new(&first, sweep).unwrap();
+        let mut turn = 0.0;
+        for k in 1..=10 {
+            let a = a0 + (0.4 * k as f64).to_radians();
+            let f = plate_with_ball(w, h, pivot, a, Motion::default());
+            if let Some(m) = s.measure(&f).unwrap() {
+                turn = m.rot_rad.to_degrees().abs();
+            }
+        }
+        turn
+    };
+    let sweep = Sweep::around(pivot, 140.0, (a0, a0 + 0.1), (0.0, 0.0));
+    let masked = turned(Some(&sweep));
+    assert!(masked < 0.03, "{masked} deg");
+    // Without the sweep left out, the ball turns the picture after it.
+    let pulled = turned(None);
+    assert!(pulled > 0.3, "{pulled} deg");
+}
+
+#[test]
+fn what_moves_in_most_frames_is_left_out_once_tallied() {
+    let (w, h) = (640, 360);
+    let pivot = (200.0, 60.0);
+    let a0 = 60f64.to_radians();
+    let first = plate_with_ball(w, h, pivot, a0, Motion::default());
+    let mut s = Steady::new(&first, None).unwrap();
+    let n0 = s.levels[1].points.len();
+    // The ball swings away and back over ten frames of a still camera.
+    for k in 1..=10 {
+        let a = a0 + 25f64.to_radians() * (std::f64::consts::PI * k as f64 / 10.0).sin();
+        s.measure(&plate_with_ball(w, h, pivot, a, Motion::default()))
+            .unwrap();
+        s.tally().unwrap();
+    }
+    s.prune(0.5);
+    let n1 = s.levels[1].points.len();
+    assert!(n1 < n0 && n1 > n0 / 2, "{n0} -> {n1} pixels");
+    // The ball then moves on from where the first frame has it, a little each frame (see
+    // the test above): without its pixels, the picture is not turned after it.
+    let mut turn = 0.0;
+    for k in 1..=10 {
+        let a = a0 + (0.4 * k as f64).to_radians();
+        let f = plate_with_ball(w, h, pivot, a, Motion::default());
+        if let Some(m) = s.measure(&f).unwrap() {
+            turn = m.rot_rad.to_degrees().abs();
+        }
+    }
+    assert!(turn < 0.03, "{turn} deg");
+}
+
+#[test]
+fn the_sweep_holds_the_wedge_from_the_pivot_out_to_its_reach() {
+    // Seen from 10 to 100 px at 80 to 100 deg, from a corner at (5, 5).
+    let s = Sweep::around(
+        (50.0, 20.0),
+        100.0,
+        (80f64.to_radians(), 100f64.to_radians()),
+        (5.0, 5.0),
+    );
+    // The pivot at (45, 15) in the frame: straight down from it is within.
+    assert!(s.holds(45.0, 15.0 + 120.0));
+    // Beyond the reach (1.4 x 100 px).
+    assert!(!s.holds(45.0, 15.0 + 150.0));
+    // 110 deg is within the margin of 15 deg; 120 deg is not.
+    let at = |deg: f64| {
+        let a = deg.to_radians();
+        (45.0 + 80.0 * a.cos(), 15.0 + 80.0 * a.sin())
+    };
+    assert!(s.holds(at(110.0).0, at(110.0).1));
+    assert!(!s.holds(at(120.0).0, at(120.0).1));
+    assert!(!s.holds(at(60.0).0, at(60.0).1));
 }

@@ -141,6 +141,48 @@ knobs! {
         what "the camera moves when more than this share of look frames moved",
         chosen_by "f48638b: hand-picked; not swept";
 
+    /// The pass does not read the part of the frame the pendulum sweeps: out to this many
+    /// times the farthest the wire was seen from the pivot (the ball at its end) ...
+    SWEEP_REACH: f64 = 1.4, "ratio",
+        what "the pass's steadying skips the sweep out to this times the wire's reach",
+        chosen_by "hand-held twin with a visible ball: pulled 2.4 deg round the pivot without it";
+
+    /// ... and this much beyond the angles it was seen at on either side (the ball's own
+    /// width, the wire's and the ball's shadows).
+    SWEEP_MARGIN_DEG: f64 = 15.0, "deg",
+        what "... and this far beyond the angles the wire was seen at",
+        chosen_by "a ball of a seventh of the wire's length, a shadow 5 deg off; not swept";
+
+    /// A moving camera's first look measures its frames twice: the first time it counts,
+    /// for each pixel of the first frame, the frames that do not show it alike once
+    /// aligned, and drops those that differ in more than this share of them (the
+    /// pendulum's: a visible ball near where the first frame has it pulls the alignment
+    /// round the pivot).
+    PRUNE_SHARE: f64 = 0.5, "share",
+        what "the look drops first-frame pixels that differ in more than this share of its frames",
+        chosen_by "hand-picked; not swept";
+
+    /// ... when at least this many frames were counted ...
+    PRUNE_MIN_FRAMES: u32 = 8, "frames",
+        what "... when at least this many frames were counted",
+        chosen_by "hand-picked; not swept";
+
+    /// ... and at least this share of the pixels is kept, percent.
+    PRUNE_MIN_KEPT: usize = 25, "percent",
+        what "... and at least this share of pixels is kept",
+        chosen_by "hand-picked; not swept";
+
+    /// A frame's light against the first's (see `Light`) is first fitted in this many
+    /// rounds ...
+    LIGHT_ROUNDS: usize = 3, "rounds",
+        what "rounds of the light's first fit",
+        chosen_by "hand-picked; not swept";
+
+    /// ... on the pixels within this many grey levels of the fit (Tukey's biweight).
+    LIGHT_LEVELS: f32 = 30.0, "grey levels",
+        what "tolerance of the light's first fit",
+        chosen_by "hand-picked; not swept";
+
     // From steady/follow.rs.
     /// See `Late`: so many glances in a row must find the camera moved.
     LATE_GLANCES: usize = 2, "glances",

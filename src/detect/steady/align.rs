@@ -1,0 +1,342 @@
+//! The alignment's arithmetic: a frame prepared for it, one Gauss-Newton step, the
+//! frame's light against the first's, and the reading of a frame through a motion.
+
+use super::{Level, Motion, Point};
+use crate::detect::tuning::{
+    EXPLAIN_PX, LEVEL_SPREAD, LIGHT_LEVELS, LIGHT_ROUNDS, MAX_GAIN, MIN_INFO, SMOOTH_PX,
+    TUKEY_LEVELS,
+};
+use crate::video::Frame;
+use anyhow::Result;
+use opencv::core::{self, Mat, Size};
+use opencv::imgproc;
+use opencv::prelude::*;
+
+/// `f` shrunk `shrink` times (block means) as floats, smoothed, into `smooth`, and that
+/// shrunk twice more into `coarse`; at the first frame's level and contrast `norm`
+/// (a gain and an offset), which the first frame sets. Each frame's own light is fitted
+/// in the alignment ([`Light`]): a frame's own level and contrast would move with a
+/// person walking through it.
+pub(super) fn prepare(
+    f: &Frame,
+    shrink: f64,
+    norm: &mut Option<(f64, f64)>,
+    small: &mut Mat,
+    smooth: &mut Mat,
+    coarse: &mut Mat,
+) -> Result<()> {
+    let m = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
+    let (sw, sh) = (
+        ((f.width as f64 / shrink).round() as i32).max(1),
+        ((f.height as f64 / shrink).round() as i32).max(1),
+    );
+    let size = Size::new(sw, sh);
+    let mut shrunk = Mat::default();
+    if size.width < f.width as i32 {
+        imgproc::resize(&m, &mut shrunk, size, 0.0, 0.0, imgproc::INTER_AREA)?;
+    } else {
+        shrunk = m.try_clone()?;
+    }
+    // The first frame's median grey brought to 128 and its quartiles' spread to
+    // `LEVEL_SPREAD` (a plain wall's faint shading made as telling as a textured scene).
+    let (gain, offset) = match *norm {
+        Some(n) => n,
+        None => *norm.insert(spread_of(&shrunk)?),
+    };
+    shrunk.convert_to(small, core::CV_32F, gain, offset)?;
+    imgproc::gaussian_blur(
+        &*small,
+        smooth,
+        Size::new(0, 0),
+        SMOOTH_PX,
+        SMOOTH_PX,
+        core::BORDER_REPLICATE,
+    )?;
+    imgproc::resize(
+        &*smooth,
+        coarse,
+        Size::new((sw / 2).max(1), (sh / 2).max(1)),
+        0.0,
+        0.0,
+        imgproc::INTER_AREA,
+    )?;
+    Ok(())
+}
+
+/// The gain and offset that bring `m`'s median grey to 128 and its quartiles' spread to
+/// [`LEVEL_SPREAD`] (by a gain within [`MAX_GAIN`]).
+fn spread_of(m: &Mat) -> Result<(f64, f64)> {
+    let mut hist = [0usize; 256];
+    let bytes = m.data_bytes()?;
+    for &v in bytes {
+        hist[usize::from(v)] += 1;
+    }
+    let quantile = |q: f64| {
+        let mut below = 0usize;
+        for (v, &n) in hist.iter().enumerate() {
+            below += n;
+            if below as f64 >= q * bytes.len() as f64 {
+                return v as f64;
+            }
+        }
+        255.0
+    };
+    let median = quantile(0.5);
+    let spread = quantile(0.75) - quantile(0.25);
+    let gain = (LEVEL_SPREAD / spread.max(1.0)).clamp(1.0 / MAX_GAIN, MAX_GAIN);
+    Ok((gain, 128.0 - gain * median))
+}
+
+/// One Gauss-Newton step of the alignment at `level`: the frame `img` (at the level's
+/// scale) read through motion `m` at the first frame's informative pixels, their
+/// difference from the first frame, and the change of `m` that best removes it (none
+/// when the scene holds too little to fix it); with the weighted RMS difference, grey
+/// levels, and Tukey's loss per pixel.
+pub(super) fn align_step(
+    level: &Level,
+    img: &Mat,
+    m: Motion,
+    tolerance_px: f32,
+    light: &mut Light,
+) -> Result<(Option<Motion>, f64, f64)> {
+    let at = Reader::new(level, img, m)?;
+    // The weighted sums that fit the light anew (see `Light`).
+    let mut sums = Sums::default();
+    let mut hm = [[0.0f64; 3]; 3];
+    let mut g = [0.0f64; 3];
+    let (mut sum_w, mut sum_we2) = (0.0f64, 0.0f64);
+    // Tukey's loss, summed, and the pixels it is summed over.
+    let (mut loss, mut count) = (0.0f64, 0.0f64);
+    for p in &level.points {
+        let Some(grey) = at.grey(p) else {
+            continue;
+        };
+        let e = light.gain * grey + light.offset - p.grey;
+        // Tukey's biweight: a pixel far off weighs nothing.
+        let u = e / (TUKEY_LEVELS + tolerance_px * p.gradient);
+        // `v = 1 - u^2`: the weight is `v^2`, the loss `1 - v^3` (a power function
+        // here was a twentieth of a still clip's whole detection).
+        let v = if u.abs() < 1.0 { 1.0 - u * u } else { 0.0 };
+        let w = v * v;
+        let kept = v * w;
+        let (j0, j1, j2) = (
+            f64::from(p.jac[0]),
+            f64::from(p.jac[1]),
+            f64::from(p.jac[2]),
+        );
+        let (w, e) = (f64::from(w), f64::from(e));
+        let (gi, gr) = (f64::from(grey), f64::from(p.grey));
+        sums.add(w, gi, gr);
+        hm[0][0] += w * j0 * j0;
+        hm[0][1] += w * j0 * j1;
+        hm[0][2] += w * j0 * j2;
+        hm[1][1] += w * j1 * j1;
+        hm[1][2] += w * j1 * j2;
+        hm[2][2] += w * j2 * j2;
+        g[0] += w * j0 * e;
+        g[1] += w * j1 * e;
+        g[2] += w * j2 * e;
+        sum_w += w;
+        sum_we2 += w * e * e;
+        loss += 1.0 - f64::from(kept);
+        count += 1.0;
+    }
+    if count < 1.0 {
+        return Ok((None, f64::INFINITY, f64::INFINITY));
+    }
+    light.refit(&sums);
+    let residual = (sum_we2 / sum_w.max(1.0)).sqrt();
+    // In units where a turn counts as the shift it gives at the frame's half side, per
+    // pixel of the frame (the informative ones weighed, the plain ones holding none):
+    // the information the scene holds on each direction of motion (grey levels squared
+    // per px squared).
+    let r = 0.5 * f64::from(level.w.max(level.h));
+    let n = f64::from(level.w * level.h) * (sum_w / count).max(1e-3);
+    let hn = nalgebra::Matrix3::new(
+        hm[0][0],
+        hm[0][1],
+        hm[0][2] / r,
+        hm[0][1],
+        hm[1][1],
+        hm[1][2] / r,
+        hm[0][2] / r,
+        hm[1][2] / r,
+        hm[2][2] / (r * r),
+    ) / n;
+    let gn = nalgebra::Vector3::new(g[0], g[1], g[2] / r) / n;
+    let now = nalgebra::Vector3::new(m.dx / level.shrink, m.dy / level.shrink, m.rot_rad * r);
+    let eig = hn.symmetric_eigen();
+    // Along a direction the scene fixes, the Gauss-Newton step; along one it does not (a
+    // plain wall, a single straight edge along itself), back to no motion: the frame is
+    // not moved on a guess.
+    let mut d = nalgebra::Vector3::zeros();
+    let mut fixed = 0;
+    for k in 0..3 {
+        let v = eig.eigenvectors.column(k);
+        let along = if eig.eigenvalues[k] >= MIN_INFO {
+            fixed += 1;
+            -v.dot(&gn) / eig.eigenvalues[k]
+        } else {
+            -v.dot(&now)
+        };
+        d += v * along;
+    }
+    if fixed == 0 {
+        return Ok((None, residual, loss / count.max(1.0)));
+    }
+    let d = nalgebra::Vector3::new(d[0], d[1], d[2] / r);
+    Ok((
+        Some(Motion {
+            dx: d[0] * level.shrink,
+            dy: d[1] * level.shrink,
+            rot_rad: d[2],
+        }),
+        residual,
+        loss / count.max(1.0),
+    ))
+}
+
+/// The frame's greys against the first's: `first = gain * frame + offset` on the static
+/// scene (the lights drift, a camera's exposure follows the scene). Fitted for each frame,
+/// from the median difference, on the pixels that agree: a frame's own level and contrast
+/// would move with a person walking through part of it, and leave every pixel of the
+/// rest more than `TUKEY_LEVELS` off (the alignment then followed whatever still matched:
+/// 40 px astray on a hand-held twin).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Light {
+    pub(super) gain: f32,
+    pub(super) offset: f32,
+}
+
+impl Light {
+    /// The median difference of the first frame's greys from the frame's, read through
+    /// motion `m`, as the offset (gain 1).
+    pub(super) fn at(level: &Level, img: &Mat, m: Motion) -> Result<Self> {
+        let at = Reader::new(level, img, m)?;
+        let mut d: Vec<f32> = level
+            .points
+            .iter()
+            .filter_map(|p| at.grey(p).map(|g| p.grey - g))
+            .collect();
+        let offset = if d.is_empty() {
+            0.0
+        } else {
+            let k = d.len() / 2;
+            *d.select_nth_unstable_by(k, f32::total_cmp).1
+        };
+        let mut light = Self { gain: 1.0, offset };
+        // Then the gain and offset refitted on the pixels within a wide tolerance (the
+        // frame not yet aligned) of the line.
+        for _ in 0..LIGHT_ROUNDS {
+            let mut sums = Sums::default();
+            for p in &level.points {
+                let Some(g) = at.grey(p) else {
+                    continue;
+                };
+                let e = light.gain * g + light.offset - p.grey;
+                let u = e / (LIGHT_LEVELS + EXPLAIN_PX * p.gradient);
+                let v = if u.abs() < 1.0 { 1.0 - u * u } else { 0.0 };
+                let (w, g, r) = (f64::from(v * v), f64::from(g), f64::from(p.grey));
+                sums.add(w, g, r);
+            }
+            light.refit(&sums);
+        }
+        Ok(light)
+    }
+
+    /// Fitted anew from the weighted sums of the pixels read, when they fix a gain
+    /// within [`1 / MAX_GAIN`, `MAX_GAIN`]: the ratio of the greys' spreads, not the
+    /// regression's slope (with the frame not yet aligned, the greys agree less and the
+    /// slope shrinks towards 0, and the alignment's steps with it: 0.25 and a tenth of a
+    /// pixel a step, on a frame a person darkened two fifths of).
+    pub(super) fn refit(&mut self, s: &Sums) {
+        if s.w < 1.0 {
+            return;
+        }
+        let (mg, mr) = (s.g / s.w, s.r / s.w);
+        let var_g = s.gg / s.w - mg * mg;
+        let var_r = s.rr / s.w - mr * mr;
+        let cov = s.gr / s.w - mg * mr;
+        if var_g <= 1e-6 || var_r <= 1e-6 || cov <= 0.0 {
+            return;
+        }
+        let gain = (var_r / var_g).sqrt();
+        if !(1.0 / MAX_GAIN..=MAX_GAIN).contains(&gain) {
+            return;
+        }
+        self.gain = gain as f32;
+        self.offset = (mr - gain * mg) as f32;
+    }
+}
+
+/// Weighted sums of the frame's greys `g` and the first frame's `r` at the pixels read.
+#[derive(Default)]
+pub(super) struct Sums {
+    w: f64,
+    g: f64,
+    gg: f64,
+    r: f64,
+    rr: f64,
+    gr: f64,
+}
+
+impl Sums {
+    fn add(&mut self, w: f64, g: f64, r: f64) {
+        self.w += w;
+        self.g += w * g;
+        self.gg += w * g * g;
+        self.r += w * r;
+        self.rr += w * r * r;
+        self.gr += w * g * r;
+    }
+}
+
+/// Reads the frame (at a level's scale) where it shows the first frame's pixels under a
+/// motion: the first frame's `p` is seen at `c + R (p - c) + t`.
+pub(super) struct Reader<'a> {
+    cur: &'a [f32],
+    wu: usize,
+    c: f32,
+    s: f32,
+    cx: f32,
+    cy: f32,
+    tx: f32,
+    ty: f32,
+    xmax: f32,
+    ymax: f32,
+}
+
+impl<'a> Reader<'a> {
+    pub(super) fn new(level: &Level, img: &'a Mat, m: Motion) -> Result<Self> {
+        Ok(Self {
+            cur: img.data_typed::<f32>()?,
+            wu: level.w as usize,
+            c: m.rot_rad.cos() as f32,
+            s: m.rot_rad.sin() as f32,
+            cx: 0.5 * (level.w as f32 - 1.0),
+            cy: 0.5 * (level.h as f32 - 1.0),
+            tx: (m.dx / level.shrink) as f32,
+            ty: (m.dy / level.shrink) as f32,
+            xmax: level.w as f32 - 1.001,
+            ymax: level.h as f32 - 1.001,
+        })
+    }
+
+    /// The frame's grey (bilinear) where it shows `p`, none outside it.
+    #[inline]
+    pub(super) fn grey(&self, p: &Point) -> Option<f32> {
+        let (ux, uy) = (p.x - self.cx, p.y - self.cy);
+        let qx = self.cx + self.c * ux - self.s * uy + self.tx;
+        let qy = self.cy + self.s * ux + self.c * uy + self.ty;
+        if !(qx >= 0.0 && qy >= 0.0 && qx < self.xmax && qy < self.ymax) {
+            return None;
+        }
+        let (x0, y0) = (qx as usize, qy as usize);
+        let (fx, fy) = (qx - x0 as f32, qy - y0 as f32);
+        let (cur, wu) = (self.cur, self.wu);
+        let i = y0 * wu + x0;
+        let top = cur[i] + fx * (cur[i + 1] - cur[i]);
+        let bottom = cur[i + wu] + fx * (cur[i + wu + 1] - cur[i + wu]);
+        Some(top + fy * (bottom - top))
+    }
+}

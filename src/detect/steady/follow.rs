@@ -10,10 +10,14 @@ use anyhow::Result;
 /// pass's own frames (the region of interest): once [`LATE_GLANCES`] glances in a row
 /// find it moved (as the first look judges, [`MOVING_PX`] and `EXPLAINS`), every
 /// frame from there on is measured and warped back onto the pass's first frame, within
-/// the region.
+/// the region, on the static scene (the pendulum's sweep left out). The glances read the
+/// whole region: with the sweep left out, the few pixels a small region keeps let a
+/// wire the first look placed wrong turn a still camera's glances after it.
 pub(in crate::detect) struct Late {
-    /// The pendulum's part of the region, not read (see [`Sweep`]).
+    /// The pendulum's part of the region (see [`Sweep`]).
     sweep: Sweep,
+    /// The pass's first frame, kept until the camera is found to move.
+    first: Option<Frame>,
     steady: Option<Steady>,
     next_t: f64,
     on: bool,
@@ -27,6 +31,7 @@ impl Late {
     pub(in crate::detect) fn new(sweep: Sweep) -> Self {
         Self {
             sweep,
+            first: None,
             steady: None,
             next_t: 0.0,
             on: false,
@@ -39,7 +44,8 @@ impl Late {
     pub(in crate::detect) fn offer(&mut self, f: &mut Frame) -> Result<()> {
         let Some(st) = &mut self.steady else {
             self.next_t = f.t_s + LATE_EVERY_S;
-            self.steady = Some(Steady::new(f, Some(&self.sweep))?);
+            self.steady = Some(Steady::new(f, None)?);
+            self.first = Some(f.clone());
             return Ok(());
         };
         if !self.on {
@@ -58,6 +64,9 @@ impl Late {
                 return Ok(());
             }
             self.on = true;
+            if let Some(first) = self.first.take() {
+                *st = Steady::new(&first, Some(&self.sweep))?;
+            }
         }
         let m = self.followed.next(st, f)?;
         st.undo(f, m)

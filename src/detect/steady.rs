@@ -339,8 +339,13 @@ impl Steady {
     /// that does not is the moving wire's or the ball's pull on a plain scene, not the
     /// camera's.
     pub(super) fn explains(&mut self) -> Result<bool> {
+        self.explains_by(EXPLAINS)
+    }
+
+    /// Whether the motion last measured leaves fewer pixels off than none, by `share`.
+    pub(super) fn explains_by(&mut self, share: f64) -> Result<bool> {
         let (moved, still) = self.losses()?;
-        Ok(moved < EXPLAINS * still)
+        Ok(moved < share * still)
     }
 
     /// The loss of the frame last measured at its motion and at none.

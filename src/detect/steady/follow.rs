@@ -2,7 +2,9 @@
 //! the frames' motions summed for the detection's record ([`CameraMotion`]).
 
 use super::{Motion, Steady, Sweep};
-use crate::detect::tuning::{LATE_EVERY_S, LATE_GLANCES, MOVING_PX};
+use crate::detect::tuning::{
+    LATE_AGREE, LATE_DRIFT_GLANCES, LATE_EVERY_S, LATE_EXPLAINS, LATE_GLANCES, MOVING_PX,
+};
 use crate::video::Frame;
 use anyhow::Result;
 
@@ -10,9 +12,10 @@ use anyhow::Result;
 /// pass's own frames (the region of interest): once [`LATE_GLANCES`] glances in a row
 /// find it moved (as the first look judges, [`MOVING_PX`] and `EXPLAINS`), every
 /// frame from there on is measured and warped back onto the pass's first frame, within
-/// the region, on the static scene (the pendulum's sweep left out). The glances read the
-/// whole region: with the sweep left out, the few pixels a small region keeps let a
-/// wire the first look placed wrong turn a still camera's glances after it.
+/// the region, on the static scene (the pendulum's sweep left out), once that shows the
+/// motion too. The glances read the whole region: with the sweep left out, the few
+/// pixels a small region keeps let a wire the first look placed wrong turn a still
+/// camera's glances after it.
 pub(in crate::detect) struct Late {
     /// The pendulum's part of the region (see [`Sweep`]).
     sweep: Sweep,
@@ -23,6 +26,9 @@ pub(in crate::detect) struct Late {
     on: bool,
     /// Glances in a row that found the camera moved.
     glances: usize,
+    /// The motions, measured afresh, of the glances in a row that found the camera
+    /// moved by the weaker test and each near the one before (see [`Late::drifts`]).
+    drift: Vec<Motion>,
     followed: Followed,
 }
 
@@ -36,6 +42,7 @@ impl Late {
             next_t: 0.0,
             on: false,
             glances: 0,
+            drift: Vec::new(),
             followed: Followed::default(),
         }
     }
@@ -53,9 +60,15 @@ impl Late {
                 return Ok(());
             }
             self.next_t = f.t_s + LATE_EVERY_S;
+            let (w, h) = (f.width as f64, f.height as f64);
             let moved = match st.measure(f)? {
-                Some(m) => m.reach(f.width as f64, f.height as f64) > MOVING_PX && st.explains()?,
-                None => false,
+                Some(m) if m.reach(w, h) > MOVING_PX => {
+                    st.explains()? || Self::drifts(&mut self.drift, st, f)?
+                }
+                _ => {
+                    self.drift.clear();
+                    false
+                }
             };
             // Two glances in a row: a region that two rods or a shadow fill pulls one
             // glance of a still camera along now and then, not two running.
@@ -63,13 +76,57 @@ impl Late {
             if self.glances < LATE_GLANCES {
                 return Ok(());
             }
-            self.on = true;
-            if let Some(first) = self.first.take() {
-                *st = Steady::new(&first, Some(&self.sweep))?;
+            // The static scene (the pendulum's sweep left out) must show the motion too:
+            // a still camera's glances that a wire or its shadow pulled along do not.
+            let first = self.first.as_ref().expect("kept until the camera moves");
+            let mut on_scene = Steady::new(first, Some(&self.sweep))?;
+            if !on_scene
+                .glance(f)?
+                .is_some_and(|m| m.reach(w, h) > MOVING_PX)
+            {
+                self.glances = 0;
+                self.drift.clear();
+                return Ok(());
             }
+            *st = on_scene;
+            self.first = None;
+            self.on = true;
         }
         let m = self.followed.next(st, f)?;
         st.undo(f, m)
+    }
+
+    /// Whether the glance at `f`, measured moved but not explaining the frame by
+    /// `EXPLAINS`, is one of a drift: it explains it by [`LATE_EXPLAINS`], and measured
+    /// afresh (from no motion) the frame is displaced near where the glance before was
+    /// ([`LATE_AGREE`]), [`LATE_DRIFT_GLANCES`] times in a row. Heavy compression leaves
+    /// most pixels off aligned or not (a drift of 11 px under CRF 35 explained a tenth
+    /// of them, and went unfollowed: s_r 3 % off); a wire pulling the alignment does not
+    /// displace the frame alike from glance to glance.
+    fn drifts(drift: &mut Vec<Motion>, st: &mut Steady, f: &Frame) -> Result<bool> {
+        let (w, h) = (f.width as f64, f.height as f64);
+        let afresh = if st.explains_by(LATE_EXPLAINS)? {
+            st.glance(f)?.filter(|m| m.reach(w, h) > MOVING_PX)
+        } else {
+            None
+        };
+        let Some(m) = afresh else {
+            drift.clear();
+            return Ok(false);
+        };
+        let near = |p: &Motion| {
+            let d = Motion {
+                dx: m.dx - p.dx,
+                dy: m.dy - p.dy,
+                rot_rad: m.rot_rad - p.rot_rad,
+            };
+            d.reach(w, h) < LATE_AGREE * m.reach(w, h).max(p.reach(w, h))
+        };
+        if !drift.last().is_none_or(near) {
+            drift.clear();
+        }
+        drift.push(m);
+        Ok(drift.len() >= LATE_DRIFT_GLANCES)
     }
 
     /// The camera's motion, when it was found to move.

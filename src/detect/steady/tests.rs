@@ -234,3 +234,44 @@ fn the_sweep_holds_the_wedge_from_the_pivot_out_to_its_reach() {
     assert!(!s.holds(at(120.0).0, at(120.0).1));
     assert!(!s.holds(at(60.0).0, at(60.0).1));
 }
+
+/// `f` with strong noise (a heavily compressed recording's): each pixel moved by up to
+/// +-`amp` grey levels, differently in each frame.
+fn noisy(mut f: Frame, amp: f64) -> Frame {
+    let mut z = f.index.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    for v in &mut f.data {
+        z ^= z << 13;
+        z ^= z >> 7;
+        z ^= z << 17;
+        let u = (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        *v = (f64::from(*v) + 2.0 * amp * u).round().clamp(0.0, 255.0) as u8;
+    }
+    f
+}
+
+/// Whether a camera the look saw still is found to move over 12 s of noisy frames at
+/// 10 frames/s drifting `px_per_s` along x.
+fn late_follows(px_per_s: f64) -> bool {
+    let (w, h) = (480, 320);
+    let sweep = Sweep::around((-500.0, -500.0), 10.0, (0.0, 0.1), (0.0, 0.0));
+    let mut late = Late::new(sweep);
+    for i in 0..120u64 {
+        let t = i as f64 / 10.0;
+        let m = Motion {
+            dx: px_per_s * t,
+            ..Motion::default()
+        };
+        let mut f = noisy(textured(w, h, m, i), 150.0);
+        f.t_s = t;
+        late.offer(&mut f).unwrap();
+    }
+    late.camera().is_some()
+}
+
+/// At this noise the glances explain a drifting frame by less than `EXPLAINS` (without
+/// `Late::drifts`, the drift is not followed and this fails).
+#[test]
+fn a_slow_drift_under_heavy_noise_is_followed_and_a_still_camera_is_not() {
+    assert!(late_follows(0.8));
+    assert!(!late_follows(0.0));
+}

@@ -189,6 +189,23 @@ knobs! {
         what "glances in a row that must find a still-seen camera moved",
         chosen_by "5d8c5fd: drift twin (8 px over 20 s) angle RMS 0.55 -> 0.067 deg";
 
+    /// See `Late::drifts`: a glance that does not explain the frame by `EXPLAINS` still
+    /// counts when it does by this share ...
+    LATE_EXPLAINS: f64 = 0.95, "share",
+        what "a glance explaining the frame by this share may still be a drift",
+        chosen_by "a drift of 11 px under CRF 35: glances at 0.82 to 0.91; hand-picked";
+
+    /// ... and, measured afresh, lies within this share of its reach of the glance
+    /// before ...
+    LATE_AGREE: f64 = 0.5, "share",
+        what "a drift's glances agree within this share of their reach",
+        chosen_by "hand-picked; not swept";
+
+    /// ... so many times in a row.
+    LATE_DRIFT_GLANCES: usize = 2, "glances",
+        what "glances in a row that must agree for a drift",
+        chosen_by "hand-picked; not swept";
+
     /// See `Late`, s: a drift or a bump is caught within two of these; a still camera pays
     /// one measurement each (at 1 s, a 22 s 60 fps clip took 4 % more of the processor than
     /// at 2 s; the drift twin's angles erred the same).

@@ -57,8 +57,8 @@ pub(super) struct Sweep {
 }
 
 impl Sweep {
-    /// The sweep of a wire seen from `r_lo` to `r_hi` px from `pivot` at angles
-    /// `theta_min` to `theta_max`, widened for the ball at its end and the shadows
+    /// The sweep of a wire seen out to `r_hi` px from `pivot` at angles `theta` (the
+    /// least and the most, radians), widened for the ball at its end and the shadows
     /// beside it ([`SWEEP_REACH`], [`SWEEP_MARGIN_DEG`]); `origin` is the measured
     /// frame's corner in the same coordinates.
     pub(super) fn around(

@@ -10,7 +10,9 @@ use anyhow::Result;
 
 /// A camera the first look saw still, glanced at every [`LATE_EVERY_S`] on the streaming
 /// pass's own frames (the region of interest): once [`LATE_GLANCES`] glances in a row
-/// find it moved (as the first look judges, [`MOVING_PX`] and `EXPLAINS`), every
+/// find it moved (as the first look judges, [`MOVING_PX`] and `EXPLAINS`, or as one of
+/// a drift, [`Late::drifts`]: its first glance does not count, so a drift takes three
+/// glances in a row), every
 /// frame from there on is measured and warped back onto the pass's first frame, within
 /// the region, on the static scene (the pendulum's sweep left out), once that shows the
 /// motion too. The glances read the whole region: with the sweep left out, the few

@@ -48,12 +48,12 @@ impl Motion {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Sweep {
     /// The pivot.
-    pub centre: (f64, f64),
+    centre: (f64, f64),
     /// The farthest reach from the pivot, px.
-    pub reach: f64,
+    reach: f64,
     /// The angles (image, from the x axis) swept, radians, `lo < hi`.
-    pub lo: f64,
-    pub hi: f64,
+    lo: f64,
+    hi: f64,
 }
 
 impl Sweep {

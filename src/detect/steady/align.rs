@@ -112,11 +112,9 @@ pub(super) fn align_step(
             continue;
         };
         let e = light.gain * grey + light.offset - p.grey;
-        // Tukey's biweight: a pixel far off weighs nothing.
-        let u = e / (TUKEY_LEVELS + tolerance_px * p.gradient);
-        // `v = 1 - u^2`: the weight is `v^2`, the loss `1 - v^3` (a power function
-        // here was a twentieth of a still clip's whole detection).
-        let v = if u.abs() < 1.0 { 1.0 - u * u } else { 0.0 };
+        // Tukey's biweight: a pixel far off weighs nothing. The weight is `v^2`, the
+        // loss `1 - v^3`.
+        let v = biweight(e, TUKEY_LEVELS + tolerance_px * p.gradient);
         let w = v * v;
         let kept = v * w;
         let (j0, j1, j2) = (
@@ -196,6 +194,19 @@ pub(super) fn align_step(
     ))
 }
 
+/// Tukey's biweight of a difference `e` at `scale`: `v = 1 - (e / scale)^2` within the
+/// scale, 0 beyond (the weight is `v^2`, the loss `1 - v^3`; a power function here was a
+/// twentieth of a still clip's whole detection).
+#[inline]
+fn biweight(e: f32, scale: f32) -> f32 {
+    let u = e / scale;
+    if u.abs() < 1.0 {
+        1.0 - u * u
+    } else {
+        0.0
+    }
+}
+
 /// The frame's greys against the first's: `first = gain * frame + offset` on the static
 /// scene (the lights drift, a camera's exposure follows the scene). Fitted for each frame,
 /// from the median difference, on the pixels that agree: a frame's own level and contrast
@@ -234,8 +245,7 @@ impl Light {
                     continue;
                 };
                 let e = light.gain * g + light.offset - p.grey;
-                let u = e / (LIGHT_LEVELS + EXPLAIN_PX * p.gradient);
-                let v = if u.abs() < 1.0 { 1.0 - u * u } else { 0.0 };
+                let v = biweight(e, LIGHT_LEVELS + EXPLAIN_PX * p.gradient);
                 let (w, g, r) = (f64::from(v * v), f64::from(g), f64::from(p.grey));
                 sums.add(w, g, r);
             }

@@ -153,25 +153,29 @@ fn plate_with_ball(w: usize, h: usize, pivot: (f64, f64), angle: f64, m: Motion)
     Frame { data, ..plate }
 }
 
+/// A still camera; the ball moves on from where the first frame (at `a0`) has it, 0.4
+/// deg a frame for ten frames, each frame's alignment starting from the last one's: the
+/// turn (deg) `s` measures in the last frame measured.
+fn ball_moves_on(s: &mut Steady, (w, h): (usize, usize), pivot: (f64, f64), a0: f64) -> f64 {
+    let mut turn = 0.0;
+    for k in 1..=10 {
+        let a = a0 + (0.4 * k as f64).to_radians();
+        let f = plate_with_ball(w, h, pivot, a, Motion::default());
+        if let Some(m) = s.measure(&f).unwrap() {
+            turn = m.rot_rad.to_degrees().abs();
+        }
+    }
+    turn
+}
+
 #[test]
 fn a_ball_near_where_the_first_frame_has_it_does_not_turn_the_picture_about_the_pivot() {
     let (w, h) = (640, 360);
     let pivot = (200.0, 60.0);
     let a0 = 60f64.to_radians();
     let first = plate_with_ball(w, h, pivot, a0, Motion::default());
-    // A still camera; the ball moves on from where the first frame has it, a little
-    // each frame, and each frame's alignment starts from the last one's.
     let turned = |sweep: Option<&Sweep>| {
-        let mut s = Steady::new(&first, sweep).unwrap();
-        let mut turn = 0.0;
-        for k in 1..=10 {
-            let a = a0 + (0.4 * k as f64).to_radians();
-            let f = plate_with_ball(w, h, pivot, a, Motion::default());
-            if let Some(m) = s.measure(&f).unwrap() {
-                turn = m.rot_rad.to_degrees().abs();
-            }
-        }
-        turn
+        ball_moves_on(&mut Steady::new(&first, sweep).unwrap(), (w, h), pivot, a0)
     };
     let sweep = Sweep::around(pivot, 140.0, (a0, a0 + 0.1), (0.0, 0.0));
     let masked = turned(Some(&sweep));
@@ -199,16 +203,8 @@ fn what_moves_in_most_frames_is_left_out_once_tallied() {
     s.prune(0.5);
     let n1 = s.levels[1].points.len();
     assert!(n1 < n0 && n1 > n0 / 2, "{n0} -> {n1} pixels");
-    // The ball then moves on from where the first frame has it, a little each frame (see
-    // the test above): without its pixels, the picture is not turned after it.
-    let mut turn = 0.0;
-    for k in 1..=10 {
-        let a = a0 + (0.4 * k as f64).to_radians();
-        let f = plate_with_ball(w, h, pivot, a, Motion::default());
-        if let Some(m) = s.measure(&f).unwrap() {
-            turn = m.rot_rad.to_degrees().abs();
-        }
-    }
+    // Without the ball's pixels, the picture is not turned after it.
+    let turn = ball_moves_on(&mut s, (w, h), pivot, a0);
     assert!(turn < 0.03, "{turn} deg");
 }
 

@@ -113,13 +113,16 @@ fuzz: deps
 # materials), each ROBUSTNESS_SECONDS long, detected with no options and fitted from
 # geometry only. ROBUSTNESS_ONLY=N runs scene N alone and keeps its folder (video, YAML,
 # angles.csv, truth.csv). ROBUSTNESS_WORK_SIDE=PX detects at that working side
-# (`video.work_side_px`; default 640).
+# (`video.work_side_px`; default 640). A scene with a wide lens is detected with the
+# coefficient `rollfric lens` fits from a gridded sheet filmed by its camera
+# (ROBUSTNESS_LENS=sheet, the default; `none`: no lens given; `known`: the true one).
 ROBUSTNESS_SCENES ?= 60
 ROBUSTNESS_SEED ?= 1
 ROBUSTNESS_SECONDS ?= 40
 ROBUSTNESS_WORK_SIDE ?= 640
+ROBUSTNESS_LENS ?= sheet
 robustness: deps
-	ROBUSTNESS_WORK_SIDE=$(ROBUSTNESS_WORK_SIDE) $(CARGO) run --release --locked --example robustness -- \
+	ROBUSTNESS_WORK_SIDE=$(ROBUSTNESS_WORK_SIDE) ROBUSTNESS_LENS=$(ROBUSTNESS_LENS) $(CARGO) run --release --locked --example robustness -- \
 	  $(ROBUSTNESS_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS) $(ROBUSTNESS_ONLY)
 
 # The coverage of s_r's 95 % intervals: the robustness sweep with every measured scene

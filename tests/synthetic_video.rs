@@ -607,9 +607,12 @@ fn a_twin_in_a_busy_room_is_measured_and_its_occluded_frames_are_not_ok() {
 /// A wide lens (barrel, k1 = -0.24) and a fulcrum just off the frame's left edge, where
 /// the distortion is strongest: measured as the image shows it, the swing is off by
 /// several percent (0.60 deg angle RMS); with `video.lens` giving the coefficient, each
-/// angle and the pivot are measured in the undistorted view (0.029 deg).
+/// angle and the pivot are measured in the undistorted view (0.029 deg). The
+/// coefficient `rollfric lens` fits from a gridded sheet filmed through the same lens
+/// (a second of the same camera's twin with a grid over its plate) is the lens's, and
+/// undoes it as well.
 #[test]
-fn a_wide_lens_is_undone_when_its_coefficient_is_given() {
+fn a_wide_lens_is_undone_when_its_coefficient_is_given_or_fitted_from_a_sheet() {
     if !need_ffmpeg() {
         return;
     }
@@ -654,6 +657,43 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given() {
     let undone = scatter_deg(&ok_errors_against_truth(d));
     assert!(seen > 0.3, "the lens uncorrected: {seen:.4} deg");
     assert!(undone < 0.05, "the lens undone: {undone:.4} deg");
+
+    // The sheet: the same camera and lens, a grid over the plate, one second.
+    let sheet = synthetic.replace("duration_s: 20", "duration_s: 1") + "  room: {board: grid}\n";
+    std::fs::write(d.join("sheet.yaml"), with_synthetic("steel", &sheet)).unwrap();
+    rollfric_ok(&["synth", "sheet.yaml", "-o", "sheet.mp4"], d);
+    let (out, _) = rollfric_ok(&["lens", "sheet.mp4", "--json"], d);
+    let fit: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (k1, u) = (fit["k1"].as_f64().unwrap(), fit["u_k1"].as_f64().unwrap());
+    assert!((k1 + 0.24).abs() < 0.01, "fitted k1 {k1} +- {u}");
+    assert!(
+        u > 0.0 && u < 0.01 && (k1 + 0.24).abs() < 3.0 * u + 0.002,
+        "{k1} +- {u}"
+    );
+    std::fs::write(
+        d.join("fitted.yaml"),
+        format!(
+            "{}video:\n  lens: {{k1: {k1}, u_k1: {u}}}\n",
+            with_synthetic("steel", synthetic)
+        ),
+    )
+    .unwrap();
+    rollfric_ok(
+        &[
+            "detect",
+            "lens.mp4",
+            "-o",
+            "angles.csv",
+            "--experiment",
+            "fitted.yaml",
+        ],
+        d,
+    );
+    let fitted = scatter_deg(&ok_errors_against_truth(d));
+    assert!(fitted < 0.05, "the lens fitted and undone: {fitted:.4} deg");
+    // Its text says what to write into the experiment file.
+    let (text, _) = rollfric_ok(&["lens", "sheet.mp4"], d);
+    assert!(text.contains("lens: {k1: -0.2"), "{text}");
 }
 
 /// `detect --steps N` pictures frame N's steps: four pictures of one size, the evidence

@@ -6,6 +6,7 @@ mod build;
 mod detect;
 mod fit;
 mod init;
+mod lens;
 mod model;
 mod workflow;
 
@@ -60,6 +61,9 @@ enum Cmd {
     /// Write a commented experiment file for a video (what the detector finds in it, and
     /// every geometry key to fill in), optionally listed in a manifest.
     Init(init::InitArgs),
+    /// Fit the lens's radial distortion from the straight lines a video shows (a ruled or
+    /// gridded sheet filmed with the experiment's camera), for `video.lens`.
+    Lens(lens::LensArgs),
     /// Versions: rollfric, the system OpenCV, the ffmpeg program (or its absence).
     Info,
     /// Every key of an experiment file and of the manifest, with its type, default and
@@ -110,6 +114,7 @@ fn run(cli: Cli) -> anyhow::Result<Done> {
         Cmd::Torsion(a) => model::torsion(a).map(Done::ok),
         Cmd::Detect(a) => detect::detect(a).map(Done::ok),
         Cmd::Init(a) => init::init(a).map(Done::ok),
+        Cmd::Lens(a) => lens::lens(a).map(Done::ok),
         Cmd::Info => crate::video::info().map(Done::ok),
         Cmd::Schema(a) => Ok(Done::ok(if a.json {
             crate::config::schema::experiment_json()

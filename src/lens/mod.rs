@@ -8,6 +8,8 @@
 //! a phone crops its wide lens's picture to fill the frame. `k1 < 0` is barrel
 //! distortion (a phone's wide lens, to about -0.3), `k1 > 0` pincushion.
 
+pub mod plumb;
+
 use serde::{Deserialize, Serialize};
 
 /// The radial distortion of a `w` x `h` px frame.

@@ -1,0 +1,93 @@
+//! `rollfric lens VIDEO`: the lens's radial distortion fitted from the straight lines a
+//! video shows (a ruled or gridded sheet filmed with the same camera and zoom), for
+//! `video.lens`.
+
+use crate::lens::plumb;
+use anyhow::{bail, Context, Result};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// The flags of `rollfric lens` (defined here only).
+#[derive(clap::Args)]
+pub struct LensArgs {
+    /// A video (or a still picture) of straight lines: a ruled or gridded sheet that
+    /// fills the frame, filmed with the camera, lens and zoom of the experiment.
+    video: PathBuf,
+    /// How many frames to fit, each on its own (every `--every`th from the first).
+    #[arg(long, default_value_t = 5)]
+    frames: usize,
+    /// Take every this many frames.
+    #[arg(long, default_value_t = 10)]
+    every: usize,
+    /// Print the fit as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `lens --json`'s output.
+#[derive(serde::Serialize)]
+struct Json<'a> {
+    kind: &'static str,
+    video: String,
+    #[serde(flatten)]
+    fit: &'a plumb::VideoFit,
+}
+
+pub fn lens(a: LensArgs) -> Result<String> {
+    if a.frames == 0 || a.every == 0 {
+        bail!(
+            "--frames {} --every {}: expected 1 or more",
+            a.frames,
+            a.every
+        );
+    }
+    let fit = plumb::fit_video(&a.video, a.frames, a.every)?;
+    let path = a.video.display();
+    if a.json {
+        let j = Json {
+            kind: "rollfric lens",
+            video: path.to_string(),
+            fit: &fit,
+        };
+        return serde_json::to_string_pretty(&j).context("writing the fit as JSON");
+    }
+    let mid = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let each = |f: fn(&plumb::Plumb) -> f64| mid(fit.frames.iter().map(|(_, p)| f(p)).collect());
+    let (k1, u_k1) = (fit.k1, fit.u_k1);
+    let mut out = format!(
+        "{path}: {}x{}, {} frame(s) fitted, {} straight lines in each (median): k1 = \
+         {k1:.4} +- {u_k1:.4}; the lines scatter {:.2} px (RMS) about straight through \
+         this lens, {:.2} px through an undistorted view\n",
+        fit.width,
+        fit.height,
+        fit.frames.len(),
+        each(|p| p.lines as f64),
+        each(|p| p.rms_px),
+        each(|p| p.rms_straight_px),
+    );
+    if let Some(r) = fit.refused.first() {
+        let more = match fit.refused.len() {
+            1 => String::new(),
+            n => format!(" (and {} more frames)", n - 1),
+        };
+        writeln!(out, "  not fitted: {r}{more}").unwrap();
+    }
+    if k1.abs() < 2.0 * u_k1 {
+        writeln!(
+            out,
+            "The lines are straight within the fit's uncertainty: this lens need not be given."
+        )
+        .unwrap();
+    }
+    write!(
+        out,
+        "For the experiment file (under `video:`), with this camera, lens and zoom:\n  \
+         lens: {{k1: {k1:.4}, u_k1: {:.4}}}\n",
+        u_k1.max(0.0001)
+    )
+    .unwrap();
+    Ok(out)
+}

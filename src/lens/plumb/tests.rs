@@ -1,0 +1,125 @@
+use super::*;
+use crate::rng::Rng;
+
+/// A sheet ruled with dark lines `spacing` px apart (two sets, at `turn` and a right
+/// angle to it: a grid), each line about 1.5 px wide, seen through `lens` (every pixel
+/// shows the plate's point `lens.undistort` takes it to), with grey noise of `noise`
+/// levels (uniform, +-).
+fn sheet(
+    w: usize,
+    h: usize,
+    lens: &Lens,
+    spacing: f64,
+    turn: f64,
+    noise: f64,
+    seed: u64,
+) -> Vec<u8> {
+    let mut rng = Rng::new(seed);
+    let mut out = vec![0u8; w * h];
+    let sets = [turn, turn + std::f64::consts::FRAC_PI_2];
+    for y in 0..h {
+        for x in 0..w {
+            let q = lens.undistort([x as f64, y as f64]);
+            let mut ink: f64 = 0.0;
+            for a in sets {
+                let d = q[0] * a.cos() + q[1] * a.sin() + 0.37 * spacing;
+                let off = (d.rem_euclid(spacing) - spacing / 2.0).abs();
+                let from_line = spacing / 2.0 - off;
+                ink = ink.max((1.0 - from_line / 1.5).clamp(0.0, 1.0));
+            }
+            let grey = 200.0 - 150.0 * ink + noise * (2.0 * rng.uniform() - 1.0);
+            out[y * w + x] = grey.round().clamp(0.0, 255.0) as u8;
+        }
+    }
+    out
+}
+
+fn fit_sheet(k1: f64, noise: f64, seed: u64) -> Plumb {
+    let (w, h) = (640, 360);
+    let lens = Lens::new(k1, 0.0, w as u32, h as u32);
+    let data = sheet(w, h, &lens, 40.0, 0.21, noise, seed);
+    fit(Grey { data: &data, w, h }).expect("a gridded sheet is fitted")
+}
+
+#[test]
+fn a_gridded_sheet_gives_back_the_lens_it_was_seen_through() {
+    for (k1, seed) in [(-0.25, 1), (-0.1, 2), (0.0, 3), (0.12, 4)] {
+        let p = fit_sheet(k1, 6.0, seed);
+        assert!(
+            (p.k1 - k1).abs() < 0.01,
+            "k1 {k1}: fitted {} +- {} ({} lines, rms {} px)",
+            p.k1,
+            p.u_k1,
+            p.lines,
+            p.rms_px
+        );
+        // The uncertainty is small and says the truth (within three of it).
+        assert!(p.u_k1 < 0.01, "{p:?}");
+        assert!((p.k1 - k1).abs() <= 3.0 * p.u_k1 + 0.002, "{p:?}");
+        assert!(p.lines >= 10, "{p:?}");
+        // Straightened, the lines scatter by a fraction of a pixel; a bent view's lines
+        // scatter more through an undistorted one.
+        assert!(p.rms_px < 0.5, "{p:?}");
+        if k1.abs() > 0.05 {
+            assert!(p.rms_straight_px > 2.0 * p.rms_px, "{p:?}");
+        }
+    }
+}
+
+#[test]
+fn a_picture_without_lines_is_refused() {
+    // Noise only: no edge long enough to be a line.
+    let (w, h) = (320, 240);
+    let mut rng = Rng::new(9);
+    let data: Vec<u8> = (0..w * h)
+        .map(|_| (100.0 + 40.0 * rng.uniform()) as u8)
+        .collect();
+    let e = fit(Grey { data: &data, w, h }).unwrap_err().to_string();
+    assert!(e.contains("too few"), "{e}");
+    // One line is not enough either: it cannot tell its bend from the lens's.
+    let mut one = vec![120u8; w * h];
+    for x in 0..w {
+        one[120 * w + x] = 30;
+        one[121 * w + x] = 30;
+    }
+    let e = fit(Grey { data: &one, w, h }).unwrap_err().to_string();
+    assert!(e.contains("too few straight lines"), "{e}");
+}
+
+#[test]
+fn circles_are_not_taken_for_bent_lines() {
+    // A grid through a barrel lens with large rings drawn over it (a protractor's
+    // arcs): the rings are dropped or left out, and the lens is still found.
+    let (w, h) = (640, 360);
+    let k1 = -0.2;
+    let lens = Lens::new(k1, 0.0, w as u32, h as u32);
+    let mut data = sheet(w, h, &lens, 48.0, 0.05, 4.0, 5);
+    for (cx, cy, r) in [(200.0, 180.0, 120.0), (480.0, 150.0, 90.0)] {
+        for y in 0..h {
+            for x in 0..w {
+                let d = ((x as f64 - cx).hypot(y as f64 - cy) - r).abs();
+                if d < 1.5 {
+                    data[y * w + x] = 20;
+                }
+            }
+        }
+    }
+    let p = fit(Grey { data: &data, w, h }).unwrap();
+    assert!((p.k1 - k1).abs() < 0.015, "{p:?}");
+}
+
+#[test]
+fn edge_points_sit_on_the_edge_to_a_tenth_of_a_pixel() {
+    // A vertical step edge between columns 40 and 41 (half-way at 40.5 after the
+    // smoothing): every edge point found near it lies there.
+    let (w, h) = (96, 64);
+    let data: Vec<u8> = (0..w * h)
+        .map(|i| if i % w <= 40 { 50 } else { 170 })
+        .collect();
+    let e = edges(Grey { data: &data, w, h });
+    assert!(!e.is_empty());
+    for p in &e {
+        assert!((p.p[0] - 40.5).abs() < 0.1, "{p:?}");
+        assert!((p.n[0] - 1.0).abs() < 1e-6, "{p:?}");
+    }
+}

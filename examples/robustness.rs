@@ -390,19 +390,24 @@ fn error_parts(
 }
 
 /// The lens `rollfric lens` fits from a gridded sheet filmed by the scene's camera: the
-/// scene's twin for a second, still, its room a grid over the plate (`None`, said, when
-/// the fit is refused).
+/// scene's twin for a second, still and square to the plate, its room a grid over the
+/// plate (`None`, said, when the fit is refused).
 fn sheet_lens(
     scene: &Scene,
     root: &Path,
     dir: &Path,
 ) -> Result<Option<rollfric::config::LensSpec>> {
-    let drop = ["shake", "vfr_jitter", "room"];
+    // Still, square to the sheet (an oblique view's far lines crowd), no held start
+    // (longer than the sheet's second).
+    let drop = ["shake", "vfr_jitter", "room", "hold_s"];
     let mut keys: Vec<(String, String)> = scene
         .keys
         .iter()
         .filter(|(k, _)| !drop.contains(&k.as_str()))
-        .cloned()
+        .map(|(k, v)| match (k.as_str(), v.as_str()) {
+            ("style", "oblique") => (k.clone(), "dark-wire".to_string()),
+            _ => (k.clone(), v.clone()),
+        })
         .collect();
     keys.push(("room".to_string(), "{board: grid}".to_string()));
     let sheet = Scene {

@@ -7,7 +7,7 @@ mod swing;
 
 use super::{AngleRow, Status};
 use crate::detect::tuning::{
-    ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
+    ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS, MOVING_PX,
     NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, STALL_RANGE,
     STALL_SHARE_MAX, STALL_WINDOW,
 };
@@ -49,7 +49,7 @@ pub struct Seen {
 /// One check of a detection.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
-    /// `found`, `period`, `smooth`, `stalls`, `rest` or `envelope`.
+    /// `found`, `period`, `smooth`, `stalls`, `rest`, `envelope` or `still`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -81,6 +81,36 @@ impl DetectionVerdict {
             format!("suspect ({})", names.join(", "))
         }
     }
+}
+
+impl DetectionVerdict {
+    /// The verdict with `c` among its checks (`suspect` when it failed).
+    pub fn with(mut self, c: DetectionCheck) -> Self {
+        if !c.passed {
+            self.verdict = Verdict::Suspect;
+        }
+        self.checks.push(c);
+        self
+    }
+}
+
+/// `still`: a camera taken as still throughout, whose static scene (the pendulum's
+/// sweep left out) is found displaced by `reach_px` (at the region's farthest corner)
+/// between the first frame and the last glances at it, moved unfollowed: every angle
+/// carries the pivot's displacement (a tenth of a degree for every 0.4 px at 230 px
+/// from the pivot).
+pub fn still_check(reach_px: f64) -> DetectionCheck {
+    check(
+        "still",
+        reach_px,
+        MOVING_PX,
+        reach_px <= MOVING_PX,
+        format!(
+            "the camera was taken as still, and the static scene lies {reach_px:.2} px from \
+             where the first frame has it by the last glances (at most {MOVING_PX} px)"
+        ),
+        "the camera drifted and the detector did not follow it",
+    )
 }
 
 impl Seen {

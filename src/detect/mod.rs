@@ -371,6 +371,10 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
             started.elapsed().as_secs_f64()
         );
     }
+    let unfollowed = match &late {
+        Some(l) => l.unfollowed()?,
+        None => None,
+    };
     let camera = src.camera().or(late.and_then(|l| l.camera()));
     drop(src);
     if rows.is_empty() {
@@ -419,7 +423,10 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     }
     let swing_scale = tracker.swing_scale(&rows, pivot, lens.as_ref());
     let figure11 = keeper.take(&rows);
-    let verdict = judge::judge(&rows, [pivot.x, pivot.y], refined.u_px, refined.drift_deg);
+    let mut verdict = judge::judge(&rows, [pivot.x, pivot.y], refined.u_px, refined.drift_deg);
+    if let Some(reach) = unfollowed {
+        verdict = verdict.with(judge::still_check(reach));
+    }
     Ok(Detection {
         verdict,
         rows,

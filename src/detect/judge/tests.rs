@@ -138,3 +138,21 @@ fn a_person_passing_in_front_of_the_wire_hides_crossings_but_not_the_period() {
     let p = v.seen.period_s.unwrap();
     assert!((p - PERIOD).abs() < 0.002, "period {p}");
 }
+
+#[test]
+fn a_still_camera_whose_static_scene_moved_makes_the_detection_suspect() {
+    let v = judge(&swinging(), [50.0, -10.0], None, None);
+    assert_eq!(v.verdict, Verdict::Ok);
+    let kept = v.clone().with(still_check(0.1));
+    assert_eq!(kept.verdict, Verdict::Ok);
+    assert!(failed(&kept).is_empty());
+    let moved = v.with(still_check(1.5));
+    assert_eq!(moved.verdict, Verdict::Suspect);
+    assert_eq!(failed(&moved), ["still"]);
+    let c = moved.checks.last().unwrap();
+    assert!(
+        c.reason.contains("1.50 px") && c.reason.contains("did not follow"),
+        "{}",
+        c.reason
+    );
+}

@@ -31,6 +31,9 @@ pub(in crate::detect) struct Late {
     /// The motions, measured afresh, of the glances in a row that found the camera
     /// moved by the weaker test and each near the one before (see [`Late::drifts`]).
     drift: Vec<Motion>,
+    /// The last two glanced frames while the camera was taken as still (see
+    /// [`Late::unfollowed`]).
+    glanced: [Option<Frame>; 2],
     followed: Followed,
 }
 
@@ -45,6 +48,7 @@ impl Late {
             on: false,
             glances: 0,
             drift: Vec::new(),
+            glanced: [None, None],
             followed: Followed::default(),
         }
     }
@@ -62,6 +66,12 @@ impl Late {
                 return Ok(());
             }
             self.next_t = f.t_s + LATE_EVERY_S;
+            // Kept for the end's look at the static scene (the older's buffer reused).
+            self.glanced.swap(0, 1);
+            match &mut self.glanced[1] {
+                Some(g) => g.clone_from(f),
+                slot => *slot = Some(f.clone()),
+            }
             let (w, h) = (f.width as f64, f.height as f64);
             let moved = match st.measure(f)? {
                 Some(m) if m.reach(w, h) > MOVING_PX => {
@@ -129,6 +139,30 @@ impl Late {
         }
         drift.push(m);
         Ok(drift.len() >= LATE_DRIFT_GLANCES)
+    }
+
+    /// How far the static scene (the pendulum's sweep left out) moved from the pass's
+    /// first frame by its last two glances, when the camera was taken as still
+    /// throughout, px at the farthest corner of the region: the smaller of the two (a
+    /// person passing, or a shadow, displaces one glance, not a drift two in a row).
+    /// `None` when the camera was followed, or with fewer than two glances, or when a
+    /// glance cannot be measured.
+    pub(in crate::detect) fn unfollowed(&self) -> Result<Option<f64>> {
+        let (Some(first), [Some(a), Some(b)]) = (&self.first, &self.glanced) else {
+            return Ok(None);
+        };
+        if self.on {
+            return Ok(None);
+        }
+        let mut on_scene = Steady::new(first, Some(&self.sweep))?;
+        let mut reach = f64::INFINITY;
+        for g in [a, b] {
+            match on_scene.glance(g)? {
+                Some(m) => reach = reach.min(m.reach(g.width as f64, g.height as f64)),
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(reach))
     }
 
     /// The camera's motion, when it was found to move.

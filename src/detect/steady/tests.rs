@@ -271,3 +271,40 @@ fn a_slow_drift_under_heavy_noise_is_followed_and_a_still_camera_is_not() {
     assert!(late_follows(0.8));
     assert!(!late_follows(0.0));
 }
+
+/// A camera the look saw still, over 12 s of frames at 10 frames/s with noise of
+/// +-`noise` grey levels, bumped by `bump_px` along x at 7 s: whether it was followed,
+/// and how far the static scene lay at the end's look ([`Late::unfollowed`]).
+fn bumped(bump_px: f64, noise: f64) -> (bool, Option<f64>) {
+    let (w, h) = (480, 320);
+    let sweep = Sweep::around((-500.0, -500.0), 10.0, (0.0, 0.1), (0.0, 0.0));
+    let mut late = Late::new(sweep);
+    for i in 0..120u64 {
+        let t = i as f64 / 10.0;
+        let m = Motion {
+            dx: if t >= 7.0 { bump_px } else { 0.0 },
+            ..Motion::default()
+        };
+        let mut f = noisy(textured(w, h, m, i), noise);
+        f.t_s = t;
+        late.offer(&mut f).unwrap();
+    }
+    (late.camera().is_some(), late.unfollowed().unwrap())
+}
+
+/// A bump late in a noisy recording is seen by the last two glances only: too few to
+/// be followed as a drift, and the end's look at the static scene finds it (the
+/// detection's `still` check); a still camera's static scene stays put; a bump the
+/// glances follow leaves nothing to find.
+#[test]
+fn a_camera_bumped_late_and_not_followed_is_found_by_the_ends_look() {
+    let (followed, at_end) = bumped(2.0, 150.0);
+    assert!(!followed);
+    let d = at_end.expect("the end's look measures the bump");
+    assert!((d - 2.0).abs() < 0.4, "{d} px");
+    let (followed, at_end) = bumped(0.0, 150.0);
+    assert!(!followed);
+    assert!(at_end.expect("measured") < 0.2, "{at_end:?}");
+    let (followed, at_end) = bumped(2.0, 0.0);
+    assert!(followed && at_end.is_none(), "{followed} {at_end:?}");
+}

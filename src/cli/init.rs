@@ -57,6 +57,37 @@ struct Found {
     /// A suspect detection: its label (`suspect (period, stalls)`) and each failed
     /// check's `name: reason`.
     suspect: Option<(String, Vec<String>)>,
+    /// What the video's straight lines say of the lens.
+    lens: LensSeen,
+}
+
+/// The lens as the video's own straight lines show it (`rollfric lens`'s fit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum LensSeen {
+    /// Too few straight lines to tell.
+    Unknown,
+    /// The lines are straight within the fit's uncertainty (`k1`, `u_k1`).
+    Straight(f64, f64),
+    /// They bend: the fitted `k1`, `u_k1`, and the straight lines in a frame (median).
+    Bent(f64, f64, usize),
+}
+
+/// A coefficient at least this many times its uncertainty ...
+const LENS_SIGNIFICANT: f64 = 3.0;
+/// ... and at least this large is a lens to give (a phone's main lens: under 0.02).
+const LENS_MIN_K1: f64 = 0.03;
+
+/// The lens of `video` from its own straight lines.
+fn lens_seen(video: &Path) -> LensSeen {
+    match crate::lens::plumb::fit_video(video, 5, 10) {
+        Ok(f) if f.k1.abs() >= LENS_SIGNIFICANT * f.u_k1 && f.k1.abs() >= LENS_MIN_K1 => {
+            let mut lines: Vec<usize> = f.frames.iter().map(|(_, p)| p.lines).collect();
+            lines.sort_unstable();
+            LensSeen::Bent(f.k1, f.u_k1, lines[lines.len() / 2])
+        }
+        Ok(f) => LensSeen::Straight(f.k1, f.u_k1),
+        Err(_) => LensSeen::Unknown,
+    }
 }
 
 pub fn init(a: InitArgs) -> Result<String> {
@@ -101,7 +132,8 @@ pub fn init(a: InitArgs) -> Result<String> {
         Some(&[x, y]) if x.is_finite() && y.is_finite() => opts.pivot = Some([x, y]),
         Some(v) => bail!("--pivot: expected x,y (px), got {v:?}"),
     }
-    let found = measure(&a.video, &opts)?;
+    let mut found = measure(&a.video, &opts)?;
+    found.lens = lens_seen(&a.video);
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty());
     let video_rel = relative_to(&a.video, dir.unwrap_or(Path::new(".")))?;
     let name = out
@@ -130,6 +162,15 @@ pub fn init(a: InitArgs) -> Result<String> {
              (and `--force` to replace the file)",
             a.video.display(),
             reasons.join("; "),
+            a.video.display()
+        );
+    }
+    if let LensSeen::Bent(k1, u, _) = found.lens {
+        let _ = writeln!(
+            msg,
+            "{}: its straight lines bend as through a wide lens (k1 = {k1:.4} +- {u:.4}): \
+             the file gives it as `video.lens`; a ruled sheet filmed with the same camera \
+             calibrates it better (`rollfric lens`)",
             a.video.display()
         );
     }
@@ -180,6 +221,7 @@ fn measure(video: &Path, opts: &DetectOptions) -> Result<Found> {
         ok_share: d.count(Status::Ok) as f64 / d.rows.len().max(1) as f64,
         release,
         period_s: m.map(|m| m.period_s),
+        lens: LensSeen::Unknown,
         suspect: (d.verdict.verdict != crate::verdict::Status::Ok).then(|| {
             (
                 d.verdict.label(),
@@ -317,6 +359,31 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
              \x20 # give `roi` or `pivot` above to say where the wire is.\n",
         );
     }
+    match f.lens {
+        LensSeen::Bent(k1, u, lines) => {
+            let _ = writeln!(
+                y,
+                "  # The video's straight lines ({lines} in a frame) bend as through a wide \
+                 lens,\n  # k1 = {k1:.4} +- {u:.4} as `rollfric lens` fits it from them: every \
+                 angle is measured\n  # through it. A ruled sheet filmed with the same camera \
+                 and zoom calibrates\n  # it better (`rollfric lens sheet.mp4`).\n  \
+                 lens: {{k1: {k1:.4}, u_k1: {:.4}}}",
+                u.max(0.0001)
+            );
+        }
+        LensSeen::Straight(k1, u) => {
+            let _ = writeln!(
+                y,
+                "  # The video's straight lines are straight within the lens fit's uncertainty\n  \
+                 # (k1 = {k1:.4} +- {u:.4}): no lens given."
+            );
+        }
+        LensSeen::Unknown => y.push_str(
+            "  # Too few straight lines in the video to check its lens: a wide lens (a \
+             phone's 0.5x)\n  # scales the swing; film a ruled sheet with the same camera \
+             and give `lens`\n  # (`rollfric lens sheet.mp4`).\n",
+        ),
+    }
     match f.release {
         Some((frame, t, held)) => {
             let _ = writeln!(
@@ -452,6 +519,7 @@ mod tests {
             release: Some((31, 1.03, 1.0)),
             period_s: Some(1.334),
             suspect: None,
+            lens: LensSeen::Unknown,
         }
     }
 
@@ -470,6 +538,46 @@ mod tests {
         assert!(text.contains("let go at 1.030 s (frame 31)"), "{text}");
         assert!(text.contains("polarity: dark"));
         assert!(!text.contains("CAUTION"), "{text}");
+    }
+
+    /// A lens the video's lines show bent is given (`video.lens`) and the file loads with
+    /// it; straight lines, or too few, are said in a comment and give none.
+    #[test]
+    fn a_lens_the_lines_show_is_given_and_straight_lines_are_said() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("wide.yaml");
+        let bent = Found {
+            lens: LensSeen::Bent(-0.2301, 0.0011, 5),
+            ..found()
+        };
+        let text = yaml("wide", "wide.mp4", &bent);
+        assert!(text.contains("lens: {k1: -0.2301, u_k1: 0.0011}"), "{text}");
+        std::fs::write(&p, fill(&text)).unwrap();
+        let exp = Experiment::load(&p).expect("loads with its lens");
+        let lens = exp
+            .file
+            .video
+            .as_ref()
+            .and_then(|v| v.lens)
+            .expect("video.lens");
+        assert_eq!((lens.k1, lens.u_k1), (-0.2301, 0.0011));
+        for (seen, says) in [
+            (LensSeen::Straight(-0.01, 0.02), "straight within"),
+            (LensSeen::Unknown, "Too few straight lines"),
+        ] {
+            let text = yaml(
+                "plain",
+                "plain.mp4",
+                &Found {
+                    lens: seen,
+                    ..found()
+                },
+            );
+            assert!(text.contains(says), "{text}");
+            std::fs::write(&p, fill(&text)).unwrap();
+            let exp = Experiment::load(&p).expect("loads");
+            assert!(exp.file.video.as_ref().and_then(|v| v.lens).is_none());
+        }
     }
 
     /// A suspect detection is said in the file, each failed check on a comment line of

@@ -132,7 +132,7 @@ robustness: deps
 COVERAGE_SCENES ?= 64
 coverage: deps
 	rm -rf target/coverage
-	ROBUSTNESS_KEEP=$(abspath target/coverage) $(CARGO) run --release --locked --example robustness -- \
+	ROBUSTNESS_KEEP=$(abspath target/coverage) ROBUSTNESS_LENS=$(ROBUSTNESS_LENS) $(CARGO) run --release --locked --example robustness -- \
 	  $(COVERAGE_SCENES) $(ROBUSTNESS_SEED) $(ROBUSTNESS_SECONDS)
 	$(CARGO) run --release --locked --example coverage -- target/coverage
 

@@ -677,7 +677,7 @@ fn main() -> Result<()> {
     };
     if pace_rounds > 0
         && (opts.work_side_px != DetectOptions::default().work_side_px
-            || std::env::var_os("ROBUSTNESS_LENS").is_some())
+            || std::env::var("ROBUSTNESS_LENS").is_ok_and(|v| !v.is_empty() && v != "none"))
     {
         eprintln!(
             "ROBUSTNESS_PACE times `rollfric detect` at its defaults (no work side, no lens)"

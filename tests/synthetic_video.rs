@@ -659,6 +659,7 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given_or_fitted_from_a_sheet() 
     assert!(undone < 0.05, "the lens undone: {undone:.4} deg");
 
     // The sheet: the same camera and lens, a grid over the plate, one second.
+    assert!(synthetic.contains("duration_s: 20"));
     let sheet = synthetic.replace("duration_s: 20", "duration_s: 1") + "  room: {board: grid}\n";
     std::fs::write(d.join("sheet.yaml"), with_synthetic("steel", &sheet)).unwrap();
     rollfric_ok(&["synth", "sheet.yaml", "-o", "sheet.mp4"], d);
@@ -666,6 +667,14 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given_or_fitted_from_a_sheet() 
     let fit: serde_json::Value = serde_json::from_str(&out).unwrap();
     let (k1, u) = (fit["k1"].as_f64().unwrap(), fit["u_k1"].as_f64().unwrap());
     assert!((k1 + 0.24).abs() < 0.01, "fitted k1 {k1} +- {u}");
+    // 26 frames, every 10th fitted: frames 0, 10 and 20.
+    let frames: Vec<u64> = fit["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f[0].as_u64().unwrap())
+        .collect();
+    assert_eq!(frames, [0, 10, 20]);
     assert!(
         u > 0.0 && u < 0.01 && (k1 + 0.24).abs() < 3.0 * u + 0.002,
         "{k1} +- {u}"

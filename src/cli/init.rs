@@ -62,31 +62,29 @@ struct Found {
 }
 
 /// The lens as the video's own straight lines show it (`rollfric lens`'s fit).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 enum LensSeen {
-    /// Too few straight lines to tell.
-    Unknown,
-    /// The lines are straight within the fit's uncertainty (`k1`, `u_k1`).
+    /// Not fitted: the reason (too few straight lines, most often).
+    Unknown(String),
+    /// The lines are straight as far as they show (`k1`, `u_k1`: not worth giving).
     Straight(f64, f64),
     /// They bend: the fitted `k1`, `u_k1`, and the straight lines in a frame (median).
     Bent(f64, f64, usize),
 }
 
-/// A coefficient at least this many times its uncertainty ...
-const LENS_SIGNIFICANT: f64 = 3.0;
-/// ... and at least this large is a lens to give (a phone's main lens: under 0.02).
-const LENS_MIN_K1: f64 = 0.03;
-
 /// The lens of `video` from its own straight lines.
 fn lens_seen(video: &Path) -> LensSeen {
     match crate::lens::plumb::fit_video(video, 5, 10) {
-        Ok(f) if f.k1.abs() >= LENS_SIGNIFICANT * f.u_k1 && f.k1.abs() >= LENS_MIN_K1 => {
-            let mut lines: Vec<usize> = f.frames.iter().map(|(_, p)| p.lines).collect();
-            lines.sort_unstable();
-            LensSeen::Bent(f.k1, f.u_k1, lines[lines.len() / 2])
+        Ok(f) if crate::lens::plumb::worth_giving(f.k1, f.u_k1) => {
+            let mut lines: Vec<f64> = f.frames.iter().map(|(_, p)| p.lines as f64).collect();
+            LensSeen::Bent(
+                f.k1,
+                f.u_k1,
+                crate::numerics::upper_median(&mut lines) as usize,
+            )
         }
         Ok(f) => LensSeen::Straight(f.k1, f.u_k1),
-        Err(_) => LensSeen::Unknown,
+        Err(e) => LensSeen::Unknown(format!("{e:#}")),
     }
 }
 
@@ -221,7 +219,7 @@ fn measure(video: &Path, opts: &DetectOptions) -> Result<Found> {
         ok_share: d.count(Status::Ok) as f64 / d.rows.len().max(1) as f64,
         release,
         period_s: m.map(|m| m.period_s),
-        lens: LensSeen::Unknown,
+        lens: LensSeen::Unknown(String::new()),
         suspect: (d.verdict.verdict != crate::verdict::Status::Ok).then(|| {
             (
                 d.verdict.label(),
@@ -359,8 +357,8 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
              \x20 # give `roi` or `pivot` above to say where the wire is.\n",
         );
     }
-    match f.lens {
-        LensSeen::Bent(k1, u, lines) => {
+    match &f.lens {
+        &LensSeen::Bent(k1, u, lines) => {
             let _ = writeln!(
                 y,
                 "  # The video's straight lines ({lines} in a frame) bend as through a wide \
@@ -371,18 +369,25 @@ fn yaml(name: &str, video: &str, f: &Found) -> String {
                 u.max(0.0001)
             );
         }
-        LensSeen::Straight(k1, u) => {
+        &LensSeen::Straight(k1, u) => {
             let _ = writeln!(
                 y,
-                "  # The video's straight lines are straight within the lens fit's uncertainty\n  \
-                 # (k1 = {k1:.4} +- {u:.4}): no lens given."
+                "  # The video's straight lines are straight as far as they show (the lens \
+                 fit\n  # gives k1 = {k1:.4} +- {u:.4}): no lens given."
             );
         }
-        LensSeen::Unknown => y.push_str(
-            "  # Too few straight lines in the video to check its lens: a wide lens (a \
-             phone's 0.5x)\n  # scales the swing; film a ruled sheet with the same camera \
-             and give `lens`\n  # (`rollfric lens sheet.mp4`).\n",
-        ),
+        LensSeen::Unknown(why) => {
+            let why: String = why
+                .chars()
+                .map(|c| if c.is_control() { ' ' } else { c })
+                .collect();
+            let _ = writeln!(
+                y,
+                "  # The lens could not be checked from the video ({why}).\n  # A wide \
+                 lens (a phone's 0.5x) scales the swing: film a ruled sheet with the\n  # \
+                 same camera and give `lens` (`rollfric lens sheet.mp4`)."
+            );
+        }
     }
     match f.release {
         Some((frame, t, held)) => {
@@ -519,7 +524,7 @@ mod tests {
             release: Some((31, 1.03, 1.0)),
             period_s: Some(1.334),
             suspect: None,
-            lens: LensSeen::Unknown,
+            lens: LensSeen::Unknown("too few straight lines".into()),
         }
     }
 
@@ -562,8 +567,14 @@ mod tests {
             .expect("video.lens");
         assert_eq!((lens.k1, lens.u_k1), (-0.2301, 0.0011));
         for (seen, says) in [
-            (LensSeen::Straight(-0.01, 0.02), "straight within"),
-            (LensSeen::Unknown, "Too few straight lines"),
+            (
+                LensSeen::Straight(-0.01, 0.02),
+                "straight as far as they show",
+            ),
+            (
+                LensSeen::Unknown("too few straight lines".into()),
+                "could not be checked from the video (too few straight lines)",
+            ),
         ] {
             let text = yaml(
                 "plain",

@@ -51,10 +51,7 @@ pub fn lens(a: LensArgs) -> Result<String> {
         };
         return serde_json::to_string_pretty(&j).context("writing the fit as JSON");
     }
-    let mid = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
+    let mid = |mut v: Vec<f64>| crate::numerics::upper_median(&mut v);
     let each = |f: fn(&plumb::Plumb) -> f64| mid(fit.frames.iter().map(|(_, p)| f(p)).collect());
     let (k1, u_k1) = (fit.k1, fit.u_k1);
     let mut out = format!(
@@ -75,19 +72,21 @@ pub fn lens(a: LensArgs) -> Result<String> {
         };
         writeln!(out, "  not fitted: {r}{more}").unwrap();
     }
-    if k1.abs() < 2.0 * u_k1 {
+    if plumb::worth_giving(k1, u_k1) {
+        write!(
+            out,
+            "For the experiment file (under `video:`), with this camera, lens and zoom:\n  \
+             lens: {{k1: {k1:.4}, u_k1: {:.4}}}\n",
+            u_k1.max(0.0001)
+        )
+        .unwrap();
+    } else {
         writeln!(
             out,
-            "The lines are straight within the fit's uncertainty: this lens need not be given."
+            "Not a lens to give: the coefficient is under three times its uncertainty or \
+             under 0.03 (the lines are straight as far as they show)."
         )
         .unwrap();
     }
-    write!(
-        out,
-        "For the experiment file (under `video:`), with this camera, lens and zoom:\n  \
-         lens: {{k1: {k1:.4}, u_k1: {:.4}}}\n",
-        u_k1.max(0.0001)
-    )
-    .unwrap();
     Ok(out)
 }

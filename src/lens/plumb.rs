@@ -7,20 +7,23 @@
 //!    central differences; points whose gradient is a local maximum across the edge and
 //!    above a threshold, placed to a fraction of a pixel by a parabola through the
 //!    gradient's size across the edge. Each keeps the edge's normal.
-//! 2. **The coarse coefficient**: for each `k1` of a grid, every point and its normal are
-//!    taken through the lens back to the plate, and vote for the straight line through
-//!    it (its normal's direction to a degree, its distance from the corner to 2 px):
-//!    straight lines gather their votes, so the `k1` whose votes are most gathered
-//!    (the largest sum of squared counts) is the coarse one.
-//! 3. **The lines**: from the fullest vote, each line's points (within a pixel and a few
-//!    degrees of the line fitted to them, grown twice); a line must be long (a fifth of
-//!    the picture's shorter side) and hold enough points; arcs and edges that are not
-//!    straight on the plate fit badly and are dropped.
+//! 2. **The coarse coefficient**: for each `k1` of a grid (steps of 0.05), every point
+//!    and its normal are taken through the lens back to the plate, and the long straight
+//!    lines found among them (step 3, within 1.5 px): the `k1` through which most points
+//!    lie on such lines is the coarse one.
+//! 3. **The lines**: seeded from the fullest bins of a vote (each point votes for the
+//!    line through it: its normal's direction to a degree, its distance from the corner
+//!    to 2 px), each line's points within 1.5 px (then 1 px) and a few degrees of the
+//!    line fitted to them, grown twice; a line must be long (a fifth of the picture's
+//!    shorter side) and hold enough points. The two edges of one drawn stroke are two
+//!    such lines (their normals face apart) and count as one **stroke**; arcs and edges
+//!    that are not straight on the plate fit badly and are dropped.
 //! 4. **The fine coefficient**: the sum over the lines of the squared distances of their
 //!    points from their own best line (each line refitted at each `k1`, total least
-//!    squares), minimised by parabolas through three `k1`; its uncertainty by the
-//!    jackknife over lines (each line left out once), so that a line that is not
-//!    straight on the plate, or too few lines, shows as a wide uncertainty.
+//!    squares), minimised by parabolas through three `k1`; lines found again and `k1`
+//!    refined three times in all. Its uncertainty is the jackknife over the strokes
+//!    (each left out once), so that a line that is not straight on the plate, or too
+//!    few lines, shows as a wide uncertainty.
 
 use super::Lens;
 use crate::video::{FfmpegSource, Frame, FrameSource};
@@ -51,8 +54,22 @@ const MAX_LINES: usize = 200;
 /// A line whose points scatter about it by more than this many times the lines' median
 /// scatter is not straight on the plate (an arc, a bent cable) and is dropped.
 const DROP_TIMES_MEDIAN: f64 = 3.0;
-/// Fewer lines than this cannot say which way the picture bends.
+/// Fewer strokes than this cannot say which way the picture bends.
 const MIN_LINES: usize = 3;
+/// The two edges of one stroke: parallel within this (deg) and this far apart at most
+/// (px).
+const STROKE_DEG: f64 = 3.0;
+const STROKE_PX: f64 = 6.0;
+/// A coefficient worth giving: at least this many times its uncertainty ...
+const GIVE_TIMES_U: f64 = 3.0;
+/// ... and at least this large (a phone's main lens: under 0.02).
+const GIVE_MIN_K1: f64 = 0.03;
+
+/// Whether a fitted coefficient is a lens to give (`video.lens`): clearly not zero, and
+/// large enough to scale a swing near the frame's edge by a few tenths of a percent.
+pub fn worth_giving(k1: f64, u_k1: f64) -> bool {
+    k1.abs() >= GIVE_TIMES_U * u_k1 && k1.abs() >= GIVE_MIN_K1
+}
 /// Points taken at most (evenly spread) for the coarse search.
 const COARSE_POINTS: usize = 40_000;
 
@@ -70,7 +87,8 @@ pub struct Plumb {
     pub k1: f64,
     /// Standard uncertainty of `k1` (the jackknife over the lines).
     pub u_k1: f64,
-    /// The straight lines used, and their points.
+    /// The straight lines used (strokes: a drawn line's two edges count once), and
+    /// their edge points.
     pub lines: usize,
     pub points: usize,
     /// The points' scatter about their straightened lines, px (RMS).
@@ -87,7 +105,7 @@ pub struct VideoFit {
     pub width: usize,
     pub height: usize,
     /// The frames' mean coefficient, and its standard uncertainty: the larger of the
-    /// frames' median uncertainty and their spread (the frames of one camera share a
+    /// median of the frames' uncertainties and the frames' spread (the frames of one camera share a
     /// lens: their spread is what one frame's fit varies by, not an error of their mean
     /// that averaging would shrink).
     pub k1: f64,
@@ -139,12 +157,11 @@ pub fn fit_video(path: &Path, frames: usize, every: usize) -> Result<VideoFit> {
         0.0
     };
     let mut u: Vec<f64> = fits.iter().map(|(_, p)| p.u_k1).collect();
-    u.sort_by(f64::total_cmp);
     Ok(VideoFit {
         width,
         height,
         k1,
-        u_k1: u[u.len() / 2].max(spread),
+        u_k1: crate::numerics::upper_median(&mut u).max(spread),
         frames: fits,
         refused,
     })
@@ -169,25 +186,32 @@ pub fn fit(pic: Grey) -> Result<Plumb> {
             edgels.len()
         );
     }
-    let coarse = coarse_k1(&edgels, &lens_of, shorter * MIN_EXTENT);
-    // Lines found at the coarse coefficient, the coefficient refined on them, the lines
-    // found again at the refined one (a tighter band), the coefficient refined again.
+    // The coefficients whose lens does not fold the frame over (its radius grows all the
+    // way to the corners: `1 + 3 k1 r^2 > 0`; a portrait frame's corners lie farther out
+    // in frame widths).
+    let corner2 = 0.25 * (1.0 + (pic.h as f64 / pic.w as f64).powi(2));
+    let k1_range = (-K1_MAX.min(0.9 / (3.0 * corner2)), K1_MAX);
+    let coarse = coarse_k1(&edgels, &lens_of, shorter * MIN_EXTENT, k1_range);
+    // Three rounds: the lines found at the coefficient so far (at the coarse one within
+    // 1.5 px, then within 1 px), and the coefficient refined on them.
     let mut k1 = coarse;
     let mut lines = Vec::new();
+    let mut groups = Vec::new();
     for grow in GROW_PX {
         lines = find_lines(&edgels, &lens_of(k1), grow, shorter * MIN_EXTENT, 1);
         drop_bent(&edgels, &lens_of, k1, &mut lines);
-        if lines.len() < MIN_LINES {
+        groups = strokes(&edgels, &lines, &lens_of(k1));
+        let n = groups.iter().max().map_or(0, |g| g + 1);
+        if n < MIN_LINES {
             bail!(
-                "too few straight lines in the picture to fit the lens ({} found, {MIN_LINES} \
+                "too few straight lines in the picture to fit the lens ({n} found, {MIN_LINES} \
                  needed, each a fifth of the frame long): film a ruled or gridded sheet that \
-                 fills the frame",
-                lines.len()
+                 fills the frame"
             );
         }
-        k1 = refine(&edgels, &lines, &lens_of, k1);
+        k1 = refine(&edgels, &lines, &lens_of, k1, k1_range);
     }
-    let u_k1 = jackknife(&edgels, &lines, &lens_of, k1);
+    let u_k1 = jackknife(&edgels, &lines, &groups, &lens_of, k1, k1_range);
     let points: usize = lines.iter().map(Vec::len).sum();
     let rms = |k: f64| {
         let lens = lens_of(k);
@@ -197,7 +221,7 @@ pub fn fit(pic: Grey) -> Result<Plumb> {
     Ok(Plumb {
         k1,
         u_k1,
-        lines: lines.len(),
+        lines: groups.iter().max().map_or(0, |g| g + 1),
         points,
         rms_px: rms(k1),
         coarse_k1: coarse,
@@ -314,13 +338,21 @@ fn straighten(lens: &Lens, e: &Edgel) -> ([f64; 2], [f64; 2], f64, f64) {
 /// The coarse coefficient (step 2): the grid's `k1` through which most edge points lie
 /// on long straight lines. (The votes' own concentration is no guide: a dense grid's
 /// lines, bent the wrong way, cross each other's bins.)
-fn coarse_k1(edgels: &[Edgel], lens_of: &dyn Fn(f64) -> Lens, min_extent: f64) -> f64 {
+fn coarse_k1(
+    edgels: &[Edgel],
+    lens_of: &dyn Fn(f64) -> Lens,
+    min_extent: f64,
+    range: (f64, f64),
+) -> f64 {
     let stride = edgels.len().div_ceil(COARSE_POINTS);
     let some: Vec<Edgel> = edgels.iter().step_by(stride).copied().collect();
     let steps = (K1_MAX / K1_STEP).round() as i32;
     let mut best: (usize, f64) = (0, 0.0);
     for k in -steps..=steps {
         let k1 = f64::from(k) * K1_STEP;
+        if k1 < range.0 || k1 > range.1 {
+            continue;
+        }
         let on_lines: usize = find_lines(&some, &lens_of(k1), GROW_PX[0], min_extent, stride)
             .iter()
             .map(Vec::len)
@@ -502,9 +534,7 @@ fn drop_bent(
     if rms.is_empty() {
         return;
     }
-    let mut sorted = rms.clone();
-    sorted.sort_by(f64::total_cmp);
-    let limit = DROP_TIMES_MEDIAN * sorted[sorted.len() / 2];
+    let limit = DROP_TIMES_MEDIAN * crate::numerics::upper_median(&mut rms.clone());
     let mut k = 0;
     lines.retain(|_| {
         k += 1;
@@ -545,20 +575,24 @@ fn vertex_step(s: [f64; 3]) -> f64 {
     }
 }
 
+/// The three sums added up.
+fn sum3<'a>(sums: impl Iterator<Item = &'a [f64; 3]>) -> [f64; 3] {
+    sums.fold([0.0; 3], |t, s| [t[0] + s[0], t[1] + s[1], t[2] + s[2]])
+}
+
 /// The coefficient that makes the lines straightest (step 4), from `k1`: parabolas
-/// through three `k1` until the step is small.
+/// through three `k1` until the step is small, within `range`.
 fn refine(
     edgels: &[Edgel],
     lines: &[Vec<usize>],
     lens_of: &dyn Fn(f64) -> Lens,
     mut k1: f64,
+    range: (f64, f64),
 ) -> f64 {
     for _ in 0..10 {
-        let sums = line_parabolas(edgels, lines, lens_of, k1)
-            .into_iter()
-            .fold([0.0; 3], |t, s| [t[0] + s[0], t[1] + s[1], t[2] + s[2]]);
+        let sums = sum3(line_parabolas(edgels, lines, lens_of, k1).iter());
         let step = vertex_step(sums);
-        k1 = (k1 + step).clamp(-K1_MAX, K1_MAX);
+        k1 = (k1 + step).clamp(range.0, range.1);
         if step.abs() < 1e-5 {
             break;
         }
@@ -566,25 +600,78 @@ fn refine(
     k1
 }
 
-/// The jackknife's standard uncertainty of `k1` over the lines: each line left out
-/// once, the parabola of the others' sums at the fitted `k1` giving its coefficient.
+/// The jackknife's standard uncertainty of `k1` over the strokes (`group` of each
+/// line): each stroke left out once, the parabola of the others' sums at the fitted
+/// `k1` giving its coefficient.
 fn jackknife(
     edgels: &[Edgel],
     lines: &[Vec<usize>],
+    group: &[usize],
     lens_of: &dyn Fn(f64) -> Lens,
     k1: f64,
+    range: (f64, f64),
 ) -> f64 {
     let each = line_parabolas(edgels, lines, lens_of, k1);
-    let total = each
-        .iter()
-        .fold([0.0; 3], |t, s| [t[0] + s[0], t[1] + s[1], t[2] + s[2]]);
-    let left_out: Vec<f64> = each
-        .iter()
-        .map(|s| k1 + vertex_step([total[0] - s[0], total[1] - s[1], total[2] - s[2]]))
+    let total = sum3(each.iter());
+    let n_groups = group.iter().max().map_or(0, |g| g + 1);
+    let left_out: Vec<f64> = (0..n_groups)
+        .map(|g| {
+            let out = sum3(
+                each.iter()
+                    .zip(group)
+                    .filter(|(_, &h)| h == g)
+                    .map(|(s, _)| s),
+            );
+            let rest = [total[0] - out[0], total[1] - out[1], total[2] - out[2]];
+            (k1 + vertex_step(rest)).clamp(range.0, range.1)
+        })
         .collect();
     let n = left_out.len() as f64;
     let mean = left_out.iter().sum::<f64>() / n;
     ((n - 1.0) / n * left_out.iter().map(|k| (k - mean).powi(2)).sum::<f64>()).sqrt()
+}
+
+/// Each line's stroke (0, 1, ...): lines parallel within [`STROKE_DEG`] and within
+/// [`STROKE_PX`] of each other, through `lens`, are the edges of one drawn line.
+fn strokes(edgels: &[Edgel], lines: &[Vec<usize>], lens: &Lens) -> Vec<usize> {
+    let fitted: Vec<Option<([f64; 2], [f64; 2])>> = lines
+        .iter()
+        .map(|l| tls(l.iter().map(|&i| straight(lens, edgels[i].p))))
+        .collect();
+    let cos_max = STROKE_DEG.to_radians().cos();
+    let mut group: Vec<usize> = (0..lines.len()).collect();
+    let root = |g: &Vec<usize>, mut i: usize| {
+        while g[i] != i {
+            i = g[i];
+        }
+        i
+    };
+    for a in 0..lines.len() {
+        for b in a + 1..lines.len() {
+            let (Some((ca, na)), Some((cb, nb))) = (fitted[a], fitted[b]) else {
+                continue;
+            };
+            let parallel = (na[0] * nb[0] + na[1] * nb[1]).abs() >= cos_max;
+            let apart = ((cb[0] - ca[0]) * na[0] + (cb[1] - ca[1]) * na[1]).abs();
+            if parallel && apart <= STROKE_PX {
+                let (ra, rb) = (root(&group, a), root(&group, b));
+                group[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    // Numbered 0, 1, ... in the order of their first line.
+    let mut number = vec![usize::MAX; lines.len()];
+    let mut next = 0;
+    (0..lines.len())
+        .map(|i| {
+            let r = root(&group, i);
+            if number[r] == usize::MAX {
+                number[r] = next;
+                next += 1;
+            }
+            number[r]
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -84,6 +84,21 @@ fn a_picture_without_lines_is_refused() {
     }
     let e = fit(Grey { data: &one, w, h }).unwrap_err().to_string();
     assert!(e.contains("too few straight lines"), "{e}");
+    // Nor two drawn lines: each has two edges, and counts once.
+    for x in 0..w {
+        one[60 * w + x] = 30;
+        one[61 * w + x] = 30;
+    }
+    let e = fit(Grey { data: &one, w, h }).unwrap_err().to_string();
+    assert!(e.contains("(2 found, 3 needed"), "{e}");
+}
+
+#[test]
+fn a_lens_is_worth_giving_when_clearly_not_zero_and_not_tiny() {
+    assert!(worth_giving(-0.2, 0.01));
+    assert!(!worth_giving(-0.2, 0.07));
+    assert!(!worth_giving(0.02, 0.001));
+    assert!(!worth_giving(-0.0206, 0.112));
 }
 
 #[test]

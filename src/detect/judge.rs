@@ -7,9 +7,9 @@ mod swing;
 
 use super::{AngleRow, Status};
 use crate::detect::tuning::{
-    ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS, MOVING_PX,
+    ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
     NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, STALL_RANGE,
-    STALL_SHARE_MAX, STALL_WINDOW,
+    STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX,
 };
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
@@ -95,19 +95,19 @@ impl DetectionVerdict {
 }
 
 /// `still`: a camera taken as still throughout, whose static scene (the pendulum's
-/// sweep left out) is found displaced by `reach_px` (at the region's farthest corner)
-/// between the first frame and the last glances at it, moved unfollowed: every angle
-/// carries the pivot's displacement (a tenth of a degree for every 0.4 px at 230 px
-/// from the pivot).
+/// sweep left out) is found displaced by more than [`STILL_MAX_PX`] (`reach_px`, at the
+/// region's farthest corner) between the first frame and the last glances at it, moved
+/// unfollowed: every angle carries the pivot's displacement (a tenth of a degree for
+/// every 0.4 px at 230 px from the pivot).
 pub fn still_check(reach_px: f64) -> DetectionCheck {
     check(
         "still",
         reach_px,
-        MOVING_PX,
-        reach_px <= MOVING_PX,
+        STILL_MAX_PX,
+        reach_px <= STILL_MAX_PX,
         format!(
             "the camera was taken as still, and the static scene lies {reach_px:.2} px from \
-             where the first frame has it by the last glances (at most {MOVING_PX} px)"
+             where the first frame has it by the last glances (at most {STILL_MAX_PX} px)"
         ),
         "the camera drifted and the detector did not follow it",
     )

@@ -641,20 +641,21 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given_or_fitted_from_a_sheet() 
         ],
         d,
     );
-    rollfric_ok(&["detect", "lens.mp4", "-o", "angles.csv"], d);
-    let seen = scatter_deg(&ok_errors_against_truth(d));
-    rollfric_ok(
-        &[
-            "detect",
-            "lens.mp4",
-            "-o",
-            "angles.csv",
-            "--experiment",
-            "known.yaml",
-        ],
-        d,
-    );
-    let undone = scatter_deg(&ok_errors_against_truth(d));
+    // The angles' scatter from the truth, detected with the experiment's `video:` block
+    // (its lens) or with none.
+    let scatter_with = |experiment: Option<&str>| {
+        let mut args = vec!["detect", "lens.mp4", "-o", "angles.csv"];
+        args.extend(
+            experiment
+                .map(|e| ["--experiment", e])
+                .into_iter()
+                .flatten(),
+        );
+        rollfric_ok(&args, d);
+        scatter_deg(&ok_errors_against_truth(d))
+    };
+    let seen = scatter_with(None);
+    let undone = scatter_with(Some("known.yaml"));
     assert!(seen > 0.3, "the lens uncorrected: {seen:.4} deg");
     assert!(undone < 0.05, "the lens undone: {undone:.4} deg");
 
@@ -687,18 +688,7 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given_or_fitted_from_a_sheet() 
         ),
     )
     .unwrap();
-    rollfric_ok(
-        &[
-            "detect",
-            "lens.mp4",
-            "-o",
-            "angles.csv",
-            "--experiment",
-            "fitted.yaml",
-        ],
-        d,
-    );
-    let fitted = scatter_deg(&ok_errors_against_truth(d));
+    let fitted = scatter_with(Some("fitted.yaml"));
     assert!(fitted < 0.05, "the lens fitted and undone: {fitted:.4} deg");
     // Its text says what to write into the experiment file.
     let (text, _) = rollfric_ok(&["lens", "sheet.mp4"], d);

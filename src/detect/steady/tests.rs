@@ -245,23 +245,29 @@ fn noisy(mut f: Frame, amp: f64) -> Frame {
     f
 }
 
-/// Whether a camera the look saw still is found to move over 12 s of noisy frames at
-/// 10 frames/s drifting `px_per_s` along x.
-fn late_follows(px_per_s: f64) -> bool {
+/// A camera the look saw still, offered 12 s of textured frames at 10 frames/s with
+/// noise of +-`noise` grey levels, shifted along x by `dx(t)` px.
+fn late_on(dx: impl Fn(f64) -> f64, noise: f64) -> Late {
     let (w, h) = (480, 320);
     let sweep = Sweep::around((-500.0, -500.0), 10.0, (0.0, 0.1), (0.0, 0.0));
     let mut late = Late::new(sweep);
     for i in 0..120u64 {
         let t = i as f64 / 10.0;
         let m = Motion {
-            dx: px_per_s * t,
+            dx: dx(t),
             ..Motion::default()
         };
-        let mut f = noisy(textured(w, h, m, i), 150.0);
+        let mut f = noisy(textured(w, h, m, i), noise);
         f.t_s = t;
         late.offer(&mut f).unwrap();
     }
-    late.camera().is_some()
+    late
+}
+
+/// Whether a camera the look saw still is found to move over 12 s of noisy frames at
+/// 10 frames/s drifting `px_per_s` along x.
+fn late_follows(px_per_s: f64) -> bool {
+    late_on(|t| px_per_s * t, 150.0).camera().is_some()
 }
 
 /// At this noise the glances explain a drifting frame by less than `EXPLAINS` (without
@@ -276,19 +282,7 @@ fn a_slow_drift_under_heavy_noise_is_followed_and_a_still_camera_is_not() {
 /// +-`noise` grey levels, bumped by `bump_px` along x at 7 s: whether it was followed,
 /// and how far the static scene lay at the end's look ([`Late::unfollowed`]).
 fn bumped(bump_px: f64, noise: f64) -> (bool, Option<f64>) {
-    let (w, h) = (480, 320);
-    let sweep = Sweep::around((-500.0, -500.0), 10.0, (0.0, 0.1), (0.0, 0.0));
-    let mut late = Late::new(sweep);
-    for i in 0..120u64 {
-        let t = i as f64 / 10.0;
-        let m = Motion {
-            dx: if t >= 7.0 { bump_px } else { 0.0 },
-            ..Motion::default()
-        };
-        let mut f = noisy(textured(w, h, m, i), noise);
-        f.t_s = t;
-        late.offer(&mut f).unwrap();
-    }
+    let late = late_on(|t| if t >= 7.0 { bump_px } else { 0.0 }, noise);
     (late.camera().is_some(), late.unfollowed().unwrap())
 }
 

@@ -6,7 +6,7 @@
 //! [`signal`] (turning points, equilibrium) and [`fit`] (over [`numerics`]) (`s_r` and its uncertainty),
 //! with [`verdict`] for the checks; [`simulate`] and [`synth`] for the digital twin;
 //! [`plane`] and [`lens`] map image angles to the plate's; [`pipeline`] takes one experiment through them; [`report`] renders pages as bytes;
-//! [`picture`] encodes PNGs;
+//! [`picture`] encodes PNGs; [`usage`] reads this process's processor time and memory;
 //! [`build`] runs the pipeline for a manifest with a content-hash cache ([`hash`],
 //! [`sources`]) and writes the reports; [`cli`] is the command line.
 
@@ -33,6 +33,7 @@ pub mod sources;
 pub mod stats;
 pub mod synth;
 pub mod uncertainty;
+pub mod usage;
 pub mod verdict;
 pub mod video;
 

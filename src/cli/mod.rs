@@ -11,7 +11,7 @@ mod model;
 mod workflow;
 
 /// This process's processor time and peak memory, as `detect` reports them.
-pub use detect::{own_cpu_seconds, peak_memory};
+pub use crate::usage::{own_cpu_seconds, peak_memory};
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

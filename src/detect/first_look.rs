@@ -259,7 +259,8 @@ impl<'a> FirstLook<'a> {
             if (frame.index - first) % stride != 0 {
                 continue;
             }
-            init.data.push(frame.data.clone());
+            // Taken, not copied: the next frame comes in a buffer of its own.
+            init.data.push(std::mem::take(&mut frame.data));
             times.push_back(frame.t_s);
             let newest = init.data.last_mut().expect("just pushed");
             match &mut against_first {
@@ -337,8 +338,9 @@ impl<'a> FirstLook<'a> {
         };
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
-                "timing: first look decoded at {:.2} s ({} frames, {dropped} of a still start dropped)",
+                "timing: first look decoded at {:.2} s, CPU {:.2} s ({} frames, {dropped} of a still start dropped)",
                 started.elapsed().as_secs_f64(),
+                crate::usage::own_cpu_seconds().unwrap_or(f64::NAN),
                 init.data.len()
             );
         }
@@ -364,8 +366,9 @@ impl<'a> FirstLook<'a> {
         .with_context(|| format!("{}: no wire found", name))?;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
-                "timing: geometry done at {:.2} s",
-                started.elapsed().as_secs_f64()
+                "timing: geometry done at {:.2} s, CPU {:.2} s",
+                started.elapsed().as_secs_f64(),
+                crate::usage::own_cpu_seconds().unwrap_or(f64::NAN)
             );
         }
         let init_bg = geometry::extreme_frame(&init, geo.dark)?;

@@ -367,8 +367,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     }
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(
-            "timing: streaming pass done at {:.2} s ({waited:.2} s waiting for frames)",
-            started.elapsed().as_secs_f64()
+            "timing: streaming pass done at {:.2} s, CPU {:.2} s ({waited:.2} s waiting for frames)",
+            started.elapsed().as_secs_f64(),
+            crate::usage::own_cpu_seconds().unwrap_or(f64::NAN)
         );
     }
     let unfollowed = match &late {

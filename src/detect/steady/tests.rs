@@ -77,6 +77,43 @@ fn a_shift_and_a_turn_are_measured_and_undone() {
 }
 
 #[test]
+fn a_frame_shrunk_by_a_factor_that_is_not_whole_is_measured_alike() {
+    // 1280x720 is measured at 2.67 times smaller: block means by 2, then bilinear.
+    let (w, h) = (1280, 720);
+    let first = textured(w, h, Motion::default(), 0);
+    let mut s = Steady::new(&first, None).unwrap();
+    assert!((s.shrink - 1280.0 / EST_SIDE).abs() < 1e-12, "{}", s.shrink);
+    // The prepared frame is OpenCV's block means at that factor within a grey level.
+    let m = Mat::new_rows_cols_with_data(h as i32, w as i32, &first.data).unwrap();
+    let mut means = Mat::default();
+    let size = Size::new(s.small.cols(), s.small.rows());
+    imgproc::resize(&m, &mut means, size, 0.0, 0.0, imgproc::INTER_AREA).unwrap();
+    let (gain, offset) = s.norm.unwrap();
+    let small = s.small.data_typed::<f32>().unwrap();
+    let means = means.data_bytes().unwrap();
+    assert_eq!(small.len(), means.len());
+    let off = small
+        .iter()
+        .zip(means)
+        .map(|(a, &b)| (f64::from(*a) - (gain * f64::from(b) + offset)).abs() / gain)
+        .sum::<f64>()
+        / small.len() as f64;
+    assert!(off < 1.5, "{off} grey levels from block means");
+    let mv = Motion {
+        dx: -3.1,
+        dy: 1.7,
+        rot_rad: -0.3f64.to_radians(),
+    };
+    let got = s.measure(&textured(w, h, mv, 1)).unwrap().unwrap();
+    assert!((got.dx - mv.dx).abs() < 0.08, "{got:?}");
+    assert!((got.dy - mv.dy).abs() < 0.08, "{got:?}");
+    assert!(
+        (got.rot_rad - mv.rot_rad).abs() < 0.02f64.to_radians(),
+        "{got:?}"
+    );
+}
+
+#[test]
 fn a_plain_frame_has_no_motion_to_measure() {
     let f = Frame {
         index: 0,

@@ -14,10 +14,9 @@ use opencv::prelude::*;
 
 /// `f` shrunk `shrink` times (block means, bilinear past the factor's whole part) as
 /// floats, smoothed, into `smooth`, and that shrunk twice more into `coarse`; at the
-/// first frame's level and contrast `norm`
-/// (a gain and an offset), which the first frame sets. Each frame's own light is fitted
-/// in the alignment ([`Light`]): a frame's own level and contrast would move with a
-/// person walking through it.
+/// first frame's level and contrast `norm` (a gain and an offset), which the first frame
+/// sets. Each frame's own light is fitted in the alignment ([`Light`]): a frame's own
+/// level and contrast would move with a person walking through it.
 pub(super) fn prepare(
     f: &Frame,
     shrink: f64,

@@ -33,10 +33,20 @@ pub(super) fn prepare(
     // Block means by the whole part of the factor, then bilinear to the size: OpenCV's
     // block means at a factor that is not whole (2.67 for a 1280x720 frame) took a fifth
     // of a moving camera's whole detection.
-    let k = (shrink.floor() as i32).max(1);
+    // The part a whole factor divides is centred (up to k - 1 rows and columns left
+    // out, half on each side), so the level's centre stays the frame's within half a
+    // pixel; a side shorter than the factor is not cut.
+    let k = (shrink.floor() as i32)
+        .min(f.width as i32)
+        .min(f.height as i32)
+        .max(1);
     let mut shrunk = if k > 1 {
-        let (bw, bh) = ((f.width as i32 / k).max(1), (f.height as i32 / k).max(1));
-        let part = Mat::roi(&m, core::Rect::new(0, 0, bw * k, bh * k))?;
+        let (bw, bh) = (f.width as i32 / k, f.height as i32 / k);
+        let (x0, y0) = (
+            (f.width as i32 - bw * k) / 2,
+            (f.height as i32 - bh * k) / 2,
+        );
+        let part = Mat::roi(&m, core::Rect::new(x0, y0, bw * k, bh * k))?;
         let mut out = Mat::default();
         imgproc::resize(
             &part,

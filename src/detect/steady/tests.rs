@@ -77,6 +77,14 @@ fn a_shift_and_a_turn_are_measured_and_undone() {
 }
 
 #[test]
+fn a_strip_thinner_than_the_factor_is_prepared_without_error() {
+    // 1500x2 px: a factor of 3.1 for the long side, more than the short side holds.
+    let f = textured(1500, 2, Motion::default(), 0);
+    let mut s = Steady::new(&f, None).unwrap();
+    assert!(s.measure(&f).is_ok());
+}
+
+#[test]
 fn a_frame_shrunk_by_a_factor_that_is_not_whole_is_measured_alike() {
     // 1280x720 is measured at 2.67 times smaller: block means by 2, then bilinear.
     let (w, h) = (1280, 720);

@@ -336,14 +336,14 @@ impl<'a> FirstLook<'a> {
                 None
             }
         };
-        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-            eprintln!(
-                "timing: first look decoded at {:.2} s, CPU {:.2} s ({} frames, {dropped} of a still start dropped)",
-                started.elapsed().as_secs_f64(),
-                crate::usage::own_cpu_seconds().unwrap_or(f64::NAN),
+        super::debug_timing(
+            "first look decoded",
+            started,
+            &format!(
+                " ({} frames, {dropped} of a still start dropped)",
                 init.data.len()
-            );
-        }
+            ),
+        );
         if init.data.is_empty() {
             if let (Some([a, b]), true) = (opts.frames, decoded > 0) {
                 bail!(
@@ -364,13 +364,7 @@ impl<'a> FirstLook<'a> {
             opts.roi,
         )
         .with_context(|| format!("{}: no wire found", name))?;
-        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-            eprintln!(
-                "timing: geometry done at {:.2} s, CPU {:.2} s",
-                started.elapsed().as_secs_f64(),
-                crate::usage::own_cpu_seconds().unwrap_or(f64::NAN)
-            );
-        }
+        super::debug_timing("geometry done", started, "");
         let init_bg = geometry::extreme_frame(&init, geo.dark)?;
         let init_tmap =
             geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, PASS_FLOOR)?;

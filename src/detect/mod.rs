@@ -115,6 +115,18 @@ pub fn peak_memory_estimate_mib(info: &crate::video::VideoInfo, work_side_px: f6
     40.0 + 2.3 * kept * frame / f64::from(1u32 << 20)
 }
 
+/// Under `ROLLFRIC_DEBUG`, a timing line: `what` happened this long after `started`, with
+/// the process's processor time so far, then `more`.
+fn debug_timing(what: &str, started: std::time::Instant, more: &str) {
+    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+        eprintln!(
+            "timing: {what} at {:.2} s, CPU {:.2} s{more}",
+            started.elapsed().as_secs_f64(),
+            crate::usage::own_cpu_seconds().unwrap_or(f64::NAN)
+        );
+    }
+}
+
 /// Detect the wire angle in every frame of a video file (decoded by `ffmpeg`).
 pub fn detect(path: &Path, opts: &DetectOptions) -> Result<Detection> {
     detect_from(&VideoFile::open(path)?, opts)
@@ -365,13 +377,11 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     if tty {
         eprintln!("\rdetect: frame {k}/{k}");
     }
-    if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
-        eprintln!(
-            "timing: streaming pass done at {:.2} s, CPU {:.2} s ({waited:.2} s waiting for frames)",
-            started.elapsed().as_secs_f64(),
-            crate::usage::own_cpu_seconds().unwrap_or(f64::NAN)
-        );
-    }
+    debug_timing(
+        "streaming pass done",
+        started,
+        &format!(" ({waited:.2} s waiting for frames)"),
+    );
     let unfollowed = match &late {
         Some(l) => l.unfollowed()?,
         None => None,

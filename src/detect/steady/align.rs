@@ -40,37 +40,26 @@ pub(super) fn prepare(
         .min(f.width as i32)
         .min(f.height as i32)
         .max(1);
-    let mut shrunk = if k > 1 {
+    let means = if k > 1 {
         let (bw, bh) = (f.width as i32 / k, f.height as i32 / k);
         let (x0, y0) = (
             (f.width as i32 - bw * k) / 2,
             (f.height as i32 - bh * k) / 2,
         );
         let part = Mat::roi(&m, core::Rect::new(x0, y0, bw * k, bh * k))?;
-        let mut out = Mat::default();
-        imgproc::resize(
-            &part,
-            &mut out,
-            Size::new(bw, bh),
-            0.0,
-            0.0,
-            imgproc::INTER_AREA,
-        )?;
-        out
+        Some(resized(&part, Size::new(bw, bh), imgproc::INTER_AREA)?)
     } else {
-        m.try_clone()?
+        None
     };
-    if (shrunk.cols(), shrunk.rows()) != (sw, sh) {
-        // Under twice, block means still (bilinear would skip pixels).
-        let how = if k > 1 {
-            imgproc::INTER_LINEAR
-        } else {
-            imgproc::INTER_AREA
-        };
-        let mut out = Mat::default();
-        imgproc::resize(&shrunk, &mut out, Size::new(sw, sh), 0.0, 0.0, how)?;
-        shrunk = out;
-    }
+    // Block means still under twice (bilinear would skip pixels); the frame copied only
+    // when it is small enough already.
+    let size = Size::new(sw, sh);
+    let shrunk = match means {
+        Some(b) if (b.cols(), b.rows()) == (sw, sh) => b,
+        Some(b) => resized(&b, size, imgproc::INTER_LINEAR)?,
+        None if (f.width as i32, f.height as i32) == (sw, sh) => m.try_clone()?,
+        None => resized(&m, size, imgproc::INTER_AREA)?,
+    };
     // The first frame's median grey brought to 128 and its quartiles' spread to
     // `LEVEL_SPREAD` (a plain wall's faint shading made as telling as a textured scene).
     let (gain, offset) = match *norm {
@@ -95,6 +84,13 @@ pub(super) fn prepare(
         imgproc::INTER_AREA,
     )?;
     Ok(())
+}
+
+/// `src` resized to `size` by interpolation `how`.
+fn resized(src: &impl core::ToInputArray, size: Size, how: i32) -> Result<Mat> {
+    let mut out = Mat::default();
+    imgproc::resize(src, &mut out, size, 0.0, 0.0, how)?;
+    Ok(out)
 }
 
 /// The gain and offset that bring `m`'s median grey to 128 and its quartiles' spread to

@@ -382,3 +382,44 @@ fn a_phone_rotation_tag_leaves_the_frames_as_stored() {
     }
     assert!(csvs[0] == csvs[1], "the tagged clip's angles differ");
 }
+
+/// A working side whose frames would pass the bound on a frame's pixels at the working
+/// scale (3840x2160) is held to a coarser whole factor, and `detect` says so before it
+/// starts; a region within the bound is measured at the side asked for, unsaid.
+#[test]
+fn a_working_side_past_the_frame_bound_is_held_and_said() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let big = make_clip(
+        dir.path(),
+        "big.mp4",
+        "color=c=gray:size=4200x2400:rate=25:duration=0.2",
+    );
+    let csv = dir.path().join("angles.csv");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            OsStr::new("detect"),
+            big.as_os_str(),
+            OsStr::new("-o"),
+            csv.as_os_str(),
+            OsStr::new("--work-side"),
+            OsStr::new("8192"),
+        ];
+        args.extend(extra.iter().map(OsStr::new));
+        let out = rollfric(&args, &root());
+        assert!(!out.status.success(), "a grey picture has no wire");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    // 10.1 Mpx at full size: half size, 2100x1200.
+    let err = run(&[]);
+    assert!(
+        err.contains("big.mp4: working side 8192 px: the 4200x2400 px frame is measured shrunk 2 times (2100x1200 px)"),
+        "{err}"
+    );
+    // A 3840x2160 region of it: at full size, and nothing said of it.
+    let err = run(&["--roi", "0,0,3840,2160"]);
+    assert!(!err.contains("measured shrunk"), "{err}");
+    assert!(err.contains("no wire found"), "{err}");
+}

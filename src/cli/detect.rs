@@ -40,7 +40,8 @@ pub struct DetectArgs {
     pivot: Option<Vec<f64>>,
     /// The largest side (px) the detector works at: frames are shrunk by a whole factor
     /// to at most this (default 640, or the experiment's `video.work_side_px`); 1280
-    /// measures 1280x720 footage at full size, more finely and more slowly.
+    /// measures 1280x720 footage at full size, more finely and more slowly. A frame at
+    /// the working scale holds at most 3840x2160 px: a larger one is shrunk further.
     #[arg(long, value_name = "PX")]
     work_side: Option<u32>,
     /// Also write the detection's summary as JSON: its verdict (`ok`, `suspect` or
@@ -194,20 +195,29 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     }
     clobber::check(&outputs, &inputs, a.force)?;
     let opts = options(&a)?;
-    if a.work_side.is_some_and(|s| s > 640) {
-        // A larger working side costs memory: say how much, before it is spent.
+    if opts.work_side_px > 640.0 {
+        // A larger working side costs memory: a frame is held to a bounded size, and a
+        // side held smaller is said before the work starts.
         let mut dec = crate::video::Decoder::spawn(&a.video)?;
         let info = dec.describe()?;
-        let mib = detect::peak_memory_estimate_mib(info, opts.work_side_px);
-        if mib > LARGE_MIB {
+        let (w, h) = opts.roi.map_or((info.width, info.height), |r| (r.w, r.h));
+        let (k, held) = detect::work_scale(w, h, opts.work_side_px);
+        if held {
             eprintln!(
-                "{}: --work-side {}: a {}x{} video at this side needs about {:.1} GiB of \
-                 memory (a smaller --work-side needs less)",
+                "{}: working side {} px: the {w}x{h} px {} is measured shrunk {k} times \
+                 ({}x{} px), as a frame at the working scale holds at most {:.1} Mpx \
+                 (memory at the peak about {:.0} MiB)",
                 a.video.display(),
                 opts.work_side_px,
-                info.width,
-                info.height,
-                mib / 1024.0
+                if opts.roi.is_some() {
+                    "region"
+                } else {
+                    "frame"
+                },
+                w / k,
+                h / k,
+                detect::work_max_pixels() as f64 / 1e6,
+                detect::peak_memory_estimate_mib(info, opts.work_side_px),
             );
         }
     }
@@ -285,6 +295,3 @@ fn describe_verdict(v: &detect::judge::DetectionVerdict) -> String {
     }
     out
 }
-
-/// The estimated peak memory above which `detect` says what a working side costs, MiB.
-const LARGE_MIB: f64 = 600.0;

@@ -452,7 +452,10 @@ pub struct Video {
     /// the default's scale when the finer one's look is in doubt). Default 640, at
     /// least 640. A larger one measures high-resolution footage more finely, for more of
     /// the detector's time and memory: 1280 measures a 1280x720 video at its full size
-    /// and a 1920x1080 one at half size (docs/detector.md, "Working scale").
+    /// and a 1920x1080 one at half size (docs/detector.md, "Working scale"). A frame at
+    /// the working scale holds at most 3840 x 2160 px, whatever the side: a larger one
+    /// is shrunk further (an 8192x8192 video at 8192 is measured at 2730x2730), so that
+    /// the detector's memory stays under 600 MB.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub work_side_px: Option<u32>,
 }

@@ -6,8 +6,19 @@ use super::*;
 use crate::detect::tuning::{
     DECODE_ONCE_MAX_BYTES, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S, LOOK_MAX_BYTES,
     LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, PASS_FLOOR, PRUNE_SHARE,
-    READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS, WORK_SIDE_PX,
+    READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS, WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
+
+/// The whole factor a region of `w` x `h` px is shrunk by at a working side of
+/// `work_side_px`: the finest that brings its larger side to at most that side and its
+/// pixels to at most [`WORK_MAX_PIXELS`] (the bound on a look's memory).
+pub(crate) fn work_shrink(w: u32, h: u32, work_side_px: f64) -> u32 {
+    let mut k = (f64::from(w.max(h)) / work_side_px).ceil().max(1.0) as u32;
+    while u64::from(w / k) * u64::from(h / k) > WORK_MAX_PIXELS {
+        k += 1;
+    }
+    k
+}
 
 /// Every how many frames the look keeps one, for frames of `bytes` each and a video of
 /// `info`'s rate: 1 unless its [`INIT_SECONDS`] would hold more than [`LOOK_MAX_BYTES`].
@@ -109,7 +120,7 @@ impl<'a> FirstLook<'a> {
         let side = self.bound.w.max(self.bound.h) as f64;
         let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
         let fine = if self.opts.work_side_px > WORK_SIDE_PX {
-            (side / self.opts.work_side_px).ceil().max(1.0) as u32
+            work_shrink(self.bound.w, self.bound.h, self.opts.work_side_px)
         } else {
             (side / WORK_SIDE_PX).floor().max(1.0) as u32
         };

@@ -58,7 +58,7 @@ mod track;
 pub mod tuning;
 
 use crate::detect::tuning::{
-    INIT_SECONDS, LOOK_MAX_FRAMES, PER_SIDE, SWING_SCALE_RETRY, WORK_SIDE_PX,
+    INIT_SECONDS, LOOK_MAX_FRAMES, PER_SIDE, SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
@@ -93,6 +93,19 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
     (p - origin - Pt::repeat(0.5 * (s - 1.0))) / s
 }
 
+/// The working scale a working side gives a region of `w` x `h` px: the whole factor
+/// it is shrunk by, and whether [`WORK_MAX_PIXELS`] held it coarser than the side asked.
+pub fn work_scale(w: u32, h: u32, work_side_px: f64) -> (u32, bool) {
+    let k = first_look::work_shrink(w, h, work_side_px);
+    let asked = (f64::from(w.max(h)) / work_side_px).ceil().max(1.0) as u32;
+    (k, k > asked)
+}
+
+/// The most pixels a frame holds at the working scale ([`WORK_MAX_PIXELS`]).
+pub fn work_max_pixels() -> u64 {
+    WORK_MAX_PIXELS
+}
+
 /// The detector's peak memory at a working side, estimated before it starts, MiB: a
 /// base of 40 MiB and 2.3 copies of the first look's frames at the scale the working
 /// side gives (the look's frames, its background and the frames held for the streaming
@@ -101,8 +114,11 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
 /// px on a 3840x2160 video at 60 frames/s, 517 estimated). For `--work-side`: a larger
 /// side costs memory, and the command says how much before it is spent.
 pub fn peak_memory_estimate_mib(info: &crate::video::VideoInfo, work_side_px: f64) -> f64 {
-    let side = f64::from(info.width.max(info.height));
-    let shrink = (side / work_side_px.max(WORK_SIDE_PX)).ceil().max(1.0);
+    let shrink = f64::from(first_look::work_shrink(
+        info.width,
+        info.height,
+        work_side_px.max(WORK_SIDE_PX),
+    ));
     let fps = match (info.frames_header, info.duration_s) {
         (Some(n), Some(d)) if d > 0.0 => n as f64 / d,
         _ => 30.0,

@@ -28,6 +28,48 @@ fn a_larger_working_side_is_priced_before_it_is_spent() {
 }
 
 #[test]
+fn a_larger_working_side_is_held_to_a_bounded_frame() {
+    // 4K at 4096 px: full size, 8 294 400 px, at the bound: not held.
+    assert_eq!(work_scale(3840, 2160, 4096.0), (1, false));
+    // 8K at 8192: 33 Mpx at full size; half size is 4K.
+    assert_eq!(work_scale(7680, 4320, 8192.0), (2, true));
+    // 8192x8192 at 8192: 67 Mpx, 16.8 at half size, 7.5 at a third (2730x2730).
+    assert_eq!(work_scale(8192, 8192, 8192.0), (3, true));
+    // A region of it, 3000x2000, at full size.
+    assert_eq!(work_scale(3000, 2000, 8192.0), (1, false));
+    // The default side is never held.
+    assert_eq!(work_scale(1920, 1080, 640.0), (3, false));
+    assert_eq!(work_scale(8192, 8192, 640.0), (13, false));
+    // Whatever the side and the frame (up to the largest a video may have) and the rate,
+    // the estimated peak stays under 600 MiB.
+    let video = |width, height, fps: u64| crate::video::VideoInfo {
+        width,
+        height,
+        frames_header: Some(10 * fps),
+        duration_s: Some(10.0),
+        codec: "h264".into(),
+        luma_plane: true,
+    };
+    for (w, h) in [
+        (8192, 8192),
+        (8192, 1080),
+        (7680, 4320),
+        (5000, 5000),
+        (4097, 4097),
+    ] {
+        for side in [640.0, 1280.0, 2048.0, 4096.0, 8192.0] {
+            for fps in [10, 30, 60, 240] {
+                let mib = peak_memory_estimate_mib(&video(w, h, fps), side);
+                assert!(
+                    mib < 600.0,
+                    "{w}x{h} at {side} px, {fps} frames/s: {mib} MiB"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn shrunk_pixel_centres_map_to_the_centres_of_the_pixels_they_average() {
     let origin = Pt::new(10.0, 3.0);
     // Shrunk 2x: pixel 0 averages full pixels 10 and 11 (centre 10.5).

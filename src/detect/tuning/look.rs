@@ -91,6 +91,16 @@ knobs! {
         what "default working side a frame is shrunk towards (whole factors)",
         chosen_by "e0cb6df, 75ce8a7: 640 px; a turned real 1920x1080 clip at 960x540 lost its turning points when measured at full size";
 
+    /// The most pixels a frame (or its region of interest) holds at the working scale:
+    /// a larger working side (`video.work_side_px`) is held to the finest whole factor
+    /// that keeps a frame within this many, as the first look keeps at least
+    /// `LOOK_MIN_FRAMES` of them whatever their size. 3840 x 2160 px (a 4K frame at
+    /// full size): 8192 x 8192 at `--work-side 8192` is measured shrunk three times
+    /// (2730 x 2730) instead of at full size (a look of 25 frames of 67 MB).
+    WORK_MAX_PIXELS: u64 = 3840 * 2160, "px",
+        what "most pixels of a frame at the working scale (a larger side is held to fit)",
+        chosen_by "issue 52: peak memory at most 600 MB at any working side; measured in docs/detector.md";
+
     // From still.rs.
     /// Every `STILL_SAMPLE_STEP`-th pixel is compared (tens of thousands per frame).
     STILL_SAMPLE_STEP: usize = 7, "pixels",

@@ -288,6 +288,7 @@ mod tests {
             calibration: None,
             lens: None,
             camera: None,
+            moved_from_start: false,
         }
     }
 

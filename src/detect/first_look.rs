@@ -95,6 +95,9 @@ pub(super) struct FirstLook<'a> {
     pub(super) first: u64,
     pub(super) last: u64,
     pub(super) started: std::time::Instant,
+    /// The camera is known to move (a pass found it moving from the start): the look's
+    /// frames are steadied whatever its own glances find.
+    pub(super) moving: bool,
 }
 
 impl<'a> FirstLook<'a> {
@@ -177,6 +180,7 @@ impl<'a> FirstLook<'a> {
             first,
             last,
             started,
+            moving: known_moving,
         } = *self;
         let info = input.info();
         let name = input.name();
@@ -298,7 +302,7 @@ impl<'a> FirstLook<'a> {
         // The camera moved when enough frames did (a still camera's single frames may
         // measure a little off on a plain wall): every frame's motion is measured (the
         // frames in between too) and the look's frames are warped back.
-        let moving = moved as f64 > MOVING_SHARE * measured as f64;
+        let moving = known_moving || moved as f64 > MOVING_SHARE * measured as f64;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!("steady: the look glanced at {measured} frames, {moved} moved");
         }

@@ -199,17 +199,41 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         None => (0, u64::MAX),
     };
     // 1. Geometry from the first seconds, at the working scale that sees the wire best.
-    let looks = FirstLook {
+    let mut looks = FirstLook {
         input,
         opts,
         bound,
         first,
         last,
         started,
+        moving: false,
     };
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale.
-    let d = streaming_pass(looks, look)?;
+    let shrink = look.shrink;
+    let mut d = streaming_pass(looks, look)?;
+    // A camera the first look took for still that the pass found moving from its start
+    // (no glance found it still): the frames before it was found were measured where
+    // they lie, so every frame is measured again steadied, from a look steadied too.
+    if d.moved_from_start {
+        eprintln!(
+            "{name}: the camera moved from the start, which the first look took for \
+             still: measuring again with every frame steadied"
+        );
+        looks.moving = true;
+        match looks.at(shrink).and_then(|l| streaming_pass(looks, l)) {
+            Ok(a) => {
+                d = Detection {
+                    decodings: a.decodings + d.decodings,
+                    ..a
+                }
+            }
+            Err(e) => eprintln!(
+                "{name}: steadied from the start it measures nothing ({e:#}): the first \
+                 measurement is kept"
+            ),
+        }
+    }
     // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the
     // wire's direction turns more or less than its angle about the pivot) is the look's
     // at a scale that saw something else as the wire (a 2 px wire and its blurred shadow
@@ -402,6 +426,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         Some(l) => l.unfollowed()?,
         None => None,
     };
+    let moved_from_start = late.as_ref().is_some_and(|l| l.moved_from_start());
     let camera = src.camera().or(late.and_then(|l| l.camera()));
     drop(src);
     if rows.is_empty() {
@@ -471,6 +496,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         calibration: opts.calibration.clone(),
         lens,
         camera,
+        moved_from_start,
     })
 }
 

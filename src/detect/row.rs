@@ -114,6 +114,10 @@ pub struct Detection {
     /// first: see `steady`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<super::steady::CameraMotion>,
+    /// The camera, taken as still by the first look, was found moving from the pass's
+    /// start: its first frames were not steadied (`detect` measures it again).
+    #[serde(skip)]
+    pub moved_from_start: bool,
 }
 
 impl Detection {

@@ -34,6 +34,8 @@ pub(in crate::detect) struct Late {
     /// The last two glanced frames while the camera was taken as still (see
     /// [`Late::unfollowed`]).
     glanced: [Option<Frame>; 2],
+    /// A glance found the camera still (see [`Late::moved_from_start`]).
+    still_seen: bool,
     followed: Followed,
 }
 
@@ -49,6 +51,7 @@ impl Late {
             glances: 0,
             drift: Vec::new(),
             glanced: [None, None],
+            still_seen: false,
             followed: Followed::default(),
         }
     }
@@ -85,6 +88,7 @@ impl Late {
             // Two glances in a row: a region that two rods or a shadow fill pulls one
             // glance of a still camera along now and then, not two running.
             self.glances = if moved { self.glances + 1 } else { 0 };
+            self.still_seen |= !moved;
             if self.glances < LATE_GLANCES {
                 return Ok(());
             }
@@ -98,6 +102,7 @@ impl Late {
             {
                 self.glances = 0;
                 self.drift.clear();
+                self.still_seen = true;
                 return Ok(());
             }
             *st = on_scene;
@@ -163,6 +168,14 @@ impl Late {
             }
         }
         Ok(Some(reach))
+    }
+
+    /// Whether the camera was found moving by glances none before which found it still:
+    /// it moved from the pass's start, and the frames before it was found were measured
+    /// where they lie (a camera the first look took for still: a 2560x1440 hand-held
+    /// twin, shrunk 4 times, whose glances' motions explained too few of its pixels).
+    pub(in crate::detect) fn moved_from_start(&self) -> bool {
+        self.on && !self.still_seen
     }
 
     /// The camera's motion, when it was found to move.

@@ -4,9 +4,10 @@
 
 use super::*;
 use crate::detect::tuning::{
-    DECODE_ONCE_MAX_BYTES, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S, LOOK_MAX_BYTES,
-    LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE, PASS_FLOOR, PRUNE_SHARE,
-    READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS, WORK_MAX_PIXELS, WORK_SIDE_PX,
+    DECODE_ONCE_MAX_BYTES, EXPLAINS, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S,
+    LOOK_HINT_EXPLAINS, LOOK_MAX_BYTES, LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE,
+    PASS_FLOOR, PRUNE_SHARE, READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS, WORK_MAX_PIXELS,
+    WORK_SIDE_PX,
 };
 
 /// The whole factor a region of `w` x `h` px is shrunk by at a working side of
@@ -83,6 +84,9 @@ pub(super) struct Located<'a> {
     /// [`MOVING_PX`]): its frames were warped back onto its first, and the
     /// streaming pass's are too.
     pub(super) moving: bool,
+    /// Enough of the look's glances found the camera moved by the weaker test of
+    /// [`LOOK_HINT_EXPLAINS`]: a pass that finds it moving from the start is believed.
+    pub(super) hinted: bool,
 }
 
 /// What every first look at one video shares: the input, the options, the region
@@ -225,7 +229,7 @@ impl<'a> FirstLook<'a> {
         // enough of them moved, measured on all,
         // and the look's frames are warped back.
         let mut steady: Option<steady::Steady> = None;
-        let (mut measured, mut moved) = (0usize, 0usize);
+        let (mut measured, mut moved, mut hinted) = (0usize, 0usize, 0usize);
         let mut last_glance: Option<(u64, f64)> = None;
         // Every how many frames the look keeps one (`look_stride`), from the first.
         let mut stride: Option<u64> = None;
@@ -263,10 +267,10 @@ impl<'a> FirstLook<'a> {
                 last_glance = Some((decoded, frame.t_s));
                 measured += 1;
                 let m = st.glance(&frame)?;
-                if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > MOVING_PX)
-                    && st.explains()?
-                {
-                    moved += 1;
+                if m.is_some_and(|m| m.reach(init.w as f64, init.h as f64) > MOVING_PX) {
+                    let (aligned, not) = st.left_off()?;
+                    moved += usize::from(aligned < EXPLAINS * not);
+                    hinted += usize::from(aligned < LOOK_HINT_EXPLAINS * not);
                 }
             }
             let t_first = *t_first.get_or_insert(frame.t_s);
@@ -303,6 +307,7 @@ impl<'a> FirstLook<'a> {
         // measure a little off on a plain wall): every frame's motion is measured (the
         // frames in between too) and the look's frames are warped back.
         let moving = known_moving || moved as f64 > MOVING_SHARE * measured as f64;
+        let hinted = hinted as f64 > MOVING_SHARE * measured as f64;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!("steady: the look glanced at {measured} frames, {moved} moved");
         }
@@ -402,6 +407,7 @@ impl<'a> FirstLook<'a> {
             dropped,
             stride: stride.unwrap_or(1) as usize,
             moving,
+            hinted,
         })
     }
 }

@@ -426,7 +426,8 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         Some(l) => l.unfollowed()?,
         None => None,
     };
-    let moved_from_start = late.as_ref().is_some_and(|l| l.moved_from_start());
+    // Believed when the look's own glances hinted it (see `LOOK_HINT_EXPLAINS`).
+    let moved_from_start = look.hinted && late.as_ref().is_some_and(|l| l.moved_from_start());
     let camera = src.camera().or(late.and_then(|l| l.camera()));
     drop(src);
     if rows.is_empty() {

@@ -348,6 +348,11 @@ impl Steady {
         Ok(moved < share * still)
     }
 
+    /// The frame's pixels off (Tukey's loss) at the motion last measured and at none.
+    pub(super) fn left_off(&mut self) -> Result<(f64, f64)> {
+        self.losses()
+    }
+
     /// The loss of the frame last measured at its motion and at none.
     fn losses(&mut self) -> Result<(f64, f64)> {
         let (level, img) = (&self.levels[1], &self.smooth);

@@ -115,6 +115,16 @@ knobs! {
         what "a look frame counts as moved when aligned it differs less than this share",
         chosen_by "96db5d0: hand-picked; not swept";
 
+    /// A camera the first look took for still that the streaming pass finds moving from
+    /// its start is measured again steadied only when the look's glances hinted it: more
+    /// than `MOVING_SHARE` of them aligned to a motion that explains the frame by this
+    /// share. A hand-held camera shrunk four times or more explains 0.42 to 0.83 of a
+    /// glance's pixels (the moving wire and ball keep the loss high); a plain synthetic
+    /// scene of a still camera, whose glances align to nothing, 0.90 to 0.99 (one 0.34).
+    LOOK_HINT_EXPLAINS: f64 = 0.85, "share",
+        what "a look glance hints the camera moved when aligned it differs less than this share",
+        chosen_by "issue 49: 2560x1440 to 7680x4320 hand-held twins 4 to 9 of 10-12 glances under it; a still plain scene 1 of 11";
+
     /// The camera is taken as moving when a frame of the first look is displaced, at its
     /// farthest corner, by more than this many px of the frame as measured ...
     MOVING_PX: f64 = 0.4, "px",

@@ -253,8 +253,9 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         if d.dark_wire { "dark" } else { "light" },
         d.roi,
         d.camera.map_or(String::new(), |c| format!(
-            "; the camera moved ({}): each frame was steadied onto the first",
-            c.describe()
+            "; the camera moved ({}): {}",
+            c.describe(),
+            c.steadied()
         )),
         a.output.display(),
         describe_verdict(&d.verdict)

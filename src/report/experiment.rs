@@ -263,9 +263,9 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
             "camera",
             match &d.camera {
                 Some(c) => format!(
-                    "moved ({}): each frame was steadied onto the first, and angles, \
-                     pivot and region are the first frame's",
-                    c.describe()
+                    "moved ({}): {}, and angles, pivot and region are the first frame's",
+                    c.describe(),
+                    c.steadied()
                 ),
                 None => "still".into(),
             },

@@ -36,6 +36,8 @@ pub(in crate::detect) struct Late {
     glanced: [Option<Frame>; 2],
     /// A glance found the camera still (see [`Late::moved_from_start`]).
     still_seen: bool,
+    /// The time of the frame the camera was found moving at.
+    on_at: Option<f64>,
     followed: Followed,
 }
 
@@ -52,6 +54,7 @@ impl Late {
             drift: Vec::new(),
             glanced: [None, None],
             still_seen: false,
+            on_at: None,
             followed: Followed::default(),
         }
     }
@@ -108,6 +111,7 @@ impl Late {
             *st = on_scene;
             self.first = None;
             self.on = true;
+            self.on_at = Some(f.t_s);
         }
         let m = self.followed.next(st, f)?;
         st.undo(f, m)
@@ -180,7 +184,10 @@ impl Late {
 
     /// The camera's motion, when it was found to move.
     pub(in crate::detect) fn camera(&self) -> Option<CameraMotion> {
-        self.on.then(|| self.followed.camera())
+        self.on.then(|| CameraMotion {
+            from_s: self.on_at,
+            ..self.followed.camera()
+        })
     }
 }
 
@@ -195,9 +202,26 @@ pub struct CameraMotion {
     pub max_px: f64,
     /// Frames whose motion could not be measured (held at the last measured).
     pub unmeasured: usize,
+    /// A camera found moving after the first look: the time of the first frame steadied,
+    /// s (the frames before were taken as still). Absent: every frame was steadied.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from_s: Option<f64>,
 }
 
 impl CameraMotion {
+    /// Which frames were steadied, as the reports give it: "each frame was steadied onto
+    /// the first", or "each frame from 12.3 s on was steadied onto the first (the frames
+    /// before were taken as still)".
+    pub fn steadied(&self) -> String {
+        match self.from_s {
+            Some(t) => format!(
+                "each frame from {t:.1} s on was steadied onto the first (the frames before \
+                 were taken as still)"
+            ),
+            None => "each frame was steadied onto the first".into(),
+        }
+    }
+
     /// In words, as the reports give it: "RMS 1.20 px and 0.150 deg, at most 3.1 px"
     /// (and the frames not measurable, if any).
     pub fn describe(&self) -> String {
@@ -254,6 +278,7 @@ impl Followed {
             rms_deg: (self.sum_rot2 / n).sqrt().to_degrees(),
             max_px: self.max_px,
             unmeasured: self.unmeasured,
+            from_s: None,
         }
     }
 }

@@ -347,3 +347,24 @@ fn a_camera_bumped_late_and_not_followed_is_found_by_the_ends_look() {
     let (followed, at_end) = bumped(2.0, 0.0);
     assert!(followed && at_end.is_none(), "{followed} {at_end:?}");
 }
+
+/// A camera found moving after the look is said to be steadied from the frame it was
+/// found at, the frames before taken as still; one that moved from the start (no
+/// glance found it still) is told apart (`detect` then measures it again).
+#[test]
+fn a_camera_found_moving_later_is_steadied_from_then_and_one_from_the_start_is_told() {
+    let late = late_on(|t| if t >= 5.0 { 2.0 } else { 0.0 }, 0.0);
+    let c = late.camera().expect("followed");
+    let from = c.from_s.expect("found after the look");
+    assert!((5.0..9.0).contains(&from), "{from}");
+    assert!(!late.moved_from_start());
+    assert!(
+        c.steadied().contains(&format!("from {from:.1} s on")),
+        "{}",
+        c.steadied()
+    );
+    let late = late_on(|t| if t > 0.0 { 2.0 } else { 0.0 }, 0.0);
+    assert!(late.camera().is_some() && late.moved_from_start());
+    let still = late_on(|_| 0.0, 0.0);
+    assert!(still.camera().is_none() && !still.moved_from_start());
+}

@@ -415,11 +415,11 @@ fn a_working_side_past_the_frame_bound_is_held_and_said() {
     // 10.1 Mpx at full size: half size, 2100x1200.
     let err = run(&[]);
     assert!(
-        err.contains("big.mp4: working side 8192 px: the 4200x2400 px frame is measured shrunk 2 times (2100x1200 px)"),
+        err.contains("big.mp4: working side 8192 px: the finer working scale shrinks the 4200x2400 px frame 2 times (2100x1200 px)"),
         "{err}"
     );
     // A 3840x2160 region of it: at full size, and nothing said of it.
     let err = run(&["--roi", "0,0,3840,2160"]);
-    assert!(!err.contains("measured shrunk"), "{err}");
+    assert!(!err.contains("working scale shrinks"), "{err}");
     assert!(err.contains("no wire found"), "{err}");
 }

@@ -204,9 +204,9 @@ pub fn detect(a: DetectArgs) -> Result<String> {
         let (k, held) = detect::work_scale(w, h, opts.work_side_px);
         if held {
             eprintln!(
-                "{}: working side {} px: the {w}x{h} px {} is measured shrunk {k} times \
-                 ({}x{} px), as a frame at the working scale holds at most {:.1} Mpx \
-                 (memory at the peak about {:.0} MiB)",
+                "{}: working side {} px: the finer working scale shrinks the {w}x{h} px \
+                 {} {k} times ({}x{} px), as a frame at the working scale holds at most \
+                 {:.1} Mpx (memory at the peak about {:.0} MiB)",
                 a.video.display(),
                 opts.work_side_px,
                 if opts.roi.is_some() {
@@ -217,7 +217,14 @@ pub fn detect(a: DetectArgs) -> Result<String> {
                 w / k,
                 h / k,
                 detect::work_max_pixels() as f64 / 1e6,
-                detect::peak_memory_estimate_mib(info, opts.work_side_px),
+                detect::peak_memory_estimate_mib(
+                    &crate::video::VideoInfo {
+                        width: w,
+                        height: h,
+                        ..info.clone()
+                    },
+                    opts.work_side_px
+                ),
             );
         }
     }

@@ -306,7 +306,8 @@ impl<'a> FirstLook<'a> {
         // The camera moved when enough frames did (a still camera's single frames may
         // measure a little off on a plain wall): every frame's motion is measured (the
         // frames in between too) and the look's frames are warped back.
-        let moving = known_moving || moved as f64 > MOVING_SHARE * measured as f64;
+        let moving =
+            (known_moving && steady.is_some()) || moved as f64 > MOVING_SHARE * measured as f64;
         let hinted = hinted as f64 > MOVING_SHARE * measured as f64;
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!("steady: the look glanced at {measured} frames, {moved} moved");

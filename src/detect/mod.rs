@@ -249,8 +249,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         input.name(),
         d.swing_scale.unwrap_or(f64::NAN)
     );
+    // A look made before the camera was found moving from the start is made again,
+    // steadied.
     let again = match other {
-        Other::Looked(l) => Ok(*l),
+        Other::Looked(l) if !looks.moving => Ok(*l),
+        Other::Looked(l) => looks.at(l.shrink),
         Other::Unlooked(k) => looks.at(k),
     }
     .and_then(|l| streaming_pass(looks, l));

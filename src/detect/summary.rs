@@ -41,7 +41,8 @@ pub struct DetectionSummary {
     /// The plate calibration the angles were measured through, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<crate::plane::CalibrationSummary>,
-    /// The camera's own motion, when it moved (each frame was steadied onto the first).
+    /// The camera's own motion, when it moved (each frame was steadied onto the first, or
+    /// each from `from_s` on).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<super::steady::CameraMotion>,
     /// The lens the angles were measured through (`video.lens`), if any.

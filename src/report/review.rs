@@ -142,6 +142,10 @@ pub(super) fn review_files(
     ctx.insert("flagged", &d.flagged.len());
     ctx.insert("limits", &data.limits);
     ctx.insert("camera", &d.camera.map(|c| c.describe()));
+    ctx.insert(
+        "camera_from",
+        &d.camera.and_then(|c| c.from_s).map(|t| format!("{t:.1}")),
+    );
     ctx.insert("verdict", &d.verdict.as_ref().map(|v| v.label()));
     ctx.insert("seen", &d.verdict.as_ref().map(|v| v.seen.describe()));
     ctx.insert(
@@ -183,5 +187,44 @@ mod tests {
         assert!(!json.contains("<!--") && !json.contains("</"), "{json}");
         let back: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(back["material"], evil);
+    }
+
+    /// A camera found moving after the first look: the page says which pictures are
+    /// steadied, not every one.
+    #[test]
+    fn a_camera_found_moving_late_is_said_steadied_from_then_on() {
+        let render = |from: Option<&str>| {
+            let mut ctx = tera::Context::new();
+            for k in ["name", "material", "data"] {
+                ctx.insert(k, "x");
+            }
+            ctx.insert("pictures", &0);
+            ctx.insert("flagged", &0);
+            let limits = Limits {
+                flagged: 1,
+                hold: 1,
+                side: 1,
+            };
+            ctx.insert("limits", &limits);
+            ctx.insert("camera", &Some("RMS 1.00 px and 0.100 deg, at most 2.0 px"));
+            ctx.insert("camera_from", &from);
+            ctx.insert("verdict", &None::<String>);
+            ctx.insert("seen", &None::<String>);
+            ctx.insert("failed", &Vec::<String>::new());
+            super::super::templates()
+                .unwrap()
+                .render("review.html", &ctx)
+                .unwrap()
+        };
+        let late = render(Some("12.0"));
+        assert!(
+            late.contains("each picture from 12.0 s on is steadied onto the video's first frame"),
+            "{late}"
+        );
+        let all = render(None);
+        assert!(
+            all.contains("each picture is steadied onto the video's first frame"),
+            "{all}"
+        );
     }
 }

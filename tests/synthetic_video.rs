@@ -500,6 +500,18 @@ fn a_hand_held_twin_is_steadied_onto_its_first_frame() {
          fps: 25\n  style: dark-wire\n  seed: 2\n  duration_s: 20\n  \
          shake: {px: 2.5, deg: 0.3, hz: 5}\n",
     );
+    let detected = hand_held_detected(d, &text);
+    assert!(
+        detected.contains("the camera moved (RMS"),
+        "no camera motion reported: {detected}"
+    );
+    let rms = scatter_deg(&ok_errors_against_truth(d));
+    assert!(rms <= 0.12, "angle RMS {rms:.4} deg");
+}
+
+/// `text`, an experiment with a hand-held twin, rendered in `d` (`hand.mp4`, its truth
+/// `truth.csv`) and detected (`angles.csv`): what `detect` said.
+fn hand_held_detected(d: &Path, text: &str) -> String {
     std::fs::write(d.join("hand.yaml"), text).unwrap();
     rollfric_ok(
         &[
@@ -512,13 +524,7 @@ fn a_hand_held_twin_is_steadied_onto_its_first_frame() {
         ],
         d,
     );
-    let (_, detected) = rollfric_ok(&["detect", "hand.mp4", "-o", "angles.csv"], d);
-    assert!(
-        detected.contains("the camera moved (RMS"),
-        "no camera motion reported: {detected}"
-    );
-    let rms = scatter_deg(&ok_errors_against_truth(d));
-    assert!(rms <= 0.12, "angle RMS {rms:.4} deg");
+    rollfric_ok(&["detect", "hand.mp4", "-o", "angles.csv"], d).1
 }
 
 /// A hand-held camera the first look takes for still: at 2560x1440 the look works shrunk
@@ -539,19 +545,7 @@ fn a_camera_moving_from_the_start_that_the_look_took_for_still_is_measured_stead
          fps: 25\n  style: dark-wire\n  seed: 3\n  duration_s: 6\n  \
          shake: {px: 2, deg: 0.3, hz: 5}\n",
     );
-    std::fs::write(d.join("hand.yaml"), text).unwrap();
-    rollfric_ok(
-        &[
-            "synth",
-            "hand.yaml",
-            "-o",
-            "hand.mp4",
-            "--truth",
-            "truth.csv",
-        ],
-        d,
-    );
-    let (_, detected) = rollfric_ok(&["detect", "hand.mp4", "-o", "angles.csv"], d);
+    let detected = hand_held_detected(d, &text);
     assert!(
         detected.contains("the camera moved from the start, which the first look took for still"),
         "{detected}"

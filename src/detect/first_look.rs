@@ -14,11 +14,17 @@ use crate::detect::tuning::{
 /// `work_side_px`: the finest that brings its larger side to at most that side and its
 /// pixels to at most [`WORK_MAX_PIXELS`] (the bound on a look's memory).
 pub(crate) fn work_shrink(w: u32, h: u32, work_side_px: f64) -> u32 {
-    let mut k = (f64::from(w.max(h)) / work_side_px).ceil().max(1.0) as u32;
+    let mut k = side_shrink(w, h, work_side_px);
     while u64::from(w / k) * u64::from(h / k) > WORK_MAX_PIXELS {
         k += 1;
     }
     k
+}
+
+/// The least whole factor that brings the larger side of a `w` x `h` px region to at
+/// most `side` px.
+pub(crate) fn side_shrink(w: u32, h: u32, side: f64) -> u32 {
+    (f64::from(w.max(h)) / side).ceil().max(1.0) as u32
 }
 
 /// Every how many frames the look keeps one, for frames of `bytes` each and a video of
@@ -125,7 +131,7 @@ impl<'a> FirstLook<'a> {
     /// With the look kept comes the other scale ([`Other`]), when there is one.
     pub(super) fn at_best_scale(&self) -> Result<(Located<'a>, Option<Other<'a>>)> {
         let side = self.bound.w.max(self.bound.h) as f64;
-        let coarse = (side / WORK_SIDE_PX).ceil().max(1.0) as u32;
+        let coarse = side_shrink(self.bound.w, self.bound.h, WORK_SIDE_PX);
         let fine = if self.opts.work_side_px > WORK_SIDE_PX {
             work_shrink(self.bound.w, self.bound.h, self.opts.work_side_px)
         } else {

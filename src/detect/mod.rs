@@ -97,8 +97,7 @@ fn full_to_shrunk(p: Pt, origin: Pt, s: f64) -> Pt {
 /// it is shrunk by, and whether [`WORK_MAX_PIXELS`] held it coarser than the side asked.
 pub fn work_scale(w: u32, h: u32, work_side_px: f64) -> (u32, bool) {
     let k = first_look::work_shrink(w, h, work_side_px);
-    let asked = (f64::from(w.max(h)) / work_side_px).ceil().max(1.0) as u32;
-    (k, k > asked)
+    (k, k > first_look::side_shrink(w, h, work_side_px))
 }
 
 /// The most pixels a frame holds at the working scale ([`WORK_MAX_PIXELS`]).

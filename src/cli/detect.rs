@@ -46,7 +46,8 @@ pub struct DetectArgs {
     work_side: Option<u32>,
     /// Also write the detection's summary as JSON: its verdict (`ok`, `suspect` or
     /// `refused`, with the reason), each check with its figure and limit, what it saw
-    /// (period, amplitudes, pivot), the frames' counts. Written on a refusal too.
+    /// (period, amplitudes, pivot), the frames' counts, the camera's motion when it
+    /// moved. Written on a refusal too.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
     /// Replace an existing output that is not an angle CSV.
@@ -76,6 +77,9 @@ struct JsonSummary<'a> {
     swing_scale: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     seen: Option<&'a detect::judge::Seen>,
+    /// How the camera moved, when it did (each frame steadied).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    camera: Option<&'a detect::steady::CameraMotion>,
     checks: &'a [detect::judge::DetectionCheck],
 }
 
@@ -106,6 +110,7 @@ fn json_summary(video: &std::path::Path, d: &Result<detect::Detection>) -> Resul
             dark_wire: Some(d.dark_wire),
             swing_scale: d.swing_scale,
             seen: Some(&d.verdict.seen),
+            camera: d.camera.as_ref(),
             checks: &d.verdict.checks,
         },
         Err(e) => JsonSummary {
@@ -119,6 +124,7 @@ fn json_summary(video: &std::path::Path, d: &Result<detect::Detection>) -> Resul
             dark_wire: None,
             swing_scale: None,
             seen: None,
+            camera: None,
             checks: &[],
         },
     };

@@ -9,7 +9,7 @@ use super::{AngleRow, Status};
 use crate::detect::tuning::{
     ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
     NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, STALL_RANGE,
-    STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX,
+    STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX, TURN_FOLLOW_MAX_DEG, TURN_FOLLOW_SIGNIFICANCE,
 };
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
@@ -49,7 +49,7 @@ pub struct Seen {
 /// One check of a detection.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
-    /// `found`, `period`, `smooth`, `stalls`, `rest`, `envelope` or `still`.
+    /// `found`, `period`, `smooth`, `stalls`, `rest`, `envelope`, `still` or `turn`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -111,6 +111,64 @@ pub fn still_check(reach_px: f64) -> DetectionCheck {
         ),
         "the camera drifted and the detector did not follow it",
     )
+}
+
+/// `turn`: a moving camera's frames, each steadied by the turn measured for it, hold
+/// angles whose noise from frame to frame does not move with that turn. Where the
+/// static scene fixes the turn poorly (a plain plate's faint shading), the measured turn
+/// errs, and each angle with it: the fourth differences of the angles, regressed on
+/// those of the turns over the same runs of five found frames, then explain a share
+/// `R^2` of them. The figure is the part of the angle's noise (as [`Seen::noise_deg`]
+/// has it) that moves with the turn, `noise * sqrt(R^2)`, deg; judged when the
+/// regression's slope stands [`TURN_FOLLOW_SIGNIFICANCE`] standard errors from 0. `None`
+/// without a steadied frame or with fewer than twenty runs.
+pub fn turn_check(rows: &[AngleRow], turns: &[(u64, f64)]) -> Option<DetectionCheck> {
+    let turn_at = |frame: u64| {
+        turns
+            .binary_search_by_key(&frame, |t| t.0)
+            .ok()
+            .map(|i| turns[i].1)
+    };
+    let d4 = |v: &[f64]| v[0] - 4.0 * v[1] + 6.0 * v[2] - 4.0 * v[3] + v[4];
+    let pairs: Vec<(f64, f64)> = fourth_differences(rows)
+        .into_iter()
+        .filter_map(|(mid, da)| {
+            let r: Option<Vec<f64>> = rows[mid - 2..=mid + 2]
+                .iter()
+                .map(|row| turn_at(row.frame))
+                .collect();
+            r.map(|r| (d4(&r), da))
+        })
+        .collect();
+    if pairs.len() < 20 {
+        return None;
+    }
+    let sxx: f64 = pairs.iter().map(|p| p.0 * p.0).sum();
+    let syy: f64 = pairs.iter().map(|p| p.1 * p.1).sum();
+    if sxx <= 0.0 || syy <= 0.0 {
+        return None;
+    }
+    let sxy: f64 = pairs.iter().map(|p| p.0 * p.1).sum();
+    let b = sxy / sxx;
+    let s2 = pairs.iter().map(|p| (p.1 - b * p.0).powi(2)).sum::<f64>() / (pairs.len() - 1) as f64;
+    let z = b.abs() / (s2 / sxx).sqrt().max(f64::MIN_POSITIVE);
+    let r2 = (sxy * sxy / (sxx * syy)).min(1.0);
+    let noise = (1.4826 * median(pairs.iter().map(|p| p.1.abs()).collect()) / D4_GAIN).to_degrees();
+    let moves = noise * r2.sqrt();
+    Some(check(
+        "turn",
+        moves,
+        TURN_FOLLOW_MAX_DEG,
+        moves <= TURN_FOLLOW_MAX_DEG || z < TURN_FOLLOW_SIGNIFICANCE,
+        format!(
+            "{moves:.4} deg of the angle's {noise:.4} deg noise from frame to frame moves \
+             with the turn each frame was steadied by ({:.0} % of its variance, {z:.1} \
+             standard errors; at most {TURN_FOLLOW_MAX_DEG} deg)",
+            100.0 * r2
+        ),
+        "the static scene fixes the camera's turn poorly, and each angle carries the \
+         turn's error",
+    ))
 }
 
 impl Seen {

@@ -430,7 +430,14 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     };
     // Believed when the look's own glances hinted it (see `LOOK_HINT_EXPLAINS`).
     let moved_from_start = look.hinted && late.as_ref().is_some_and(|l| l.moved_from_start());
-    let camera = src.camera().or(late.and_then(|l| l.camera()));
+    let camera = src.camera().or(late.as_ref().and_then(|l| l.camera()));
+    // Each steadied frame's turn (none for a still camera).
+    let turns = match (&src, &late) {
+        (PassSource::Crop(c), _) if c.steady_from.is_some() => c.followed.turns().to_vec(),
+        (_, Some(l)) => l.turns().to_vec(),
+        _ => Vec::new(),
+    };
+    drop(late);
     drop(src);
     if rows.is_empty() {
         bail!("{}: no frame in the requested range", name);
@@ -481,6 +488,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let mut verdict = judge::judge(&rows, [pivot.x, pivot.y], refined.u_px, refined.drift_deg);
     if let Some(reach) = unfollowed {
         verdict = verdict.with(judge::still_check(reach));
+    }
+    if let Some(c) = judge::turn_check(&rows, &turns) {
+        verdict = verdict.with(c);
     }
     Ok(Detection {
         verdict,

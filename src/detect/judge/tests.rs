@@ -156,3 +156,43 @@ fn a_still_camera_whose_static_scene_moved_makes_the_detection_suspect() {
         c.reason
     );
 }
+
+/// A hand-held camera's turn at each frame (0.3 deg RMS, sines near 5 Hz), radians.
+fn hand_turns(n: usize) -> Vec<(u64, f64)> {
+    (0..n)
+        .map(|k| {
+            let t = k as f64 / FPS;
+            let w = std::f64::consts::TAU;
+            let deg = 0.3 * ((w * 4.3 * t).sin() + (w * 5.7 * t + 1.0).sin());
+            (k as u64, deg.to_radians())
+        })
+        .collect()
+}
+
+#[test]
+fn angles_that_follow_the_camera_s_turn_are_suspect_and_the_share_is_found() {
+    let turns = hand_turns(swinging().len());
+    // Steadied exactly: the angles are the pendulum's, whatever the camera's turn.
+    let c = turn_check(&swinging(), &turns).expect("judged");
+    assert!(c.passed, "{}", c.reason);
+    assert!(c.value < 0.002, "{}", c.reason);
+    // Each frame's turn measured with an error of 0.05 deg RMS, which the angle
+    // carries: its noise is then nearly all the turn's error, and moves with the turn
+    // measured.
+    let mut rng = Rng::new(11);
+    let mut rows = swinging();
+    let mut measured = turns.clone();
+    for (r, t) in rows.iter_mut().zip(measured.iter_mut()) {
+        let e = 0.05f64.to_radians() * rng.normal();
+        t.1 += e;
+        r.angle_rad = r.angle_rad.map(|a| a - e);
+    }
+    let c = turn_check(&rows, &measured).expect("judged");
+    assert!(!c.passed, "{}", c.reason);
+    // The angle's noise is 0.05 (the turn's error) and 0.005 (the rest) deg; the
+    // turn's error is a small part of the measured turn's fourth differences (the
+    // hand's own turn is most of them), so the share explained is below 1.
+    assert!(c.value > 0.02 && c.value < 0.055, "{}", c.reason);
+    // A still camera (no steadied frame) is not judged.
+    assert!(turn_check(&rows, &[]).is_none());
+}

@@ -182,6 +182,11 @@ impl Late {
         self.on && !self.still_seen
     }
 
+    /// Each frame steadied: its index and the turn it was steadied by, radians.
+    pub(in crate::detect) fn turns(&self) -> &[(u64, f64)] {
+        self.followed.turns()
+    }
+
     /// The camera's motion, when it was found to move.
     pub(in crate::detect) fn camera(&self) -> Option<CameraMotion> {
         self.on.then(|| CameraMotion {
@@ -249,6 +254,8 @@ pub(in crate::detect) struct Followed {
     sum_rot2: f64,
     max_px: f64,
     unmeasured: usize,
+    /// Each frame's index and the turn it was steadied by, radians.
+    turns: Vec<(u64, f64)>,
 }
 
 impl Followed {
@@ -262,12 +269,18 @@ impl Followed {
             }
         };
         self.last = m;
+        self.turns.push((f.index, m.rot_rad));
         let d = m.dx.hypot(m.dy);
         self.n += 1;
         self.sum_shift2 += d * d;
         self.sum_rot2 += m.rot_rad * m.rot_rad;
         self.max_px = self.max_px.max(d);
         Ok(m)
+    }
+
+    /// Each frame followed so far: its index and the turn it was steadied by, radians.
+    pub(in crate::detect) fn turns(&self) -> &[(u64, f64)] {
+        &self.turns
     }
 
     /// What the frames followed so far add up to.

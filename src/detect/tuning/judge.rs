@@ -83,4 +83,14 @@ knobs! {
     STILL_MAX_PX: f64 = 0.5, "px",
         what "largest displacement of a still-taken camera's static scene at the end",
         chosen_by "seed 4: a still CRF 34 twin read 0.40 px, oblique sways seen still 0.54 (0.27 deg RMS, ok at 0.6) and 0.83; 26 older still scenes 0.005-0.31";
+
+    /// `turn`: the most of a moving camera's angle noise that may move with the turn
+    /// each frame was steadied by, deg ...
+    TURN_FOLLOW_MAX_DEG: f64 = 0.01, "deg",
+        what "most of a steadied angle's noise that may move with the measured turn",
+        chosen_by "issue 50, seed 4's 21 hand-held scenes: within 0.02 deg RMS 0.0001-0.0018, a plain plate's 0.17 deg RMS called ok 0.043; the moved green-screen clip 0.0011";
+    /// ... judged when the regression's slope stands this many standard errors from 0.
+    TURN_FOLLOW_SIGNIFICANCE: f64 = 4.0, "standard errors",
+        what "the turn's share is judged when this many standard errors from 0",
+        chosen_by "hand-picked: a share that noise alone gives is not judged; not swept";
 }

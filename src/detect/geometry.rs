@@ -69,6 +69,26 @@ pub struct WireGeometry {
     /// A second pendulum's pivot, when another line swings through a pivot of its own
     /// (looked for only when neither `video.pivot` nor `video.roi` is given).
     pub second: Option<Pt>,
+    /// Lines of the other polarity that swing about the same pivot as widely, off the
+    /// wire's (looked for only when `video.polarity` is `auto`).
+    pub rival: Option<RivalPolarity>,
+}
+
+/// Lines of the polarity the first look did not take that swing about the same pivot
+/// in nearly as many directions (see `RIVAL_POLARITY_SHARE`), off the lines taken: a
+/// light wire and its dark shadow, or the reverse. Which one is the wire the look
+/// cannot tell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RivalPolarity {
+    /// The rival lines are darker than the background.
+    pub dark: bool,
+    /// The directions their lines took, and the taken polarity's.
+    pub directions: usize,
+    pub of: usize,
+    /// How far they lie from the lines taken, the median over the frames both see, and
+    /// the spread between its quartiles, deg.
+    pub offset_deg: f64,
+    pub spread_deg: f64,
 }
 
 /// Frames of the first seconds, shrunk: `data[k]` is `w * h` grey bytes.

@@ -8,8 +8,9 @@ mod swing;
 use super::{AngleRow, Status};
 use crate::detect::tuning::{
     ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
-    NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, STALL_RANGE,
-    STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX, TURN_FOLLOW_MAX_DEG, TURN_FOLLOW_SIGNIFICANCE,
+    NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG,
+    RIVAL_POLARITY_SHARE, STALL_RANGE, STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX,
+    TURN_FOLLOW_MAX_DEG, TURN_FOLLOW_SIGNIFICANCE,
 };
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
@@ -49,7 +50,8 @@ pub struct Seen {
 /// One check of a detection.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
-    /// `found`, `period`, `smooth`, `stalls`, `rest`, `envelope`, `still` or `turn`.
+    /// `found`, `period`, `smooth`, `stalls`, `rest`, `envelope`, `still`, `turn` or
+    /// `polarity`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -169,6 +171,36 @@ pub fn turn_check(rows: &[AngleRow], turns: &[(u64, f64)]) -> Option<DetectionCh
         "the static scene fixes the camera's turn poorly, and each angle carries the \
          turn's error",
     ))
+}
+
+/// `polarity`: lines of the polarity the first look did not take swing about the same
+/// pivot in nearly as many directions, a steady angle off the lines taken (`r`): a wire
+/// and its shadow, one light and one dark, and which one was followed the look cannot
+/// tell (a light 1 px wire's dark shadow, 4.7 deg off, was taken for it: 0.11 deg RMS).
+/// Always failed: made only when there is such a rival.
+pub fn polarity_check(r: &crate::detect::geometry::RivalPolarity) -> DetectionCheck {
+    let (taken, other) = if r.dark {
+        ("light", "dark")
+    } else {
+        ("dark", "light")
+    };
+    let share = r.directions as f64 / r.of.max(1) as f64;
+    check(
+        "polarity",
+        share,
+        RIVAL_POLARITY_SHARE,
+        false,
+        format!(
+            "{other} lines swing about the same pivot in {} directions against the {taken} \
+             lines' {} that were followed, {:.1} deg from them and steadily so (its quartiles \
+             {:.2} deg apart) in the frames both show",
+            r.directions, r.of, r.offset_deg, r.spread_deg
+        ),
+        &format!(
+            "a wire and its shadow look alike here; `video.polarity: {other}` measures the \
+             other line, `{taken}` keeps this one"
+        ),
+    )
 }
 
 impl Seen {

@@ -492,6 +492,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     if let Some(c) = judge::turn_check(&rows, &turns) {
         verdict = verdict.with(c);
     }
+    if let Some(r) = &geo.rival {
+        verdict = verdict.with(judge::polarity_check(r));
+    }
     Ok(Detection {
         verdict,
         rows,

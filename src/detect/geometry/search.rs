@@ -8,7 +8,8 @@ use super::*;
 use crate::detect::tuning::{
     BAND_INNER_PCT, BAND_INNER_SLACK, BAND_OUTER_PCT, BAND_OUTER_SLACK, BASE_TOL_PX,
     BASE_TOL_SHARE, GEOMETRY_THREADS, LOOK_CLOSE_FRAMES, MAX_JUMPS, MAX_ROUGHNESS, MIN_LEN_SHARE,
-    MIN_WIRE_LINES, ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS,
+    MIN_WIRE_LINES, RIVAL_OFFSET_MIN_DEG, RIVAL_OFFSET_STEADY, RIVAL_POLARITY_SHARE,
+    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS,
 };
 
 /// The second polarity's look against the first's directions (`beat`): it is given up
@@ -56,6 +57,18 @@ impl Race {
     fn lost(&self) -> bool {
         self.lost.load(std::sync::atomic::Ordering::Relaxed)
     }
+}
+
+/// Per frame of `lines`, its line passing within `tol` of `q` (the nearest), if any.
+fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&FrameLine>> {
+    lines
+        .iter()
+        .map(|v| {
+            v.iter()
+                .filter(|f| Seen::of(f).points_at(q, tol))
+                .min_by(|a, b| a.line.distance(q).total_cmp(&b.line.distance(q)))
+        })
+        .collect()
 }
 
 /// One first look against `kind` of background.
@@ -152,8 +165,13 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             Ok((!race.lost()).then_some(lines))
         };
     let mut best: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
+    // The other polarity, when it was looked at to its end (see `RIVAL_POLARITY_SHARE`).
+    let mut runner_up: Option<(bool, f64, Vec<Vec<FrameLine>>)> = None;
     for &dark in &candidates {
-        let race = Race::new(best.as_ref().map(|b| (b.1 / 1e9) as usize), looked_at);
+        let beat = best
+            .as_ref()
+            .map(|b| (RIVAL_POLARITY_SHARE * (b.1 / 1e9).floor()).ceil() as usize);
+        let race = Race::new(beat, looked_at);
         let lines = match &median {
             Some(m) => lines_against(m, dark, &race)?,
             None => lines_against(&extreme_frame(init, dark)?, dark, &race)?,
@@ -187,7 +205,9 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             );
         }
         if best.as_ref().is_none_or(|b| total > b.1) {
-            best = Some((dark, total, lines));
+            runner_up = best.replace((dark, total, lines));
+        } else {
+            runner_up = Some((dark, total, lines));
         }
     }
     let (dark, total, lines) = best.expect("one polarity tried");
@@ -219,17 +239,8 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
         },
     };
     // Per frame, the line through the pivot (if any).
-    let through = |q: Pt| -> Vec<Option<&FrameLine>> {
-        let tol = 2.0 * through_tol(q, center, base_tol);
-        lines
-            .iter()
-            .map(|v| {
-                v.iter()
-                    .filter(|f| Seen::of(f).points_at(q, tol))
-                    .min_by(|a, b| a.line.distance(q).total_cmp(&b.line.distance(q)))
-            })
-            .collect()
-    };
+    let tol_at = |q: Pt| 2.0 * through_tol(q, center, base_tol);
+    let through = |q: Pt| lines_through(&lines, q, tol_at(q));
     let per_frame = through(pivot_s);
     let good: Vec<&FrameLine> = per_frame.iter().flatten().copied().collect();
     if good.len() < 3 {
@@ -419,8 +430,58 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             ok
         })
         .map(|(q, _, _)| to_full(q));
+    // A rival polarity: the other polarity's lines swing about the same pivot in nearly
+    // as many directions, off the wire's by the same angle in the frames both see (a
+    // wire and its shadow, one light and one dark, look alike to the look; a ghost of
+    // the other polarity, the background's memory of the wire, or the scene's own lines
+    // lie off it by angles that vary as it swings).
+    let rival = runner_up.and_then(|(r_dark, r_total, r_lines)| {
+        let r_directions = (r_total / 1e9) as usize;
+        let r_per = lines_through(&r_lines, pivot_s, tol_at(pivot_s));
+        let mut off: Vec<f64> = per_frame
+            .iter()
+            .zip(&r_per)
+            .filter_map(|(a, b)| {
+                let (a, b) = (a.as_ref()?, b.as_ref()?);
+                let d = angle_of(b) - angle_of(a);
+                Some(
+                    (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI,
+                )
+            })
+            .map(f64::abs)
+            .collect();
+        let both = off.len();
+        off.sort_by(f64::total_cmp);
+        let at = |p: f64| {
+            off.get((both as f64 * p) as usize)
+                .map_or(0.0, |d| d.to_degrees())
+        };
+        let (offset_deg, spread_deg) = (at(0.5), at(0.75) - at(0.25));
+        if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+            eprintln!(
+                "geometry: the other polarity (dark={r_dark}) {r_directions} directions of \
+                 {directions}, {both} frames with lines through the pivot in both, \
+                 {offset_deg:.2} deg apart (median; quartiles {:.2} {:.2})",
+                at(0.25),
+                at(0.75)
+            );
+        }
+        (r_directions as f64 >= RIVAL_POLARITY_SHARE * directions as f64
+            && both >= MIN_WIRE_LINES
+            && offset_deg >= RIVAL_OFFSET_MIN_DEG
+            && spread_deg <= RIVAL_OFFSET_STEADY * offset_deg)
+            .then_some(RivalPolarity {
+                dark: r_dark,
+                directions: r_directions,
+                of: directions,
+                offset_deg,
+                spread_deg,
+            })
+    });
     Ok(WireGeometry {
         second,
+        rival,
         pivot,
         dark,
         r_lo: r_lo_f,

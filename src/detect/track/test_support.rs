@@ -33,6 +33,7 @@ pub(in crate::detect) fn test_tracker_over(bg: Mat, theta: (f64, f64)) -> Tracke
         roughness: 0.0,
         stage: 0,
         second: None,
+        rival: None,
     };
     let flat = |v: f64| Mat::new_rows_cols_with_default(240, 320, CV_8UC1, Scalar::all(v));
     Tracker::new(

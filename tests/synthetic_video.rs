@@ -571,7 +571,7 @@ fn a_camera_moving_from_the_start_that_the_look_took_for_still_is_measured_stead
 /// edge, the pivot just beyond it): the static scene fixes the camera's turn poorly, and
 /// each angle carries the turn's error (0.17 deg RMS against the truth over 40 s). The
 /// angle's noise moving with the turn measured gives it away: the detection is
-/// `suspect (turn)`, where it was called `ok` (seed 4's sweep, scene 17).
+/// `suspect (turn)`, where it was called `ok` (seed 4's sweep, scene 16).
 #[test]
 fn a_hand_held_camera_whose_turn_the_scene_fixes_poorly_is_suspect() {
     if !need_ffmpeg() {
@@ -620,7 +620,7 @@ fn mean_error_deg(d: &Path, csv: &str) -> f64 {
 /// A light wire 1 px wide, faint, and its dark shadow 4.8 deg off it (the light from
 /// one side): the first look sees both swing about the pivot, in 27 and 26 directions,
 /// and took the shadow (the angles 4.8 deg off, 0.11 deg RMS about that, called `ok`:
-/// seed 4's sweep, scene 41 of 64). It cannot tell which is the wire, so it says so:
+/// seed 4's sweep, scene 40). It cannot tell which is the wire, so it says so:
 /// `suspect (polarity)`, naming `video.polarity`, which measures the wire.
 #[test]
 fn a_light_wire_and_its_dark_shadow_alike_are_said_and_polarity_picks_the_wire() {

@@ -12,13 +12,14 @@ use crate::detect::tuning::{
     ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS,
 };
 
-/// The second polarity's look against the first's directions (`beat`): it is given up
-/// as soon as the directions seen so far, one more for each frame still to look at,
-/// cannot reach `beat` (a frame adds at most one direction, its longest line's), since
-/// it could then not win (the score is directions first). A frame it no longer looks
-/// at cannot fail it either: an error OpenCV would have raised there goes unsaid, as
-/// the polarity's result would have gone unused. Without `beat` (the first polarity)
-/// it is never given up. Shared by the look's threads.
+/// The second polarity's look against a share of the first's directions (`beat`, see
+/// `RIVAL_POLARITY_SHARE`): it is given up as soon as the directions seen so far, one
+/// more for each frame still to look at, cannot reach `beat` (a frame adds at most one
+/// direction, its longest line's), since it could then neither win (the score is
+/// directions first) nor rival the winner. A frame it no longer looks at cannot fail
+/// it either: an error OpenCV would have raised there goes unsaid, as the polarity's
+/// result would have gone unused. Without `beat` (the first polarity) it is never
+/// given up. Shared by the look's threads.
 struct Race {
     beat: Option<usize>,
     /// Frames the look searches for lines (every `stride`-th).
@@ -172,9 +173,21 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             .as_ref()
             .map(|b| (RIVAL_POLARITY_SHARE * (b.1 / 1e9).floor()).ceil() as usize);
         let race = Race::new(beat, looked_at);
-        let lines = match &median {
-            Some(m) => lines_against(m, dark, &race)?,
-            None => lines_against(&extreme_frame(init, dark)?, dark, &race)?,
+        let looked = match &median {
+            Some(m) => lines_against(m, dark, &race),
+            None => extreme_frame(init, dark).and_then(|e| lines_against(&e, dark, &race)),
+        };
+        // The second polarity's look failing (read further now, to tell a rival) leaves
+        // the first's standing, as when it was given up before failing.
+        let lines = match looked {
+            Ok(l) => l,
+            Err(e) if best.is_some() => {
+                if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                    eprintln!("geometry: dark={dark} failed, the other taken: {e:#}");
+                }
+                None
+            }
+            Err(e) => return Err(e),
         };
         let Some(lines) = lines else {
             if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -438,26 +451,23 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
     let rival = runner_up.and_then(|(r_dark, r_total, r_lines)| {
         let r_directions = (r_total / 1e9) as usize;
         let r_per = lines_through(&r_lines, pivot_s, tol_at(pivot_s));
+        // Signed: a shadow lies on one side of its wire.
         let mut off: Vec<f64> = per_frame
             .iter()
             .zip(&r_per)
             .filter_map(|(a, b)| {
-                let (a, b) = (a.as_ref()?, b.as_ref()?);
-                let d = angle_of(b) - angle_of(a);
+                let d = angle_of(b.as_ref()?) - angle_of(a.as_ref()?);
                 Some(
-                    (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                        - std::f64::consts::PI,
+                    ((d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI)
+                        .to_degrees(),
                 )
             })
-            .map(f64::abs)
             .collect();
         let both = off.len();
         off.sort_by(f64::total_cmp);
-        let at = |p: f64| {
-            off.get((both as f64 * p) as usize)
-                .map_or(0.0, |d| d.to_degrees())
-        };
-        let (offset_deg, spread_deg) = (at(0.5), at(0.75) - at(0.25));
+        let at = |p: f64| off.get((both as f64 * p) as usize).copied().unwrap_or(0.0);
+        let (offset_deg, spread_deg) = (at(0.5).abs(), at(0.75) - at(0.25));
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
                 "geometry: the other polarity (dark={r_dark}) {r_directions} directions of \

@@ -106,10 +106,21 @@ pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
                 && w.windows(2).all(|p| p[1].frame == p[0].frame + 1);
             ok.then(|| {
                 let a: Vec<f64> = w.iter().map(|r| r.angle_rad.unwrap_or(0.0)).collect();
-                (i + 2, a[0] - 4.0 * a[1] + 6.0 * a[2] - 4.0 * a[3] + a[4])
+                (i + 2, fourth_difference(&a))
             })
         })
         .collect()
+}
+
+/// The fourth difference of five consecutive values.
+pub(super) fn fourth_difference(v: &[f64]) -> f64 {
+    v[0] - 4.0 * v[1] + 6.0 * v[2] - 4.0 * v[3] + v[4]
+}
+
+/// The noise of a series from its fourth differences `d4`: their robust standard
+/// deviation (1.4826 times the median absolute value) over [`D4_GAIN`].
+pub(super) fn noise_of(d4: impl Iterator<Item = f64>) -> f64 {
+    1.4826 * median(d4.map(f64::abs).collect()) / D4_GAIN
 }
 
 /// Frames within `span` (times, s) that lie in a run of `window` frames whose angles

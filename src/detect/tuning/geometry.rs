@@ -182,8 +182,9 @@ knobs! {
         chosen_by "297050c: the first detector's value; not measured";
 
     /// The polarity that loses the first look is looked at to its end when its lines can
-    /// still take this share of the winner's directions (below it, it is given up as
-    /// soon as it cannot: a still camera's look costs no more than before) ...
+    /// still take this share of the winner's directions (it is given up as soon as they
+    /// cannot: the look reads the loser further than when it was given up as soon as it
+    /// could not win, and to its end only when it comes within this share) ...
     RIVAL_POLARITY_SHARE: f64 = 0.7, "share",
         what "the losing polarity is looked at to its end within this share of the winner's directions",
         chosen_by "issue 50: a light 1 px wire with its dark shadow took 26 and 27 directions (the shadow taken, 0.11 deg RMS); the red-apple clip's light lines 33 of 43";
@@ -195,10 +196,10 @@ knobs! {
         what "lines of the other polarity this far from the wire's rival it",
         chosen_by "issue 50: a wire and its shadow 4.8 deg apart; hand-picked";
 
-    /// ... and hold that angle: the spread between its quartiles over the frames is at
-    /// most this share of it (a shadow keeps its angle to the wire; a ghost or the
+    /// ... and hold that angle, on one side: the spread between the quartiles of the
+    /// signed angle over the frames is at most this share of its median (a shadow keeps its angle to the wire; a ghost or the
     /// scene's lines do not).
     RIVAL_OFFSET_STEADY: f64 = 0.25, "share",
         what "... and keep that angle within this share (quartiles' spread)",
-        chosen_by "issue 50: a wire's shadow 4.47 to 4.72 deg off; the red-apple clip's light lines 3.7 to 39, a hand-held dark-wire twin's 1.7 to 9.6, a light wire's own shadow 2.8 to 13.7";
+        chosen_by "issue 50: a wire's shadow -4.71 to -4.40 deg off; the red-apple clip's light lines -1.4 to 30.7, a hand-held dark-wire twin's -3.6 to 7.6, a light wire's own shadow -5.5 to 8.1";
 }

@@ -4,6 +4,7 @@
 use super::{Motion, Steady, Sweep};
 use crate::detect::tuning::{
     LATE_AGREE, LATE_DRIFT_GLANCES, LATE_EVERY_S, LATE_EXPLAINS, LATE_GLANCES, MOVING_PX,
+    PASS_PRUNE_FRAMES, PRUNE_SHARE,
 };
 use crate::video::Frame;
 use anyhow::Result;
@@ -262,7 +263,17 @@ impl Followed {
     /// The motion of `f`, the next frame, against `st`'s first.
     pub(in crate::detect) fn next(&mut self, st: &mut Steady, f: &Frame) -> Result<Motion> {
         let m = match st.measure(f)? {
-            Some(m) => m,
+            Some(m) => {
+                // Over the first frames, what moves in the static scene is counted, then
+                // left out (see `PASS_PRUNE_FRAMES`).
+                if self.n - self.unmeasured < PASS_PRUNE_FRAMES {
+                    st.tally()?;
+                    if self.n + 1 - self.unmeasured == PASS_PRUNE_FRAMES {
+                        st.prune(PRUNE_SHARE);
+                    }
+                }
+                m
+            }
             None => {
                 self.unmeasured += 1;
                 self.last

@@ -182,6 +182,14 @@ knobs! {
         what "... and at least this share of pixels is kept",
         chosen_by "hand-picked; not swept";
 
+    /// The streaming pass, steadying every frame, counts the same over its first this
+    /// many frames measured, and drops the pixels that differed in more than
+    /// `PRUNE_SHARE` of them: what the pass reads is its own region at its own scale, not
+    /// the look's, and a second pendulum swinging there pulled its alignment.
+    PASS_PRUNE_FRAMES: usize = 100, "frames",
+        what "the pass drops what moves after this many steadied frames",
+        chosen_by "issue 49: a second pendulum beside a hand-held twin's wire, 0.082 -> 0.049 deg RMS; 100 frames hand-picked";
+
     /// A frame's light against the first's (see `Light`) is first fitted in this many
     /// rounds ...
     LIGHT_ROUNDS: usize = 3, "rounds",

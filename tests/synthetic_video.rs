@@ -500,7 +500,7 @@ fn a_hand_held_twin_is_steadied_onto_its_first_frame() {
          fps: 25\n  style: dark-wire\n  seed: 2\n  duration_s: 20\n  \
          shake: {px: 2.5, deg: 0.3, hz: 5}\n",
     );
-    let detected = hand_held_detected(d, &text);
+    let detected = twin_detected(d, &text);
     assert!(
         detected.contains("the camera moved (RMS"),
         "no camera motion reported: {detected}"
@@ -509,17 +509,17 @@ fn a_hand_held_twin_is_steadied_onto_its_first_frame() {
     assert!(rms <= 0.12, "angle RMS {rms:.4} deg");
 }
 
-/// `text`, an experiment with a hand-held twin, rendered in `d` (`hand.mp4`, its truth
+/// `text`, an experiment with a twin, rendered in `d` (`twin.mp4`, its truth
 /// `truth.csv`) and detected (`angles.csv`, its summary `summary.json`): what `detect`
 /// said.
-fn hand_held_detected(d: &Path, text: &str) -> String {
-    std::fs::write(d.join("hand.yaml"), text).unwrap();
+fn twin_detected(d: &Path, text: &str) -> String {
+    std::fs::write(d.join("twin.yaml"), text).unwrap();
     rollfric_ok(
         &[
             "synth",
-            "hand.yaml",
+            "twin.yaml",
             "-o",
-            "hand.mp4",
+            "twin.mp4",
             "--truth",
             "truth.csv",
         ],
@@ -528,7 +528,7 @@ fn hand_held_detected(d: &Path, text: &str) -> String {
     rollfric_ok(
         &[
             "detect",
-            "hand.mp4",
+            "twin.mp4",
             "-o",
             "angles.csv",
             "--json",
@@ -557,7 +557,7 @@ fn a_camera_moving_from_the_start_that_the_look_took_for_still_is_measured_stead
          fps: 25\n  style: dark-wire\n  seed: 3\n  duration_s: 6\n  \
          shake: {px: 2, deg: 0.3, hz: 5}\n",
     );
-    let detected = hand_held_detected(d, &text);
+    let detected = twin_detected(d, &text);
     assert!(
         detected.contains("the camera moved from the start, which the first look took for still"),
         "{detected}"
@@ -587,7 +587,7 @@ fn a_hand_held_camera_whose_turn_the_scene_fixes_poorly_is_suspect() {
          pivot_frac: [-0.0310, 0.4717]\n  shake: {px: 3.48, deg: 0.462, hz: 4.8}\n  \
          vfr_jitter: 0.35\n  duration_s: 10\n",
     );
-    let detected = hand_held_detected(d, &text);
+    let detected = twin_detected(d, &text);
     assert!(detected.contains("the camera moved (RMS"), "{detected}");
     assert!(detected.contains("detection suspect (turn)"), "{detected}");
     let rms = scatter_deg(&ok_errors_against_truth(d));
@@ -636,12 +636,7 @@ fn a_light_wire_and_its_dark_shadow_alike_are_said_and_polarity_picks_the_wire()
          mirror: true\n  wire_width_px: 1\n  wire_contrast: 0.52\n  \
          shadow: {angle_deg: -4.8, blur_px: 2.0, strength: 0.48}\n  duration_s: 10\n",
     );
-    std::fs::write(d.join("lit.yaml"), &text).unwrap();
-    rollfric_ok(
-        &["synth", "lit.yaml", "-o", "lit.mp4", "--truth", "truth.csv"],
-        d,
-    );
-    let said = rollfric_ok(&["detect", "lit.mp4", "-o", "angles.csv"], d).1;
+    let said = twin_detected(d, &text);
     assert!(said.contains("detection suspect (polarity)"), "{said}");
     assert!(said.contains("`video.polarity: light`"), "{said}");
     // The shadow was followed: the suspicion is borne out.
@@ -653,7 +648,7 @@ fn a_light_wire_and_its_dark_shadow_alike_are_said_and_polarity_picks_the_wire()
     let said = rollfric_ok(
         &[
             "detect",
-            "lit.mp4",
+            "twin.mp4",
             "-o",
             "told.csv",
             "--experiment",

@@ -432,9 +432,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let moved_from_start = look.hinted && late.as_ref().is_some_and(|l| l.moved_from_start());
     let camera = src.camera().or(late.as_ref().and_then(|l| l.camera()));
     // Each steadied frame's turn (none for a still camera).
-    let turns = match (&src, &late) {
-        (PassSource::Crop(c), _) if c.steady_from.is_some() => c.followed.turns().to_vec(),
-        (_, Some(l)) => l.turns().to_vec(),
+    let turns = match (&mut src, &mut late) {
+        (PassSource::Crop(c), _) if c.steady_from.is_some() => c.followed.take_turns(),
+        (_, Some(l)) => l.take_turns(),
         _ => Vec::new(),
     };
     drop(late);

@@ -183,9 +183,10 @@ impl Late {
         self.on && !self.still_seen
     }
 
-    /// Each frame steadied: its index and the turn it was steadied by, radians.
-    pub(in crate::detect) fn turns(&self) -> &[(u64, f64)] {
-        self.followed.turns()
+    /// Each frame steadied: its index and the turn it was steadied by, radians (taken
+    /// out).
+    pub(in crate::detect) fn take_turns(&mut self) -> Vec<(u64, f64)> {
+        self.followed.take_turns()
     }
 
     /// The camera's motion, when it was found to move.
@@ -289,9 +290,10 @@ impl Followed {
         Ok(m)
     }
 
-    /// Each frame followed so far: its index and the turn it was steadied by, radians.
-    pub(in crate::detect) fn turns(&self) -> &[(u64, f64)] {
-        &self.turns
+    /// Each frame followed so far: its index and the turn it was steadied by, radians
+    /// (taken out).
+    pub(in crate::detect) fn take_turns(&mut self) -> Vec<(u64, f64)> {
+        std::mem::take(&mut self.turns)
     }
 
     /// What the frames followed so far add up to.

@@ -320,6 +320,7 @@ impl<'a> FirstLook<'a> {
         }
         if moving {
             let st = steady.as_mut().expect("a frame was measured");
+            st.steadying();
             // Twice: first to tell the static scene from what moves in it (see
             // `Steady::tally`), then on the static scene alone.
             st.forget();

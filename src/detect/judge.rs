@@ -125,18 +125,28 @@ pub fn still_check(reach_px: f64) -> DetectionCheck {
 /// with the turn, `noise * sqrt(R^2)`, deg; judged when the regression's slope stands
 /// [`TURN_FOLLOW_SIGNIFICANCE`] standard errors from 0 (reckoned as though the runs were
 /// independent: neighbouring runs share frames, so the true standard error is about
-/// 1.6 times larger for white noise, and the 4 of the limit about 2.5). `None` without a
-/// steadied frame or with fewer than twenty runs.
-pub fn turn_check(rows: &[AngleRow], turns: &[(u64, f64)]) -> Option<DetectionCheck> {
+/// 1.6 times larger for white noise, and the 4 of the limit about 2.5).
+/// A frame whose turn the scene did not fix at all had it held at none (`None` in
+/// `turns`; see `Steady::steadying`): its angle carries the camera's whole turn. Those
+/// frames' share of the steadied ones, times the RMS of the turns measured on the
+/// others, is the figure then, when it is the larger: the RMS the unmeasured turns add
+/// to the angles (a hand-held twin turning 0.46 deg had half its frames held, and was
+/// called `ok` 0.09 deg RMS off).
+/// `None` without a steadied frame, or with fewer than twenty runs and no frame held.
+pub fn turn_check(
+    rows: &[AngleRow],
+    turns: &[crate::detect::steady::Turn],
+) -> Option<DetectionCheck> {
     debug_assert!(
         turns.windows(2).all(|w| w[0].0 < w[1].0),
         "the turns in frame order"
     );
+    let held = turns_held(turns);
     let turn_at = |frame: u64| {
         turns
             .binary_search_by_key(&frame, |t| t.0)
             .ok()
-            .map(|i| turns[i].1)
+            .map(|i| turns[i].1.unwrap_or(0.0))
     };
     let pairs: Vec<(f64, f64)> = fourth_differences(rows)
         .into_iter()
@@ -148,12 +158,28 @@ pub fn turn_check(rows: &[AngleRow], turns: &[(u64, f64)]) -> Option<DetectionCh
             r.map(|r| (fourth_difference(&r), da))
         })
         .collect();
-    if pairs.len() < 20 {
-        return None;
+    let (sxx, syy) = (
+        pairs.iter().map(|p| p.0 * p.0).sum::<f64>(),
+        pairs.iter().map(|p| p.1 * p.1).sum::<f64>(),
+    );
+    let judged = pairs.len() >= 20 && sxx > 0.0 && syy > 0.0;
+    if let Some((deg, share, rms)) = held.filter(|h| !judged || h.0 > TURN_FOLLOW_MAX_DEG) {
+        return Some(check(
+            "turn",
+            deg,
+            TURN_FOLLOW_MAX_DEG,
+            deg <= TURN_FOLLOW_MAX_DEG,
+            format!(
+                "the turn of {:.0} % of the steadied frames could not be measured and was \
+                 held at none, while the others turned {rms:.3} deg RMS: their angles carry \
+                 about {deg:.4} deg RMS of turn (at most {TURN_FOLLOW_MAX_DEG} deg)",
+                100.0 * share
+            ),
+            "the static scene fixes the camera's turn poorly, and each angle carries the \
+             turn's error",
+        ));
     }
-    let sxx: f64 = pairs.iter().map(|p| p.0 * p.0).sum();
-    let syy: f64 = pairs.iter().map(|p| p.1 * p.1).sum();
-    if sxx <= 0.0 || syy <= 0.0 {
+    if !judged {
         return None;
     }
     let sxy: f64 = pairs.iter().map(|p| p.0 * p.1).sum();
@@ -179,6 +205,23 @@ pub fn turn_check(rows: &[AngleRow], turns: &[(u64, f64)]) -> Option<DetectionCh
         "the static scene fixes the camera's turn poorly, and each angle carries the \
          turn's error",
     ))
+}
+
+/// Of steadied frames' `turns`, those held at none (see [`turn_check`]): the RMS they
+/// add to the angles, deg (their share's square root times the RMS of the turns
+/// measured on the others), their share, and that RMS, deg. `None` when none was held
+/// or none measured.
+fn turns_held(turns: &[crate::detect::steady::Turn]) -> Option<(f64, f64, f64)> {
+    let measured: Vec<f64> = turns.iter().filter_map(|t| t.1).collect();
+    let held = turns.len() - measured.len();
+    if held == 0 || measured.is_empty() {
+        return None;
+    }
+    let rms = (measured.iter().map(|r| r * r).sum::<f64>() / measured.len() as f64)
+        .sqrt()
+        .to_degrees();
+    let share = held as f64 / turns.len() as f64;
+    Some((share.sqrt() * rms, share, rms))
 }
 
 /// `polarity`: lines of the polarity the first look did not take swing about the same

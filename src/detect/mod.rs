@@ -368,7 +368,8 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let mut review = review::Keeper::new();
     // A camera the first look saw still may start to move later (a slow drift, a bump):
     // glanced at now and then on the region's own frames, and steadied from then on.
-    let mut late = (!look.moving).then(|| steady::Late::new(sweep(geo.roi)));
+    let side = f64::from(info.width.max(info.height));
+    let mut late = (!look.moving).then(|| steady::Late::new(sweep(geo.roi), side));
     let mut k = 0usize;
     let mut waited = 0.0f64;
     loop {

@@ -158,13 +158,13 @@ fn a_still_camera_whose_static_scene_moved_makes_the_detection_suspect() {
 }
 
 /// A hand-held camera's turn at each frame (0.3 deg RMS, sines near 5 Hz), radians.
-fn hand_turns(n: usize) -> Vec<(u64, f64)> {
+fn hand_turns(n: usize) -> Vec<(u64, Option<f64>)> {
     (0..n)
         .map(|k| {
             let t = k as f64 / FPS;
             let w = std::f64::consts::TAU;
             let deg = 0.3 * ((w * 4.3 * t).sin() + (w * 5.7 * t + 1.0).sin());
-            (k as u64, deg.to_radians())
+            (k as u64, Some(deg.to_radians()))
         })
         .collect()
 }
@@ -184,7 +184,7 @@ fn angles_that_follow_the_camera_s_turn_are_suspect_and_the_share_is_found() {
     let mut measured = turns.clone();
     for (r, t) in rows.iter_mut().zip(measured.iter_mut()) {
         let e = 0.05f64.to_radians() * rng.normal();
-        t.1 += e;
+        t.1 = t.1.map(|v| v + e);
         r.angle_rad = r.angle_rad.map(|a| a - e);
     }
     let c = turn_check(&rows, &measured).expect("judged");
@@ -195,4 +195,40 @@ fn angles_that_follow_the_camera_s_turn_are_suspect_and_the_share_is_found() {
     assert!(c.value > 0.02 && c.value < 0.055, "{}", c.reason);
     // A still camera (no steadied frame) is not judged.
     assert!(turn_check(&rows, &[]).is_none());
+}
+
+/// Frames whose turn the scene could not fix were steadied with none: their angles carry
+/// the camera's turn, which the turns measured on the other frames show.
+#[test]
+fn frames_whose_turn_was_held_are_suspect_when_the_others_turn() {
+    let rows = swinging();
+    let mut turns = hand_turns(rows.len());
+    let rms = (turns.iter().map(|t| t.1.unwrap().powi(2)).sum::<f64>() / turns.len() as f64)
+        .sqrt()
+        .to_degrees();
+    for t in turns.iter_mut().step_by(4) {
+        t.1 = None;
+    }
+    let c = turn_check(&rows, &turns).expect("judged");
+    assert!(!c.passed, "{}", c.reason);
+    // A quarter held: half the turn's RMS.
+    assert!(
+        (c.value - 0.5 * rms).abs() < 0.1 * rms,
+        "{} against {rms}",
+        c.reason
+    );
+    assert!(
+        c.reason.contains("25 % of the steadied frames"),
+        "{}",
+        c.reason
+    );
+    // A camera that turns little (0.003 deg RMS measured) adds little where it was held.
+    let small: Vec<_> = turns
+        .iter()
+        .map(|&(k, t)| (k, t.map(|r| r / 100.0)))
+        .collect();
+    assert!(turn_check(&rows, &small).expect("judged").passed);
+    // Every turn held: nothing measured to reckon the held ones by, nor to regress on.
+    let none: Vec<_> = turns.iter().map(|&(k, _)| (k, None)).collect();
+    assert!(turn_check(&rows, &none).is_none());
 }

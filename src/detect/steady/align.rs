@@ -121,14 +121,18 @@ fn spread_of(m: &Mat) -> Result<(f64, f64)> {
 /// scale) read through motion `m` at the first frame's informative pixels, their
 /// difference from the first frame, and the change of `m` that best removes it (none
 /// when the scene holds too little to fix it); with the weighted RMS difference, grey
-/// levels, and Tukey's loss per pixel.
+/// levels, Tukey's loss per pixel, and whether the turn was held. A direction the scene
+/// does not fix is taken back to no motion; with `hold_turn`, where the scene fixes the
+/// shift but not the turn, the turn is taken back to none and the shift fitted with it
+/// held ([`shift_with_turn_held`]).
 pub(super) fn align_step(
     level: &Level,
     img: &Mat,
     m: Motion,
     tolerance_px: f32,
     light: &mut Light,
-) -> Result<(Option<Motion>, f64, f64)> {
+    hold_turn: bool,
+) -> Result<(Option<Motion>, f64, f64, bool)> {
     let at = Reader::new(level, img, m)?;
     // The weighted sums that fit the light anew (see `Light`).
     let mut sums = Sums::default();
@@ -170,7 +174,7 @@ pub(super) fn align_step(
         count += 1.0;
     }
     if count < 1.0 {
-        return Ok((None, f64::INFINITY, f64::INFINITY));
+        return Ok((None, f64::INFINITY, f64::INFINITY, false));
     }
     light.refit(&sums);
     let residual = (sum_we2 / sum_w.max(1.0)).sqrt();
@@ -209,8 +213,18 @@ pub(super) fn align_step(
         };
         d += v * along;
     }
+    // A turn the scene fixes poorly while it fixes the shift: the direction it does not
+    // fix mixes the turn with a shift (the texture lies to one side of the centre), and
+    // taking it back to no motion takes part of the shift with it into a turn.
+    let mut held = false;
+    if hold_turn && fixed == 2 {
+        if let Some(step) = shift_with_turn_held(&hn, &gn, &now) {
+            d = step;
+            held = true;
+        }
+    }
     if fixed == 0 {
-        return Ok((None, residual, loss / count.max(1.0)));
+        return Ok((None, residual, loss / count.max(1.0), false));
     }
     let d = nalgebra::Vector3::new(d[0], d[1], d[2] / r);
     Ok((
@@ -221,7 +235,27 @@ pub(super) fn align_step(
         }),
         residual,
         loss / count.max(1.0),
+        held,
     ))
+}
+
+/// The Gauss-Newton step (information `hn`, gradient `gn`, in the scaled units of
+/// [`align_step`]) with the turn taken back to none from `now` and the shift fitted
+/// given that turn; none when the scene does not fix both directions of shift
+/// ([`MIN_INFO`]).
+fn shift_with_turn_held(
+    hn: &nalgebra::Matrix3<f64>,
+    gn: &nalgebra::Vector3<f64>,
+    now: &nalgebra::Vector3<f64>,
+) -> Option<nalgebra::Vector3<f64>> {
+    let hs = hn.fixed_view::<2, 2>(0, 0).into_owned();
+    if hs.symmetric_eigenvalues().min() < MIN_INFO {
+        return None;
+    }
+    let turn = -now[2];
+    let rhs = -(gn.fixed_rows::<2>(0) + hn.fixed_view::<2, 1>(0, 2) * turn);
+    let shift = hs.try_inverse()? * rhs;
+    Some(nalgebra::Vector3::new(shift[0], shift[1], turn))
 }
 
 /// Tukey's biweight of a difference `e` at `scale`: `v = 1 - (e / scale)^2` within the

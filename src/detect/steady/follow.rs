@@ -22,6 +22,8 @@ use anyhow::Result;
 pub(in crate::detect) struct Late {
     /// The pendulum's part of the region (see [`Sweep`]).
     sweep: Sweep,
+    /// The video's largest side, px (the region's frames move with the whole picture).
+    side: f64,
     /// The pass's first frame, kept until the camera is found to move.
     first: Option<Frame>,
     steady: Option<Steady>,
@@ -43,10 +45,12 @@ pub(in crate::detect) struct Late {
 }
 
 impl Late {
-    /// A camera to glance at, on frames the pendulum sweeps `sweep` of.
-    pub(in crate::detect) fn new(sweep: Sweep) -> Self {
+    /// A camera to glance at, on frames (a region of a video of largest side `side`
+    /// px) the pendulum sweeps `sweep` of.
+    pub(in crate::detect) fn new(sweep: Sweep, side: f64) -> Self {
         Self {
             sweep,
+            side,
             first: None,
             steady: None,
             next_t: 0.0,
@@ -99,7 +103,10 @@ impl Late {
             // The static scene (the pendulum's sweep left out) must show the motion too:
             // a still camera's glances that a wire or its shadow pulled along do not.
             let first = self.first.as_ref().expect("kept until the camera moves");
-            let mut on_scene = Steady::new(first, Some(&self.sweep))?;
+            // Followed from here on, its shift judged against the video's side (see
+            // `Steady::within`); the glances are judged against the region's, as a
+            // small region's glances at a still camera are pulled further.
+            let mut on_scene = Steady::new(first, Some(&self.sweep))?.within(self.side);
             if !on_scene
                 .glance(f)?
                 .is_some_and(|m| m.reach(w, h) > MOVING_PX)
@@ -185,7 +192,7 @@ impl Late {
 
     /// Each frame steadied: its index and the turn it was steadied by, radians (taken
     /// out).
-    pub(in crate::detect) fn take_turns(&mut self) -> Vec<(u64, f64)> {
+    pub(in crate::detect) fn take_turns(&mut self) -> Vec<Turn> {
         self.followed.take_turns()
     }
 
@@ -256,15 +263,23 @@ pub(in crate::detect) struct Followed {
     sum_rot2: f64,
     max_px: f64,
     unmeasured: usize,
-    /// Each frame's index and the turn it was steadied by, radians.
-    turns: Vec<(u64, f64)>,
+    /// Each frame's index and the turn it was steadied by (see [`Turn`]).
+    turns: Vec<Turn>,
 }
+
+/// A steadied frame's index and the turn it was steadied by, radians: `None` where the
+/// scene fixed its shift but not its turn, which was then held at none (see
+/// `Steady::steadying`): the frame's own turn is not known.
+pub type Turn = (u64, Option<f64>);
 
 impl Followed {
     /// The motion of `f`, the next frame, against `st`'s first.
     pub(in crate::detect) fn next(&mut self, st: &mut Steady, f: &Frame) -> Result<Motion> {
+        st.steadying();
+        let mut held = false;
         let m = match st.measure(f)? {
             Some(m) => {
+                held = st.turn_held();
                 // Over the first frames, what moves in the static scene is counted, then
                 // left out (see `PASS_PRUNE_FRAMES`).
                 if self.n - self.unmeasured < PASS_PRUNE_FRAMES {
@@ -281,7 +296,7 @@ impl Followed {
             }
         };
         self.last = m;
-        self.turns.push((f.index, m.rot_rad));
+        self.turns.push((f.index, (!held).then_some(m.rot_rad)));
         let d = m.dx.hypot(m.dy);
         self.n += 1;
         self.sum_shift2 += d * d;
@@ -292,7 +307,7 @@ impl Followed {
 
     /// Each frame followed so far: its index and the turn it was steadied by, radians
     /// (taken out).
-    pub(in crate::detect) fn take_turns(&mut self) -> Vec<(u64, f64)> {
+    pub(in crate::detect) fn take_turns(&mut self) -> Vec<Turn> {
         std::mem::take(&mut self.turns)
     }
 

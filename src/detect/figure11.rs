@@ -289,6 +289,7 @@ mod tests {
             lens: None,
             camera: None,
             moved_from_start: false,
+            moved_later_s: None,
         }
     }
 

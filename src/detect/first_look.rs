@@ -108,6 +108,9 @@ pub(super) struct FirstLook<'a> {
     /// The camera is known to move (a pass found it moving from the start): the look's
     /// frames are steadied whatever its own glances find.
     pub(super) moving: bool,
+    /// A camera the pass found moving after glances found it still: the region's frames
+    /// are steadied from the pass's first (see `steady::Late::following`).
+    pub(super) follow_region: bool,
 }
 
 impl<'a> FirstLook<'a> {
@@ -191,6 +194,7 @@ impl<'a> FirstLook<'a> {
             last,
             started,
             moving: known_moving,
+            ..
         } = *self;
         let info = input.info();
         let name = input.name();

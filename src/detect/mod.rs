@@ -206,6 +206,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         last,
         started,
         moving: false,
+        follow_region: false,
     };
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale.
@@ -214,13 +215,44 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     // A camera the first look took for still that the pass found moving from its start
     // (no glance found it still): the frames before it was found were measured where
     // they lie, so every frame is measured again steadied, from a look steadied too.
-    if d.moved_from_start {
-        eprintln!(
-            "{name}: the camera moved from the start, which the first look took for \
-             still: measuring again with every frame steadied"
-        );
+    // One found moving later (a drift, or a sway that grew, until two glances in a row
+    // saw it; the look saw it still): every frame of the region is measured again
+    // steadied onto the first, as the frames after it was found were. A drift's first
+    // seconds carry its early part (8.6 px over 40 s, found at 8 s: those frames erred
+    // up to 0.37 deg).
+    let from_start = d.moved_from_start;
+    let again = if from_start {
         looks.moving = true;
+        Some("the camera moved from the start, which the first look took for still".to_string())
+    } else {
+        d.moved_later_s.map(|t| {
+            looks.follow_region = true;
+            format!(
+                "the camera was found moving at {t:.1} s, and the frames before were \
+                 taken as still"
+            )
+        })
+    };
+    if let Some(why) = again {
+        eprintln!(
+            "{name}: {why} (measured so, {}): measuring again with every frame steadied",
+            d.verdict.label()
+        );
         match looks.at(shrink).and_then(|l| streaming_pass(looks, l)) {
+            // Found later, by glances that found it still before: the second measurement
+            // is kept when its detection is `ok`; else the first stands, with its own
+            // verdict (a still clip turned upside down, its pivot placed 300 px below
+            // the frame, was found moving at 8 s; steadied throughout, its angles lost
+            // every turning point).
+            Ok(a) if !from_start && a.verdict.failed().next().is_some() => {
+                eprintln!(
+                    "{name}: steadied from the start it is {} (measured first, {}): the first \
+                     measurement is kept",
+                    a.verdict.label(),
+                    d.verdict.label()
+                );
+                d.decodings += a.decodings;
+            }
             Ok(a) => {
                 d = Detection {
                     decodings: a.decodings + d.decodings,
@@ -300,6 +332,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         first,
         last,
         started,
+        follow_region,
         ..
     } = looks;
     let info = input.info();
@@ -369,7 +402,10 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     // A camera the first look saw still may start to move later (a slow drift, a bump):
     // glanced at now and then on the region's own frames, and steadied from then on.
     let side = f64::from(info.width.max(info.height));
-    let mut late = (!look.moving).then(|| steady::Late::new(sweep(geo.roi), side));
+    let mut late = (!look.moving).then(|| match follow_region {
+        true => steady::Late::following(sweep(geo.roi), side),
+        false => steady::Late::new(sweep(geo.roi), side),
+    });
     let mut k = 0usize;
     let mut waited = 0.0f64;
     loop {
@@ -432,6 +468,11 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     // Believed when the look's own glances hinted it (see `LOOK_HINT_EXPLAINS`).
     let moved_from_start = look.hinted && late.as_ref().is_some_and(|l| l.moved_from_start());
     let camera = src.camera().or(late.as_ref().and_then(|l| l.camera()));
+    let moved_later_s = late
+        .as_ref()
+        .filter(|l| !l.moved_from_start())
+        .and_then(|l| l.camera())
+        .and_then(|c| c.from_s);
     // Each steadied frame's turn (none for a still camera).
     let turns = match (&mut src, &mut late) {
         (PassSource::Crop(c), _) if c.steady_from.is_some() => c.followed.take_turns(),
@@ -514,6 +555,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         lens,
         camera,
         moved_from_start,
+        moved_later_s,
     })
 }
 

@@ -118,6 +118,11 @@ pub struct Detection {
     /// start: its first frames were not steadied (`detect` measures it again).
     #[serde(skip)]
     pub moved_from_start: bool,
+    /// The camera was found moving by a later glance, from this time, s, after glances
+    /// that found it still: the frames before were not steadied (`detect` measures it
+    /// again, every frame steadied).
+    #[serde(skip)]
+    pub moved_later_s: Option<f64>,
 }
 
 impl Detection {

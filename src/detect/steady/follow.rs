@@ -64,8 +64,23 @@ impl Late {
         }
     }
 
+    /// A camera known to move after the look (a pass found it): every frame of the
+    /// region is measured and warped back onto the pass's first, on the static scene
+    /// (`sweep` left out), from the first on.
+    pub(in crate::detect) fn following(sweep: Sweep, side: f64) -> Self {
+        Self {
+            on: true,
+            // The pass before found it still at first (not moved from the start).
+            still_seen: true,
+            ..Self::new(sweep, side)
+        }
+    }
+
     /// The pass's next frame, warped back when the camera has moved.
     pub(in crate::detect) fn offer(&mut self, f: &mut Frame) -> Result<()> {
+        if self.on && self.steady.is_none() {
+            self.steady = Some(Steady::new(f, Some(&self.sweep))?.within(self.side));
+        }
         let Some(st) = &mut self.steady else {
             self.next_t = f.t_s + LATE_EVERY_S;
             self.steady = Some(Steady::new(f, None)?);
@@ -103,10 +118,7 @@ impl Late {
             // The static scene (the pendulum's sweep left out) must show the motion too:
             // a still camera's glances that a wire or its shadow pulled along do not.
             let first = self.first.as_ref().expect("kept until the camera moves");
-            // Followed from here on, its shift judged against the video's side (see
-            // `Steady::within`); the glances are judged against the region's, as a
-            // small region's glances at a still camera are pulled further.
-            let mut on_scene = Steady::new(first, Some(&self.sweep))?.within(self.side);
+            let mut on_scene = Steady::new(first, Some(&self.sweep))?;
             if !on_scene
                 .glance(f)?
                 .is_some_and(|m| m.reach(w, h) > MOVING_PX)
@@ -116,7 +128,11 @@ impl Late {
                 self.still_seen = true;
                 return Ok(());
             }
-            *st = on_scene;
+            // Followed from here on, its shift judged against the video's side (see
+            // `Steady::within`); the glances, this one too, against the region's: a
+            // small region's glances at a still camera are pulled further (a still
+            // 960x540 clip turned upside down was found moving at 2 % of the video's).
+            *st = on_scene.within(self.side);
             self.first = None;
             self.on = true;
             self.on_at = Some(f.t_s);

@@ -388,6 +388,37 @@ fn a_drift_is_followed_as_far_as_the_video_s_side_allows_not_the_region_s() {
     assert!(c.unmeasured > 20, "{c:?}");
 }
 
+/// A camera a pass found moving later is followed by the next pass from its first
+/// frame: every frame is steadied, none taken as still.
+#[test]
+fn a_camera_known_to_move_is_followed_from_the_first_frame() {
+    let (w, h) = (480, 320);
+    let sweep = Sweep::around((-500.0, -500.0), 10.0, (0.0, 0.1), (0.0, 0.0));
+    let mut late = Late::following(sweep, w as f64);
+    for i in 0..60u64 {
+        let t = i as f64 / 10.0;
+        let m = Motion {
+            dx: 0.3 * t,
+            ..Motion::default()
+        };
+        let mut f = textured(w, h, m, i);
+        f.t_s = t;
+        late.offer(&mut f).unwrap();
+    }
+    let c = late.camera().expect("followed");
+    assert_eq!(c.from_s, None, "{c:?}");
+    assert!(!late.moved_from_start());
+    assert_eq!(c.unmeasured, 0, "{c:?}");
+    assert!((c.max_px - 0.3 * 5.9).abs() < 0.1, "{c:?}");
+    assert_eq!(late.take_turns().len(), 60);
+    // Glanced at, the same frames are taken as still until two glances see the drift.
+    let late = late_on(|t| 0.3 * t, 0.0);
+    assert!(late
+        .camera()
+        .and_then(|c| c.from_s)
+        .is_some_and(|t| t > 0.0));
+}
+
 /// A plain frame with one textured patch, `side` px square, centred at `centre`, seen
 /// under motion `m`.
 fn patch_on_plain(w: usize, h: usize, centre: (usize, usize), side: usize, m: Motion) -> Frame {

@@ -252,6 +252,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                     d.verdict.label()
                 );
                 d.decodings += a.decodings;
+                // A look at the other scale (below) is measured as the first was.
+                looks.follow_region = false;
             }
             Ok(a) => {
                 d = Detection {
@@ -259,10 +261,13 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
                     ..a
                 }
             }
-            Err(e) => eprintln!(
-                "{name}: steadied from the start it measures nothing ({e:#}): the first \
-                 measurement is kept"
-            ),
+            Err(e) => {
+                eprintln!(
+                    "{name}: steadied from the start it measures nothing ({e:#}): the first \
+                     measurement is kept"
+                );
+                looks.follow_region = false;
+            }
         }
     }
     // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the

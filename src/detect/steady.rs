@@ -181,6 +181,10 @@ pub(super) struct Steady {
     hold_turn: bool,
     /// Whether the turn of the frame last measured was so held.
     turn_held: bool,
+    /// The losses of the frame last measured (see [`Steady::losses`]), once reckoned: a
+    /// glance asks for them twice (whether the motion explains the frame, then whether
+    /// it does as a drift's).
+    losses: Option<(f64, f64)>,
 }
 
 impl Steady {
@@ -221,6 +225,7 @@ impl Steady {
             tallied: 0,
             hold_turn: false,
             turn_held: false,
+            losses: None,
         })
     }
 
@@ -258,6 +263,7 @@ impl Steady {
     /// aligned onto it (a plain wall has nothing to align; a frame that differs
     /// throughout, a flash or a cut, is not the same scene).
     pub(super) fn measure(&mut self, f: &Frame) -> Result<Option<Motion>> {
+        self.losses = None;
         if (f.width, f.height) != self.size {
             return Ok(None);
         }
@@ -374,6 +380,7 @@ impl Steady {
 
     /// Later frames are measured from no motion, as the first frame's neighbours.
     pub(super) fn forget(&mut self) {
+        self.losses = None;
         self.recent = Motion::default();
         self.loss = f64::INFINITY;
     }
@@ -399,6 +406,9 @@ impl Steady {
 
     /// The loss of the frame last measured at its motion and at none.
     fn losses(&mut self) -> Result<(f64, f64)> {
+        if let Some(l) = self.losses {
+            return Ok(l);
+        }
         let (level, img) = (&self.levels[1], &self.smooth);
         let loss = |m: Motion| -> Result<f64> {
             let mut light = Light::at(level, img, m)?;
@@ -412,6 +422,7 @@ impl Steady {
                 moved / still
             );
         }
+        self.losses = Some((moved, still));
         Ok((moved, still))
     }
 

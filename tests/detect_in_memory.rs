@@ -426,7 +426,9 @@ fn a_wire_beside_a_stronger_shadow_is_found_again_by_the_side_its_sharper_ridge_
     // and a little wider (sigma 1.1 px): the stronger ridge in most frames, and not
     // clearly the wider in any one. Tracked by strength, the shadow is followed
     // throughout. The frames where both are seen tell, over time, that the sharper
-    // ridge lies on the larger-angle side: from then on the wire is kept.
+    // ridge lies on the larger-angle side: from then on the wire is kept, and the frames
+    // taken on the shadow before are measured again on the wire (before they were, 36 of
+    // the first 150 frames were `ok` on the shadow).
     let scene = Scene {
         seconds: 24.0,
         amp: 12f64.to_radians(),
@@ -459,8 +461,8 @@ fn a_wire_beside_a_stronger_shadow_is_found_again_by_the_side_its_sharper_ridge_
         late, 0,
         "{late} frames after the first quarter on the shadow"
     );
-    assert!(
-        early <= n / 16,
+    assert_eq!(
+        early, 0,
         "{early} frames of the first quarter on the shadow"
     );
     assert!(

@@ -119,6 +119,24 @@ impl Keeper {
         self.held.push(Figure11::of(frame));
     }
 
+    /// The angle of `frame` measured again, or the frame refused
+    /// (`Tracker::take_restated`).
+    pub(super) fn restate(&mut self, frame: u64, angle: Option<f64>) {
+        match angle {
+            Some(a) => {
+                for e in self.high.iter_mut().chain(&mut self.low) {
+                    if e.1 == frame {
+                        e.0 = a;
+                    }
+                }
+            }
+            None => {
+                self.high.retain(|e| e.1 != frame);
+                self.low.retain(|e| e.1 != frame);
+            }
+        }
+    }
+
     /// Figure 11 once every row's status is final: the frame [`figure11_frame`]'s rule
     /// picks, or, should it not be held (the first `ok` frames of the pass demoted),
     /// the held frame that rule ranks first.

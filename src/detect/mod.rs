@@ -274,17 +274,35 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     // wire's direction turns more or less than its angle about the pivot) is the look's
     // at a scale that saw something else as the wire (a 2 px wire and its blurred shadow
     // merged into one line by shrinking, with a pivot 5 px off): the other scale's look
-    // is measured too, and the pass whose pivot its lines bear out better is kept.
+    // is measured too, and the pass whose pivot its lines bear out better is kept. So is
+    // a pass whose motion is not a pendulum's (its period varies from swing to swing, or
+    // its angle jitters): its look too may have taken something else for the wire (a
+    // real clip turned upside down, its wire's shadow beside it, at a pivot 480 px
+    // off, its lines turning 0.989 times as much).
     let off = |d: &Detection| d.swing_scale.map_or(0.0, |s| (s - 1.0).abs());
-    let Some(other) = other.filter(|_| off(&d) > SWING_SCALE_RETRY) else {
+    let unlike = |d: &Detection| {
+        d.verdict
+            .failed()
+            .any(|c| c.check == "period" || c.check == "smooth")
+    };
+    let Some(other) = other.filter(|_| off(&d) > SWING_SCALE_RETRY || unlike(&d)) else {
         return Ok(d);
     };
-    eprintln!(
-        "{}: the wire's lines turn {:.3} times as much as its angle about the pivot the \
-         first look found; measuring again from a look at the other working scale",
-        input.name(),
-        d.swing_scale.unwrap_or(f64::NAN)
-    );
+    if off(&d) > SWING_SCALE_RETRY {
+        eprintln!(
+            "{}: the wire's lines turn {:.3} times as much as its angle about the pivot the \
+             first look found; measuring again from a look at the other working scale",
+            input.name(),
+            d.swing_scale.unwrap_or(f64::NAN)
+        );
+    } else {
+        eprintln!(
+            "{}: what was followed does not swing as a wire does ({}); measuring again from \
+             a look at the other working scale",
+            input.name(),
+            d.verdict.label()
+        );
+    }
     // A look made before the camera was found moving from the start is made again,
     // steadied.
     let again = match other {
@@ -444,6 +462,24 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         keeper.offer(&row, &frame);
         review.offer(&row, &frame, tracker.predicted())?;
         rows.push(row);
+        for r in tracker.take_restated() {
+            let Ok(i) = rows.binary_search_by_key(&r.frame, |row| row.frame) else {
+                continue;
+            };
+            let row = &mut rows[i];
+            match r.other {
+                Some((angle, quality, moments)) => {
+                    keeper.restate(r.frame, Some(angle));
+                    row.angle_rad = Some(angle);
+                    row.quality = quality;
+                    row.moments = Some(moments);
+                }
+                None => {
+                    keeper.restate(r.frame, None);
+                    row.flag = Some(Flag::Gate);
+                }
+            }
+        }
         k += 1;
         if let Some(p) = opts.progress.as_ref().filter(|_| k.is_multiple_of(100)) {
             (p.0)(k as u64, total);

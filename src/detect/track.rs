@@ -12,8 +12,8 @@ use super::light::Brightness;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
     BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
-    LONG_FIT_FRAMES, LONG_FIT_S, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES, REANCHOR_STILL_DEG,
-    REPEAT_MAD, REPEAT_SHARE, START_FRAMES,
+    LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES,
+    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, START_FRAMES, UNDECIDED_MAX_FRAMES,
 };
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
@@ -21,6 +21,23 @@ use opencv::core::{self, Mat, Scalar};
 use opencv::imgproc;
 use opencv::prelude::*;
 use std::path::PathBuf;
+
+/// A frame accepted while the side a wire lies on beside its shadow was not known, since
+/// the first accepted on one ridge of a pair: the angle taken, and the other ridge's
+/// angle, quality and moments (none in a frame that saw no pair).
+struct Undecided {
+    frame: u64,
+    t_s: f64,
+    taken: f64,
+    other: Option<(f64, f64, [f64; 6])>,
+}
+
+/// A row the pass measured again on the other ridge of its pair (angle, quality,
+/// moments), or refused (none: a frame between two so restated, which saw no pair).
+pub(super) struct Restated {
+    pub frame: u64,
+    pub other: Option<(f64, f64, [f64; 6])>,
+}
 
 /// Per-frame state of the streaming pass.
 pub(super) struct Tracker {
@@ -56,6 +73,12 @@ pub(super) struct Tracker {
     scratch: measure::Scratch,
     /// Which side of a wire-and-shadow pair the wire lies on, as learnt.
     ridges: measure::Ridges,
+    /// This frame's measurement of the other ridge of a pair, taken while the side was
+    /// not known; the accepted frames holding one, until it is; and the rows restated
+    /// once it is, for the pass to take ([`Tracker::take_restated`]).
+    pair_other: Option<(f64, f64, [f64; 6])>,
+    undecided: Vec<Undecided>,
+    restated: Vec<Restated>,
     prev: Vec<u8>,
     mean_level: Option<f64>,
     gate: f64,
@@ -163,6 +186,9 @@ impl Tracker {
             wedge: (0.0, 0.0),
             scratch: measure::Scratch::default(),
             ridges: measure::Ridges::default(),
+            pair_other: None,
+            undecided: Vec::new(),
+            restated: Vec::new(),
             prev: Vec::new(),
             mean_level: None,
             gate: opts.gate_deg.to_radians(),
@@ -457,6 +483,18 @@ impl Tracker {
                 }
                 self.since_good = 0;
                 self.repeats_since_good = 0;
+                let other = self.pair_other.take();
+                let held = !self.undecided.is_empty()
+                    && self.undecided.len() < UNDECIDED_MAX_FRAMES
+                    && self.ridges.side().is_none();
+                if other.is_some() || held {
+                    self.undecided.push(Undecided {
+                        frame: f.index,
+                        t_s: f.t_s,
+                        taken: angle,
+                        other,
+                    });
+                }
             }
             // A repeated frame says nothing new: it neither widens the search nor the
             // gate (widened, a wire at rest beside its own shadow was lost to the shadow
@@ -471,7 +509,69 @@ impl Tracker {
                 self.save_diag(f.index, angle, pred)?;
             }
         }
+        self.restate_undecided();
         Ok(row)
+    }
+
+    /// Once the side a wire lies on beside its shadow is learnt, the frames accepted
+    /// before on the ridge of a like pair on the shadow's side are restated with the
+    /// other ridge's measurement, and the history the prediction reads with them. Until
+    /// then, a track begun on a shadow stronger than its wire and barely wider (0.96 px
+    /// against 1.01 on a 1920x1080 twin, too close for [`RIVAL_SHARPER_START`]) stays
+    /// on it, the wire a rival outside the gate, until the votes decide (its first 32
+    /// frames there, 2.8 deg off, `ok`).
+    ///
+    /// [`RIVAL_SHARPER_START`]: crate::detect::tuning::RIVAL_SHARPER_START
+    fn restate_undecided(&mut self) {
+        if self.undecided.is_empty() {
+            return;
+        }
+        let Some((side, along)) = self.ridges.side() else {
+            return;
+        };
+        let held = std::mem::take(&mut self.undecided);
+        // Each pair frame: restated (its ridge on the shadow's side of a like pair)?
+        let restate: Vec<Option<bool>> = held
+            .iter()
+            .map(|u| {
+                u.other.map(|o| {
+                    let sep = u.taken - o.0;
+                    // `side`: where the wire lies against the other ridge (+1: larger).
+                    (sep.abs() - along).abs() <= PAIR_SEP_TOL * along && sep * side < 0.0
+                })
+            })
+            .collect();
+        for (i, u) in held.iter().enumerate() {
+            let restated = match restate[i] {
+                Some(r) => r,
+                // A frame that saw no pair, between two restated: taken on the shadow's
+                // track, with nothing to restate it by.
+                None => {
+                    let before = restate[..i].iter().rev().find_map(|r| *r);
+                    let after = restate[i + 1..].iter().find_map(|r| *r);
+                    before == Some(true) && after == Some(true)
+                }
+            };
+            if !restated {
+                continue;
+            }
+            if let Some(o) = u.other {
+                for h in self.hist.iter_mut().filter(|h| h.0 == u.t_s) {
+                    h.1 = o.0;
+                }
+            } else {
+                self.hist.retain(|h| h.0 != u.t_s);
+            }
+            self.restated.push(Restated {
+                frame: u.frame,
+                other: u.other,
+            });
+        }
+    }
+
+    /// The rows restated since the last call ([`Tracker::restate_undecided`]).
+    pub(super) fn take_restated(&mut self) -> Vec<Restated> {
+        std::mem::take(&mut self.restated)
     }
 
     /// Fewer than [`START_FRAMES`] frames accepted since the track began (or was

@@ -14,7 +14,8 @@ use crate::detect::tuning::{
     HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX, PAIR_MIN_VOTES,
     PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO, PEAK_STEP_BINS, RIVAL_COVER,
     RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED,
-    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, WIDTH_STRIP,
+    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, UNDECIDED_MAX_FRAMES,
+    WIDTH_STRIP,
 };
 use crate::detect::Pt;
 use anyhow::Result;
@@ -64,6 +65,7 @@ impl Tracker {
         pred: Option<f64>,
         gate: f64,
     ) -> Result<Option<(f64, f64, [f64; 6])>> {
+        self.pair_other = None;
         // Only the wedge's rectangle holds evidence this frame (see `evidence`): its
         // pixels over their threshold, row by row.
         let rect = self.rect;
@@ -145,8 +147,25 @@ impl Tracker {
             let (a, c) = side(i);
             sm[i] - a.min(c)
         }));
-        let best_i = self.sharpest_ridge(&b.scores, best, &b.cand, (lo, bin_w), pred, gate)?;
-        let th0 = lo + (best_i as f64 + 0.5) * bin_w;
+        let (best_i, other) =
+            self.sharpest_ridge(&b.scores, best, &b.cand, (lo, bin_w), pred, gate)?;
+        let at = |i: usize| lo + (i as f64 + 0.5) * bin_w;
+        let found = self.refine(b, at(best_i), mid)?;
+        // The pair's other ridge measured too while the side the wire lies on is not
+        // known: the frame is restated once it is ([`Tracker::restate_undecided`]).
+        self.pair_other = match other {
+            Some(o) if found.is_some() => self.refine(b, at(o), mid)?,
+            _ => None,
+        };
+        Ok(found)
+    }
+
+    /// The wire's angle, coverage and strip moments about the line through the pivot at
+    /// `th0` (a histogram peak's angle), from the candidates `b.cand`; `mid` is the
+    /// wedge's middle, the branch the angle is given on.
+    fn refine(&self, b: &mut Scratch, th0: f64, mid: f64) -> Result<Option<(f64, f64, [f64; 6])>> {
+        let piv = self.piv;
+        let (r_lo, r_hi) = (self.r_lo, self.r_hi);
         let mut line = Line {
             point: piv,
             dir: Pt::new(th0.cos(), th0.sin()),
@@ -372,7 +391,7 @@ impl Tracker {
         (lo, bin_w): (f64, f64),
         pred: Option<f64>,
         gate: f64,
-    ) -> Result<usize> {
+    ) -> Result<(usize, Option<usize>)> {
         let reach = RIVAL_REACH_BINS;
         let own = scores[best.1];
         let is_rival = |i: usize| {
@@ -385,7 +404,7 @@ impl Tracker {
         };
         // Most frames have no rival: decided without collecting anything.
         if best.0 <= 0.0 || !(0..scores.len()).any(is_rival) {
-            return Ok(best.1);
+            return Ok((best.1, None));
         }
         // The strongest first (index 0), then its rivals.
         let peaks: Vec<usize> = std::iter::once(best.1)
@@ -498,7 +517,16 @@ impl Tracker {
                 }
             }
         }
-        Ok(peaks[pick])
+        // The pair's other member, while the side is not known and the capacity for
+        // frames awaiting it lasts.
+        let other = pair
+            .filter(|_| learnt.is_none() && self.undecided.len() < UNDECIDED_MAX_FRAMES)
+            .and_then(|j| match pick {
+                0 => Some(peaks[j]),
+                p if p == j => Some(peaks[0]),
+                _ => None,
+            });
+        Ok((peaks[pick], other))
     }
 }
 

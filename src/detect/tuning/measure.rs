@@ -99,6 +99,14 @@ knobs! {
         what "lead a side needs, in a fair coin's sigmas",
         chosen_by "599aeff: chance about 3 in 1000 at one count; not swept";
 
+    /// Frames accepted on one ridge of a pair before the side is known are held, with the
+    /// other ridge measured too, and restated once it is: at most this many (the other
+    /// ridge's measurement costs as much as the wire's, and a pair whose side is never
+    /// learnt would hold every frame).
+    UNDECIDED_MAX_FRAMES: usize = 1000, "frames",
+        what "frames held with a pair's other ridge until the side is known",
+        chosen_by "a 1920x1080 sweep twin (seed 4 scene 11) followed the shadow for its first 32 frames, until the side was learnt; hand-picked cap";
+
     /// A pair is the learnt one when its separation is within this share of the learnt
     /// separation.
     PAIR_SEP_TOL: f64 = 0.5, "share",

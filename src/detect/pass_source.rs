@@ -6,7 +6,7 @@ use crate::video::{Frame, FrameSource, Roi};
 use anyhow::{ensure, Result};
 
 /// The first look's frames as decoded and its decoder, going on into the streaming
-/// pass (see [`decode_once`]).
+/// pass (see [`decode_once`](super::first_look::decode_once)).
 pub(super) struct Continued<'a> {
     /// The look's frames, as decoded (no brightness correction), from the first asked for.
     pub(super) held: std::collections::VecDeque<Frame>,

@@ -9,7 +9,7 @@ use super::{AngleRow, Status};
 use crate::detect::tuning::{
     ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
     NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG,
-    RIVAL_POLARITY_SHARE, STALL_RANGE, STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX,
+    RIVAL_POLARITY_SHARE, STALL_RANGE, STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX, TURNS_MIN,
     TURN_FOLLOW_MAX_DEG, TURN_FOLLOW_SIGNIFICANCE,
 };
 use crate::verdict::Status as Verdict;
@@ -50,8 +50,8 @@ pub struct Seen {
 /// One check of a detection.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
-    /// `found`, `period`, `smooth`, `stalls`, `rest`, `envelope`, `still`, `turn` or
-    /// `polarity`.
+    /// `found`, `turns`, `period`, `smooth`, `stalls`, `rest`, `envelope`, `still`, `turn`
+    /// or `polarity`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -387,6 +387,23 @@ pub fn judge(
         ),
         "the detector lost it, or followed something it often lost",
     )];
+    // turns: a wire swinging turns back at every half swing. With fewer turning points
+    // than the fit needs, the checks on the motion (period, rest, envelope) have nothing
+    // to judge, and a track that followed something else, far from the wire, would pass
+    // them all (a hand-held 640x480 sweep twin: 11.7 deg RMS off, no turning point,
+    // called `ok`).
+    let turns = sw.turns.len();
+    checks.push(check(
+        "turns",
+        turns as f64,
+        TURNS_MIN as f64,
+        turns >= TURNS_MIN,
+        format!(
+            "the angle turned back {turns} times (a swinging wire's, in a video the fit can \
+             use, at least {TURNS_MIN} times)"
+        ),
+        "what was followed does not swing: not the wire, or a wire at rest",
+    ));
     // period: a pendulum's period holds from swing to swing (judged on four periods or
     // more).
     if let Some(m) = period.filter(|_| p.len() >= 4) {

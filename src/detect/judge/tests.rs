@@ -52,9 +52,29 @@ fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
     let noise = s.noise_deg.unwrap();
     assert!((noise - 0.005).abs() < 0.001, "noise {noise}");
     assert_eq!(s.ok_share, 1.0);
-    for c in ["found", "period", "smooth", "stalls", "rest", "envelope"] {
+    for c in [
+        "found", "turns", "period", "smooth", "stalls", "rest", "envelope",
+    ] {
         assert!(v.checks.iter().any(|x| x.check == c), "no `{c}` check");
     }
+}
+
+#[test]
+fn a_track_that_never_turns_back_is_suspect() {
+    // Found in every frame, smooth, and drifting slowly over 3 deg: no turning point
+    // (a track on something static, steadied by a camera's misread motion). No check on
+    // the motion has anything to judge, and `ok` would have said the wire was seen.
+    let mut rows = swinging();
+    for r in rows.iter_mut() {
+        r.angle_rad = Some((70.0 + 3.0 * r.t_s / 20.0).to_radians());
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert_eq!(failed(&v), ["turns"], "{:?}", v.checks);
+    // Five and a half half swings (turning points at 1 to 5 s; 0 s has no crossing
+    // before it) are enough.
+    let rows: Vec<AngleRow> = swinging().into_iter().filter(|r| r.t_s <= 5.5).collect();
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    assert!(!failed(&v).contains(&"turns"), "{:?}", v.checks);
 }
 
 #[test]

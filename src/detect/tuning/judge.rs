@@ -11,6 +11,12 @@ knobs! {
         what "least share of frames ok for a trusted detection",
         chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
 
+    /// Fewest turning points of a detection trusted: the fit needs four, and the checks on
+    /// the motion judge none without them.
+    TURNS_MIN: usize = 4, "turning points",
+        what "fewest turning points of a trusted detection (the fit's least)",
+        chosen_by "sweep seed 1 scene 32 (hand-held, 640x480): 11.7 deg RMS off, no turning point, called ok; the fit's own minimum";
+
     /// Largest spread of the periods from swing to swing (robust, relative to their median).
     PERIOD_SPREAD_MAX: f64 = 0.05, "share",
         what "largest spread of the periods swing to swing (of the median)",

@@ -263,35 +263,40 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
             // verdict (a still clip turned upside down, its pivot placed 300 px below
             // the frame, was found moving at 8 s; steadied throughout, its angles lost
             // every turning point).
-            // Never confirmed, it is kept only when steadying added no more than
-            // `STILL_AGAIN_NOISE_MAX_DEG` of noise: plain 320x240 walls whose glances
-            // misread 1.2 to 2.8 px of motion gained 0.04 to 0.11 deg, three swaying sweep
-            // twins 0.005 to 0.007.
-            Ok(a) if unconfirmed && added_noise(&a) > STILL_AGAIN_NOISE_MAX_DEG => {
-                eprintln!(
-                    "{name}: steadied from the start its angle's noise from frame to frame \
-                     grows by {:.4} deg (at most {STILL_AGAIN_NOISE_MAX_DEG} deg): the motions \
-                     were misread, and the first measurement is kept",
-                    added_noise(&a)
-                );
-                d.decodings += a.decodings;
-                looks.follow_region = false;
-            }
-            Ok(a) if !from_start && a.verdict.failed().next().is_some() => {
-                eprintln!(
-                    "{name}: steadied from the start it is {} (measured first, {}): the first \
-                     measurement is kept",
-                    a.verdict.label(),
-                    d.verdict.label()
-                );
-                d.decodings += a.decodings;
-                // A look at the other scale (below) is measured as the first was.
-                looks.follow_region = false;
-            }
             Ok(a) => {
-                d = Detection {
-                    decodings: a.decodings + d.decodings,
-                    ..a
+                // Never confirmed, it is kept only when steadying added no more than
+                // `STILL_AGAIN_NOISE_MAX_DEG` of noise: plain 320x240 walls whose glances
+                // misread 1.2 to 2.8 px of motion gained 0.04 to 0.11 deg, three swaying
+                // sweep twins 0.005 to 0.007.
+                let refused = if unconfirmed && added_noise(&a) > STILL_AGAIN_NOISE_MAX_DEG {
+                    Some(format!(
+                        "its angle's noise from frame to frame grows by {:.4} deg (at most \
+                         {STILL_AGAIN_NOISE_MAX_DEG} deg): the motions were misread, and the \
+                         first measurement is kept",
+                        added_noise(&a)
+                    ))
+                } else if !from_start && a.verdict.failed().next().is_some() {
+                    Some(format!(
+                        "it is {} (measured first, {}): the first measurement is kept",
+                        a.verdict.label(),
+                        d.verdict.label()
+                    ))
+                } else {
+                    None
+                };
+                match refused {
+                    Some(why) => {
+                        eprintln!("{name}: steadied from the start {why}");
+                        d.decodings += a.decodings;
+                        // A look at the other scale (below) is measured as the first was.
+                        looks.follow_region = false;
+                    }
+                    None => {
+                        d = Detection {
+                            decodings: a.decodings + d.decodings,
+                            ..a
+                        }
+                    }
                 }
             }
             Err(e) => {

@@ -122,17 +122,16 @@ fn spread_of(m: &Mat) -> Result<(f64, f64)> {
 /// difference from the first frame, and the change of `m` that best removes it (none
 /// when the scene holds too little to fix it); with the weighted RMS difference, grey
 /// levels, Tukey's loss per pixel, and whether the turn was held. A direction the scene
-/// does not fix is taken back to no motion; with `hold_turn`, where the scene fixes the
-/// shift but not the turn, the turn is taken back to none and the shift fitted with it
-/// held ([`shift_with_turn_held`]).
+/// does not fix is taken back to no motion; as `hold` says, the turn may instead be taken
+/// back to none and the shift fitted with it held ([`shift_with_turn_held`]).
 pub(super) fn align_step(
     level: &Level,
     img: &Mat,
     m: Motion,
     tolerance_px: f32,
     light: &mut Light,
-    hold_turn: bool,
-) -> Result<(Option<Motion>, f64, f64, bool)> {
+    hold: Hold,
+) -> Result<Step> {
     let at = Reader::new(level, img, m)?;
     // The weighted sums that fit the light anew (see `Light`).
     let mut sums = Sums::default();
@@ -174,7 +173,13 @@ pub(super) fn align_step(
         count += 1.0;
     }
     if count < 1.0 {
-        return Ok((None, f64::INFINITY, f64::INFINITY, false));
+        return Ok(Step {
+            motion: None,
+            residual: f64::INFINITY,
+            loss: f64::INFINITY,
+            held: false,
+            turn_fixed: false,
+        });
     }
     light.refit(&sums);
     let residual = (sum_we2 / sum_w.max(1.0)).sqrt();
@@ -217,45 +222,122 @@ pub(super) fn align_step(
     // fix mixes the turn with a shift (the texture lies to one side of the centre), and
     // taking it back to no motion takes part of the shift with it into a turn.
     let mut held = false;
-    if hold_turn && fixed == 2 {
-        if let Some(step) = shift_with_turn_held(&hn, &gn, &now) {
+    if hold.is_kept() || (hold != Hold::No && fixed == 2) {
+        let turn = if hold.as_is() { 0.0 } else { -now[2] };
+        if let Some(step) = shift_with_turn_held(&hn, &gn, &now, turn, hold.is_kept()) {
             d = step;
             held = true;
         }
     }
     if fixed == 0 {
-        return Ok((None, residual, loss / count.max(1.0), false));
+        return Ok(Step {
+            motion: None,
+            residual,
+            loss: loss / count.max(1.0),
+            held: false,
+            turn_fixed: false,
+        });
     }
     let d = nalgebra::Vector3::new(d[0], d[1], d[2] / r);
-    Ok((
-        Some(Motion {
+    Ok(Step {
+        motion: Some(Motion {
             dx: d[0] * level.shrink,
             dy: d[1] * level.shrink,
             rot_rad: d[2],
         }),
         residual,
-        loss / count.max(1.0),
+        loss: loss / count.max(1.0),
         held,
-    ))
+        turn_fixed: fixed == 3 && !held,
+    })
+}
+
+/// What a step of the alignment ([`align_step`]) found.
+pub(super) struct Step {
+    /// The change of the motion; none when the scene holds too little to fix it.
+    pub(super) motion: Option<Motion>,
+    /// The weighted RMS difference, grey levels.
+    pub(super) residual: f64,
+    /// Tukey's loss per pixel.
+    pub(super) loss: f64,
+    /// Whether the turn was held (at none, or as it was: see [`Hold`]).
+    pub(super) held: bool,
+    /// Whether the scene fixed every direction of motion, the turn too.
+    pub(super) turn_fixed: bool,
 }
 
 /// The Gauss-Newton step (information `hn`, gradient `gn`, in the scaled units of
 /// [`align_step`]) with the turn taken back to none from `now` and the shift fitted
-/// given that turn; none when the scene does not fix both directions of shift
-/// ([`MIN_INFO`]).
+/// given that turn; when the scene does not fix both directions of shift
+/// ([`MIN_INFO`]), none, or with `kept` (the turn held at an earlier step) the shift
+/// fitted along the direction the scene fixes and taken back to none along the other.
 fn shift_with_turn_held(
     hn: &nalgebra::Matrix3<f64>,
     gn: &nalgebra::Vector3<f64>,
     now: &nalgebra::Vector3<f64>,
+    turn: f64,
+    kept: bool,
 ) -> Option<nalgebra::Vector3<f64>> {
     let hs = hn.fixed_view::<2, 2>(0, 0).into_owned();
-    if hs.symmetric_eigenvalues().min() < MIN_INFO {
-        return None;
-    }
-    let turn = -now[2];
     let rhs = -(gn.fixed_rows::<2>(0) + hn.fixed_view::<2, 1>(0, 2) * turn);
-    let shift = hs.try_inverse()? * rhs;
+    let shift = if hs.symmetric_eigenvalues().min() >= MIN_INFO {
+        hs.try_inverse()? * rhs
+    } else if kept {
+        let eig = hs.symmetric_eigen();
+        let mut shift = nalgebra::Vector2::zeros();
+        for k in 0..2 {
+            let v = eig.eigenvectors.column(k);
+            shift += v * if eig.eigenvalues[k] >= MIN_INFO {
+                v.dot(&rhs) / eig.eigenvalues[k]
+            } else {
+                -v.dot(&now.fixed_rows::<2>(0))
+            };
+        }
+        shift
+    } else {
+        return None;
+    };
     Some(nalgebra::Vector3::new(shift[0], shift[1], turn))
+}
+
+/// Whether a step of the alignment may hold the turn at none (see [`align_step`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Hold {
+    /// Never: every direction the scene fixes is fitted (a glance).
+    No,
+    /// Where the scene fixes the shift but not the turn (a frame steadied).
+    WhereUnfixed,
+    /// Always: an earlier step at the same scale held it. A scene that fixes the shift
+    /// barely (its weaker direction near [`MIN_INFO`]) held it at one step and not at the
+    /// next, and the steps swung the turn in and out to the last iteration (a hand-held
+    /// twin: 0.44 deg of turn and 0.8 px of shift, back and forth; the measuring scale
+    /// ran all its iterations in 140 of 320 alignments sampled), the motion kept
+    /// depending on which step was the last.
+    Kept,
+    /// Where the scene fixes the shift but not the turn, the turn kept as it is (the
+    /// coarser scale fixed it), not taken back to none.
+    AsIs,
+    /// Always, as it is.
+    KeptAsIs,
+}
+
+impl Hold {
+    /// The hold of the steps after one that held the turn.
+    pub(super) fn kept(self) -> Self {
+        match self {
+            Hold::AsIs | Hold::KeptAsIs => Hold::KeptAsIs,
+            _ => Hold::Kept,
+        }
+    }
+
+    fn is_kept(self) -> bool {
+        matches!(self, Hold::Kept | Hold::KeptAsIs)
+    }
+
+    /// Whether the turn is held as it is, not taken back to none.
+    pub(super) fn as_is(self) -> bool {
+        matches!(self, Hold::AsIs | Hold::KeptAsIs)
+    }
 }
 
 /// Tukey's biweight of a difference `e` at `scale`: `v = 1 - (e / scale)^2` within the

@@ -465,3 +465,73 @@ fn a_shift_seen_on_texture_to_one_side_is_steadied_without_a_turn() {
     assert!(got.dx.abs() < 0.08, "{got:?}");
     assert!(got.rot_rad.to_degrees().abs() < 0.002, "{got:?}");
 }
+
+/// A soft pattern (value noise on a `cell` px lattice, levels `lo` to `lo + span`), seen
+/// under motion `m`.
+fn soft(w: usize, h: usize, m: Motion, cell: f64, lo: f64, span: f64) -> Frame {
+    let lattice = |i: i64, j: i64| {
+        let mut z = (i.wrapping_mul(83_492_791) ^ j.wrapping_mul(29_868_623)) as u64;
+        z = z.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        ((z >> 40) % 1000) as f64 / 1000.0
+    };
+    let f = |x: f64, y: f64| {
+        let (u, v) = (x / cell, y / cell);
+        let (i, j) = (u.floor(), v.floor());
+        let (a, b) = (u - i, v - j);
+        // Smoothstep between the lattice's levels: no kinks at its lines.
+        let (a, b) = (a * a * (3.0 - 2.0 * a), b * b * (3.0 - 2.0 * b));
+        let (i, j) = (i as i64, j as i64);
+        let n = lattice(i, j) * (1.0 - a) * (1.0 - b)
+            + lattice(i + 1, j) * a * (1.0 - b)
+            + lattice(i, j + 1) * (1.0 - a) * b
+            + lattice(i + 1, j + 1) * a * b;
+        (lo + span * n).round().clamp(0.0, 255.0) as u8
+    };
+    let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
+    let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
+    let mut data = vec![0u8; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let (qx, qy) = (x as f64 - cx - m.dx, y as f64 - cy - m.dy);
+            data[y * w + x] = f(c * qx + s * qy + cx, -s * qx + c * qy + cy);
+        }
+    }
+    Frame {
+        index: 1,
+        t_s: 1.0 / 30.0,
+        width: w,
+        height: h,
+        data,
+    }
+}
+
+#[test]
+fn a_turn_the_coarser_scale_fixes_is_kept_where_the_measuring_scale_does_not() {
+    // A faint soft pattern: the coarser scale's pixels fix the turn, the measuring
+    // scale's (their gradients a half as steep) do not.
+    let (w, h) = (960, 540);
+    let m = Motion {
+        dx: 1.2,
+        dy: -0.8,
+        rot_rad: 0.3f64.to_radians(),
+    };
+    let first = soft(w, h, Motion::default(), 40.0, 80.0, 10.0);
+    let moved = soft(w, h, m, 40.0, 80.0, 10.0);
+    // The first look's alignment (the pendulum not left out) holds it at none.
+    let mut look = Steady::new(&first, None).unwrap();
+    look.steadying();
+    let got = look.measure(&moved).unwrap().unwrap();
+    assert!(look.turn_held() && got.rot_rad == 0.0, "{got:?}");
+    // The pass's (a sweep left out, here a corner's) keeps the coarser scale's.
+    let corner = Sweep::around((5.0, 5.0), 2.0, (0.0, 0.1), (0.0, 0.0));
+    let mut pass = Steady::new(&first, Some(&corner)).unwrap();
+    pass.steadying();
+    let got = pass.measure(&moved).unwrap().unwrap();
+    assert!(!pass.turn_held(), "{got:?}");
+    assert!(
+        (got.rot_rad - m.rot_rad).abs() < 0.01f64.to_radians(),
+        "{got:?}"
+    );
+    assert!((got.dx - m.dx).abs() < 0.05, "{got:?}");
+    assert!((got.dy - m.dy).abs() < 0.05, "{got:?}");
+}

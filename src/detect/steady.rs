@@ -144,6 +144,9 @@ impl Level {
             let g2 = |p: &Point| p.jac[0] * p.jac[0] + p.jac[1] * p.jac[1];
             points.select_nth_unstable_by(MAX_POINTS, |a, b| g2(b).total_cmp(&g2(a)));
             points.truncate(MAX_POINTS);
+            // Back in the frame's order, row by row: read so, the frame's pixels come
+            // from memory in the order they lie, not at random.
+            points.sort_unstable_by(|a, b| (a.y, a.x).partial_cmp(&(b.y, b.x)).expect("finite"));
         }
         Ok(Self {
             w,

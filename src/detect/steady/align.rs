@@ -370,11 +370,13 @@ impl Light {
     /// motion `m`, as the offset (gain 1).
     pub(super) fn at(level: &Level, img: &Mat, m: Motion) -> Result<Self> {
         let at = Reader::new(level, img, m)?;
-        let mut d: Vec<f32> = level
+        // Each pixel read once: the frame's grey and the first frame's, where it shows.
+        let read: Vec<(f32, &Point)> = level
             .points
             .iter()
-            .filter_map(|p| at.grey(p).map(|g| p.grey - g))
+            .filter_map(|p| at.grey(p).map(|g| (g, p)))
             .collect();
+        let mut d: Vec<f32> = read.iter().map(|&(g, p)| p.grey - g).collect();
         let offset = if d.is_empty() {
             0.0
         } else {
@@ -386,10 +388,7 @@ impl Light {
         // frame not yet aligned) of the line.
         for _ in 0..LIGHT_ROUNDS {
             let mut sums = Sums::default();
-            for p in &level.points {
-                let Some(g) = at.grey(p) else {
-                    continue;
-                };
+            for &(g, p) in &read {
                 let e = light.gain * g + light.offset - p.grey;
                 let v = biweight(e, LIGHT_LEVELS + EXPLAIN_PX * p.gradient);
                 let (w, g, r) = (f64::from(v * v), f64::from(g), f64::from(p.grey));
@@ -479,7 +478,7 @@ impl<'a> Reader<'a> {
     }
 
     /// The frame's grey (bilinear) where it shows `p`, none outside it.
-    #[inline]
+    #[inline(always)]
     pub(super) fn grey(&self, p: &Point) -> Option<f32> {
         let (ux, uy) = (p.x - self.cx, p.y - self.cy);
         let qx = self.cx + self.c * ux - self.s * uy + self.tx;
@@ -489,10 +488,12 @@ impl<'a> Reader<'a> {
         }
         let (x0, y0) = (qx as usize, qy as usize);
         let (fx, fy) = (qx - x0 as f32, qy - y0 as f32);
-        let (cur, wu) = (self.cur, self.wu);
+        let wu = self.wu;
+        // The four neighbours through one slice (one bounds check, not four).
         let i = y0 * wu + x0;
-        let top = cur[i] + fx * (cur[i + 1] - cur[i]);
-        let bottom = cur[i + wu] + fx * (cur[i + wu + 1] - cur[i + wu]);
+        let q = self.cur.get(i..i + wu + 2)?;
+        let top = q[0] + fx * (q[1] - q[0]);
+        let bottom = q[wu] + fx * (q[wu + 1] - q[wu]);
         Some(top + fy * (bottom - top))
     }
 }

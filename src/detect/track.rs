@@ -13,7 +13,8 @@ use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
     BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
     LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES,
-    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, START_FRAMES, UNDECIDED_MAX_FRAMES,
+    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, RESTATE_BESIDE_FRAMES, START_FRAMES,
+    UNDECIDED_MAX_FRAMES,
 };
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
@@ -544,12 +545,22 @@ impl Tracker {
         for (i, u) in held.iter().enumerate() {
             let restated = match restate[i] {
                 Some(r) => r,
-                // A frame that saw no pair, between two restated: taken on the shadow's
-                // track, with nothing to restate it by.
+                // A frame that saw no pair, between two restated, or beside one and
+                // nearer its shadow's ridge than its wire's: taken on the shadow's track,
+                // with nothing to restate it by.
                 None => {
                     let before = restate[..i].iter().rev().find_map(|r| *r);
                     let after = restate[i + 1..].iter().find_map(|r| *r);
-                    before == Some(true) && after == Some(true)
+                    let beside = |j: usize| {
+                        let n = &held[j];
+                        restate[j] == Some(true)
+                            && n.frame.abs_diff(u.frame) <= RESTATE_BESIDE_FRAMES
+                            && n.other
+                                .is_some_and(|o| (u.taken - n.taken).abs() < (u.taken - o.0).abs())
+                    };
+                    (before == Some(true) && after == Some(true))
+                        || (i > 0 && beside(i - 1))
+                        || (i + 1 < held.len() && beside(i + 1))
                 }
             };
             if !restated {

@@ -360,6 +360,19 @@ impl Ridges {
         self.sep_sum += (an - aw).abs();
     }
 
+    /// Ridges whose side is learnt: the wire at the larger angle for `side` +1, the
+    /// pairs `sep` rad apart (for the tests).
+    #[cfg(test)]
+    pub(super) fn learnt(side: f64, sep: f64) -> Self {
+        let votes = 2 * PAIR_MIN_VOTES.max(usize::pow(PAIR_LEAD_SIGMAS.ceil() as usize, 2));
+        Self {
+            votes,
+            side_sum: side.signum() * votes as f64,
+            sep_sum: sep * votes as f64,
+            last: None,
+        }
+    }
+
     /// The side the wire lies on (+1 at the larger angle) and the pairs' mean separation
     /// (rad), once known.
     pub(super) fn side(&self) -> Option<(f64, f64)> {

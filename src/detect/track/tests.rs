@@ -100,3 +100,35 @@ fn the_spread_of_lines_either_side_of_horizontal_is_their_own() {
     let s = central_spread(&lines).to_degrees();
     assert!((s - 8.0).abs() < 0.05, "{s} deg");
 }
+
+#[test]
+fn a_frame_beside_one_restated_on_its_shadow_s_ridge_is_refused_with_it() {
+    // The wire lies 5.5 deg above its shadow (side +1). Frame 0 was taken on the shadow
+    // and saw the pair; frame 1, on the shadow too, saw no pair; frame 2, on the wire,
+    // saw none either.
+    let (wire, shadow) = ((-56.6f64).to_radians(), (-62.1f64).to_radians());
+    let mut tr = test_tracker((-1.2, -0.8));
+    tr.ridges = measure::Ridges::learnt(1.0, wire - shadow);
+    let held = [(0, shadow, Some(wire)), (1, shadow, None), (2, wire, None)];
+    for (frame, taken, other) in held {
+        let t_s = frame as f64 / 25.0;
+        tr.hist.push((t_s, taken));
+        tr.undecided.push(Undecided {
+            frame,
+            t_s,
+            taken,
+            other: other.map(|o| (o, 1.0, [0.0; 6])),
+        });
+    }
+    tr.restate_undecided();
+    let restated: Vec<(u64, bool)> = tr
+        .take_restated()
+        .iter()
+        .map(|r| (r.frame, r.other.is_some()))
+        .collect();
+    // Frame 0 restated onto the wire, frame 1 refused (nothing to restate it by), frame
+    // 2 kept.
+    assert_eq!(restated, vec![(0, true), (1, false)]);
+    let hist: Vec<f64> = tr.hist.iter().map(|h| h.1).collect();
+    assert_eq!(hist, vec![wire, wire]);
+}

@@ -107,6 +107,13 @@ knobs! {
         what "frames held with a pair's other ridge until the side is known",
         chosen_by "a 1920x1080 sweep twin (seed 4 scene 11) followed the shadow for its first 32 frames, until the side was learnt; hand-picked cap";
 
+    /// A frame held so that saw no pair is refused with its neighbour restated, within
+    /// this many frames, when its angle lies nearer that neighbour's shadow ridge than its
+    /// wire's: taken on the shadow too, with nothing to restate it by.
+    RESTATE_BESIDE_FRAMES: u64 = 2, "frames",
+        what "a held frame with no pair is refused beside a restated one this near, on its shadow's ridge",
+        chosen_by "a 1920x1080 sweep twin (seed 2 scene 8): frame 1, on the shadow 5.3 deg off, no pair seen, called ok beside restated frame 0; hand-picked";
+
     /// A pair is the learnt one when its separation is within this share of the learnt
     /// separation.
     PAIR_SEP_TOL: f64 = 0.5, "share",

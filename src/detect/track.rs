@@ -363,7 +363,12 @@ impl Tracker {
         let wedge_about = pred.filter(|_| !(self.starting() && hint.is_some()));
         self.evidence(wedge_about)?;
         self.keep_step_inputs(f.index)?;
-        if !flash {
+        // Nor a disturbed frame (a person passing, a hand): the background is the
+        // scene's running extreme, which gives back a grey level every
+        // `BG_DECAY_FRAMES`, and a bright shirt taken into a dark wire's held the
+        // evidence beside the wire for half a minute (a sweep twin's wire at rest after
+        // a walker: 0.2 deg off for 25 s).
+        if !flash && !disturbed {
             if self.geo.dark {
                 core::max(&self.bg, &self.small, &mut self.tmp)?;
             } else {

@@ -22,6 +22,12 @@ fn textured(w: usize, h: usize, m: Motion, index: u64) -> Frame {
             + lattice(i + 1, j + 1) * a * b;
         (28.0 + n).clamp(0.0, 255.0) as u8
     };
+    seen_under(w, h, m, index, f)
+}
+
+/// A `w` x `h` frame `index` (30 frames/s) of a scene whose first frame shows `grey(p)`
+/// at each point `p`, seen under motion `m`.
+fn seen_under(w: usize, h: usize, m: Motion, index: u64, grey: impl Fn(f64, f64) -> u8) -> Frame {
     // Pixel q of this frame shows the first frame's p with q = c + R (p - c) + t.
     let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
     let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
@@ -31,7 +37,7 @@ fn textured(w: usize, h: usize, m: Motion, index: u64) -> Frame {
             let (qx, qy) = (x as f64 - cx - m.dx, y as f64 - cy - m.dy);
             let px = c * qx + s * qy + cx;
             let py = -s * qx + c * qy + cy;
-            data[y * w + x] = f(px, py);
+            data[y * w + x] = grey(px, py);
         }
     }
     Frame {
@@ -487,22 +493,7 @@ fn soft(w: usize, h: usize, m: Motion, cell: f64, lo: f64, span: f64) -> Frame {
             + lattice(i + 1, j + 1) * a * b;
         (lo + span * n).round().clamp(0.0, 255.0) as u8
     };
-    let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
-    let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
-    let mut data = vec![0u8; w * h];
-    for y in 0..h {
-        for x in 0..w {
-            let (qx, qy) = (x as f64 - cx - m.dx, y as f64 - cy - m.dy);
-            data[y * w + x] = f(c * qx + s * qy + cx, -s * qx + c * qy + cy);
-        }
-    }
-    Frame {
-        index: 1,
-        t_s: 1.0 / 30.0,
-        width: w,
-        height: h,
-        data,
-    }
+    seen_under(w, h, m, 1, f)
 }
 
 #[test]

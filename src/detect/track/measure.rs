@@ -364,7 +364,9 @@ impl Ridges {
     /// pairs `sep` rad apart (for the tests).
     #[cfg(test)]
     pub(super) fn learnt(side: f64, sep: f64) -> Self {
-        let votes = 2 * PAIR_MIN_VOTES.max(usize::pow(PAIR_LEAD_SIGMAS.ceil() as usize, 2));
+        // All on one side: a lead of `votes`, past `PAIR_LEAD_SIGMAS * sqrt(votes)` from
+        // `PAIR_LEAD_SIGMAS^2` votes on.
+        let votes = PAIR_MIN_VOTES.max(PAIR_LEAD_SIGMAS.powi(2).ceil() as usize);
         Self {
             votes,
             side_sum: side.signum() * votes as f64,

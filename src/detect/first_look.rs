@@ -111,6 +111,9 @@ pub(super) struct FirstLook<'a> {
     /// A camera the pass found moving after glances found it still: the region's frames
     /// are steadied from the pass's first (see `steady::Late::following`).
     pub(super) follow_region: bool,
+    /// A still start is judged under the camera's motion (see `still.rs`): the look as
+    /// it lies found the camera moving and no wire.
+    pub(super) held_under_motion: bool,
 }
 
 impl<'a> FirstLook<'a> {
@@ -194,6 +197,7 @@ impl<'a> FirstLook<'a> {
             last,
             started,
             moving: known_moving,
+            held_under_motion,
             ..
         } = *self;
         let info = input.info();
@@ -296,7 +300,25 @@ impl<'a> FirstLook<'a> {
                 Some((l, s)) => {
                     l.normalise(newest);
                     let held = frame.t_s - t_first < STILL_MAX_SECONDS;
-                    if held && !s.moved(newest) && init.data.len() > STILL_KEEP {
+                    // A frame that differs is measured against the first, for a camera
+                    // that moves while the ball is held: by a motion that explains the
+                    // frame (as a glance judges). Only when asked (see `still.rs`).
+                    let camera = || {
+                        if !held_under_motion {
+                            return Ok(None);
+                        }
+                        let f = Frame {
+                            data: newest.clone(),
+                            width: init.w,
+                            height: init.h,
+                            ..Frame::default()
+                        };
+                        Ok(match st.measure(&f)? {
+                            Some(m) if st.explains()? => Some(m),
+                            _ => None,
+                        })
+                    };
+                    if held && !s.moved(newest, camera)? && init.data.len() > STILL_KEEP {
                         init.data.remove(0);
                         times.pop_front();
                         dropped += 1;
@@ -305,7 +327,7 @@ impl<'a> FirstLook<'a> {
                 None => {
                     against_first = Some((
                         light::Brightness::new(newest),
-                        still::Stillness::new(newest),
+                        still::Stillness::new(newest, init.w),
                     ))
                 }
             }
@@ -323,36 +345,7 @@ impl<'a> FirstLook<'a> {
             eprintln!("steady: the look glanced at {measured} frames, {moved} moved");
         }
         if moving {
-            let st = steady.as_mut().expect("a frame was measured");
-            st.steadying();
-            // Twice: first to tell the static scene from what moves in it (see
-            // `Steady::tally`), then on the static scene alone.
-            st.forget();
-            for data in &init.data {
-                let f = Frame {
-                    data: data.clone(),
-                    width: init.w,
-                    height: init.h,
-                    ..Frame::default()
-                };
-                if st.measure(&f)?.is_some() {
-                    st.tally()?;
-                }
-            }
-            st.prune(PRUNE_SHARE);
-            let mut last = steady::Motion::default();
-            for data in init.data.iter_mut() {
-                let mut f = Frame {
-                    data: std::mem::take(data),
-                    width: init.w,
-                    height: init.h,
-                    ..Frame::default()
-                };
-                let m = st.measure(&f)?;
-                last = m.unwrap_or(last);
-                st.undo(&mut f, last)?;
-                *data = f.data;
-            }
+            steady_frames(steady.as_mut().expect("a frame was measured"), &mut init)?;
         }
         let mut stream = match held {
             Some(held) => Some(Continued {
@@ -385,17 +378,62 @@ impl<'a> FirstLook<'a> {
             }
             bail!("{}: no frame could be decoded", name);
         }
-        let noise = geometry::noise_map(&init);
-        let geo = geometry::find(
-            &init,
-            &noise,
-            info.width,
-            info.height,
-            opts.polarity,
-            opts.pivot.map(|[x, y]| Pt::new(x, y)),
-            opts.roi,
-        )
-        .with_context(|| format!("{}: no wire found", name))?;
+        let find = |init: &InitFrames| {
+            let noise = geometry::noise_map(init);
+            geometry::find(
+                init,
+                &noise,
+                info.width,
+                info.height,
+                opts.polarity,
+                opts.pivot.map(|[x, y]| Pt::new(x, y)),
+                opts.roi,
+            )
+            .map(|geo| (geo, noise))
+        };
+        // A camera the glances hinted moved but did not find moving (under heavy
+        // compression most pixels differ aligned or not) is steadied when the frames as
+        // they lie show no wire: their static edges may be the moving lines.
+        let (geo, noise, moving) = match find(&init) {
+            Err(e) if !moving && hinted => {
+                if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                    eprintln!("steady: no wire in the look as it lies ({e:#}); steadied");
+                }
+                steady_frames(steady.as_mut().expect("a frame was measured"), &mut init)?;
+                match find(&init) {
+                    Ok((geo, noise)) => (geo, noise, true),
+                    Err(_) => return Err(e).with_context(|| format!("{}: no wire found", name)),
+                }
+            }
+            // A camera found moving from a held ball's first frames on moves every edge,
+            // and the still start is not dropped: the look spent on the held wire may show
+            // its steadied static edges as the moving lines. Looked at again with the
+            // still start judged under the camera's motion.
+            Err(e) if moving && dropped == 0 && !held_under_motion => {
+                if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                    eprintln!(
+                        "still: no wire found ({e:#}); a still start under the camera's motion?"
+                    );
+                }
+                drop(stream);
+                input.prepare();
+                let again = FirstLook {
+                    held_under_motion: true,
+                    ..*self
+                };
+                return match again.at(use_shrink) {
+                    Ok(l) if l.dropped > 0 => Ok(Located {
+                        looks: l.looks + 1,
+                        ..l
+                    }),
+                    _ => Err(e).with_context(|| format!("{}: no wire found", name)),
+                };
+            }
+            found => {
+                let (geo, noise) = found.with_context(|| format!("{}: no wire found", name))?;
+                (geo, noise, moving)
+            }
+        };
         super::debug_timing("geometry done", started, "");
         let init_bg = geometry::extreme_frame(&init, geo.dark)?;
         let init_tmap =
@@ -422,6 +460,40 @@ impl<'a> FirstLook<'a> {
             hinted,
         })
     }
+}
+
+/// The look's frames measured against the first and warped back onto it: twice, first
+/// to tell the static scene from what moves in it (see `Steady::tally`), then on the
+/// static scene alone.
+fn steady_frames(st: &mut steady::Steady, init: &mut InitFrames) -> Result<()> {
+    st.steadying();
+    st.forget();
+    for data in &init.data {
+        let f = Frame {
+            data: data.clone(),
+            width: init.w,
+            height: init.h,
+            ..Frame::default()
+        };
+        if st.measure(&f)?.is_some() {
+            st.tally()?;
+        }
+    }
+    st.prune(PRUNE_SHARE);
+    let mut last = steady::Motion::default();
+    for data in init.data.iter_mut() {
+        let mut f = Frame {
+            data: std::mem::take(data),
+            width: init.w,
+            height: init.h,
+            ..Frame::default()
+        };
+        let m = st.measure(&f)?;
+        last = m.unwrap_or(last);
+        st.undo(&mut f, last)?;
+        *data = f.data;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ mod swing;
 
 use super::{AngleRow, Status};
 use crate::detect::tuning::{
-    ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
+    CROSSED_MIN, ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, HYSTERESIS,
     NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, REST_NOISE_FACTOR, REST_WANDER_MAX_DEG,
     RIVAL_POLARITY_SHARE, STALL_RANGE, STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX, TURNS_MIN,
     TURN_FOLLOW_MAX_DEG, TURN_FOLLOW_SIGNIFICANCE,
@@ -404,6 +404,28 @@ pub fn judge(
         ),
         "what was followed does not swing: not the wire, or a wire at rest",
     ));
+    // crossed: a wire swinging is seen where it moves fastest, crossing its rest angle.
+    // A track that loses it there at every half swing (and picks up something else
+    // beside it: a shadow) has no crossing timed, and no period to judge (a sweep twin
+    // on its shadow at one side of each swing, 2.2 deg RMS, was called `ok` so).
+    if sw.sides >= TURNS_MIN {
+        let timed = (sw.up.len() + sw.down.len()) as f64 / sw.sides as f64;
+        checks.push(check(
+            "crossed",
+            timed,
+            CROSSED_MIN,
+            timed >= CROSSED_MIN,
+            format!(
+                "{:.0} % of the swing's {} crossings of its rest angle were seen (at least \
+                 {:.0} %)",
+                100.0 * timed,
+                sw.sides,
+                100.0 * CROSSED_MIN
+            ),
+            "the track loses the wire where it moves fastest, and may take up something \
+             beside it",
+        ));
+    }
     // period: a pendulum's period holds from swing to swing (judged on four periods or
     // more).
     if let Some(m) = period.filter(|_| p.len() >= 4) {

@@ -208,6 +208,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         started,
         moving: false,
         follow_region: false,
+        held_under_motion: false,
     };
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale.

@@ -13,6 +13,9 @@ pub(super) struct Swing {
     pub down: Vec<(f64, usize)>,
     /// The turning points between crossings: (time, angle).
     pub turns: Vec<(f64, f64)>,
+    /// How many times the angle went from one side of `rest` to the other (beyond the
+    /// hysteresis), timed or not.
+    pub sides: usize,
 }
 
 /// Crossings of `rest` with hysteresis `h` (the angle must go beyond `rest +- h` to count
@@ -23,6 +26,7 @@ pub(super) fn swing(t: &[f64], a: &[f64], rest: f64, h: f64) -> Swing {
         up: Vec::new(),
         down: Vec::new(),
         turns: Vec::new(),
+        sides: 0,
     };
     let mut side = 0i8;
     let mut last_cross: Option<f64> = None;
@@ -50,6 +54,7 @@ pub(super) fn swing(t: &[f64], a: &[f64], rest: f64, h: f64) -> Swing {
         };
         if now != 0 && now != side {
             if side != 0 {
+                s.sides += 1;
                 if let Some(tc) = last_cross {
                     if now > 0 { &mut s.up } else { &mut s.down }.push((tc, run));
                 }

@@ -53,7 +53,7 @@ fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
     assert!((noise - 0.005).abs() < 0.001, "noise {noise}");
     assert_eq!(s.ok_share, 1.0);
     for c in [
-        "found", "turns", "period", "smooth", "stalls", "rest", "envelope",
+        "found", "turns", "crossed", "period", "smooth", "stalls", "rest", "envelope",
     ] {
         assert!(v.checks.iter().any(|x| x.check == c), "no `{c}` check");
     }
@@ -251,4 +251,31 @@ fn frames_whose_turn_was_held_are_suspect_when_the_others_turn() {
     // Every turn held: nothing measured to reckon the held ones by, nor to regress on.
     let none: Vec<_> = turns.iter().map(|&(k, _)| (k, None)).collect();
     assert!(turn_check(&rows, &none).is_none());
+}
+
+#[test]
+fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
+    // The frames within 4 deg of the rest angle not found (0.26 to 0.41 s of each half
+    // swing, where the wire moves fastest): no crossing is timed, and no period measured.
+    let mut rows = swinging();
+    for r in &mut rows {
+        if (r.angle_rad.unwrap().to_degrees() - 90.0).abs() < 4.0 {
+            r.status = Status::Missing;
+            r.angle_rad = None;
+        }
+    }
+    let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
+    assert_eq!(failed(&v), ["crossed"], "{:?}", v.checks);
+    assert_eq!(v.seen.period_s, None);
+    let c = v.checks.iter().find(|c| c.check == "crossed").unwrap();
+    assert_eq!(c.value, 0.0);
+    // A person passing: the crossings of two seconds hidden, the rest seen.
+    let mut rows = swinging();
+    for r in &mut rows[(8.0 * FPS) as usize..(10.0 * FPS) as usize] {
+        r.status = Status::Missing;
+        r.angle_rad = None;
+    }
+    let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
+    let c = v.checks.iter().find(|c| c.check == "crossed").unwrap();
+    assert!(c.passed && c.value > 0.7, "{:?}", c);
 }

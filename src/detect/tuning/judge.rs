@@ -17,6 +17,12 @@ knobs! {
         what "fewest turning points of a trusted detection (the fit's least)",
         chosen_by "sweep seed 1 scene 32 (hand-held, 640x480): 11.7 deg RMS off, no turning point, called ok; the fit's own minimum";
 
+    /// Least share of the swing's crossings of its rest angle seen (a found frame either
+    /// side), once it has crossed `TURNS_MIN` times or more.
+    CROSSED_MIN: f64 = 0.45, "share",
+        what "least share of the rest angle's crossings seen",
+        chosen_by "issue 50: 240 kept sweep detections (seeds 1, 2, 4): 0.83 or more, but seed 2 scene 20 (2.2 deg RMS, called ok) 0.1 and a suspect one 0.32-0.36; real clips 0.74-1.0, film 1 turned 180 deg 0.52; between";
+
     /// Largest spread of the periods from swing to swing (robust, relative to their median).
     PERIOD_SPREAD_MAX: f64 = 0.05, "share",
         what "largest spread of the periods swing to swing (of the median)",

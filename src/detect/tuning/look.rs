@@ -130,4 +130,13 @@ knobs! {
     MOVING_MIN: usize = 8, "pixels",
         what "fewest moved pixels for the scene to move",
         chosen_by "cb79a79: hand-picked; not measured";
+
+    /// A frame compared under the camera's motion (a hand-held camera, the ball held)
+    /// may differ by this many px times the first frame's gradient more than the noise
+    /// allows: the motion is measured shrunk, to a tenth of a px or so, and a sharp
+    /// edge's grey changes by its gradient per px.
+    STILL_EDGE_PX: f64 = 0.5, "px",
+        what "the camera's motion's allowed error at an edge, comparing a still start under it",
+        chosen_by "issue 49: hand-picked (the alignment's own MEASURE_PX); measured on the sweep";
+
 }

@@ -395,7 +395,7 @@ impl<'a> FirstLook<'a> {
         // compression most pixels differ aligned or not) is steadied when the frames as
         // they lie show no wire: their static edges may be the moving lines.
         let (geo, noise, moving) = match find(&init) {
-            Err(e) if !moving && hinted => {
+            Err(e) if !moving && (hinted || moved > 0) => {
                 if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
                     eprintln!("steady: no wire in the look as it lies ({e:#}); steadied");
                 }

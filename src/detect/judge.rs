@@ -50,8 +50,8 @@ pub struct Seen {
 /// One check of a detection.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
-    /// `found`, `turns`, `period`, `smooth`, `stalls`, `rest`, `envelope`, `still`, `turn`
-    /// or `polarity`.
+    /// `found`, `turns`, `crossed`, `period`, `smooth`, `stalls`, `rest`, `envelope`,
+    /// `still`, `turn` or `polarity`.
     pub check: String,
     pub value: f64,
     pub limit: f64,

@@ -301,8 +301,9 @@ impl<'a> FirstLook<'a> {
                     l.normalise(newest);
                     let held = frame.t_s - t_first < STILL_MAX_SECONDS;
                     // A frame that differs is measured against the first, for a camera
-                    // that moves while the ball is held: by a motion that explains the
-                    // frame (as a glance judges). Only when asked (see `still.rs`).
+                    // that moves while the ball is held: by a motion a glance would count
+                    // as moved (its reach and what it explains). Only when asked (see
+                    // `still.rs`).
                     let camera = || {
                         if !held_under_motion {
                             return Ok(None);
@@ -313,8 +314,9 @@ impl<'a> FirstLook<'a> {
                             height: init.h,
                             ..Frame::default()
                         };
+                        let reach = |m: &steady::Motion| m.reach(init.w as f64, init.h as f64);
                         Ok(match st.measure(&f)? {
-                            Some(m) if st.explains()? => Some(m),
+                            Some(m) if reach(&m) > MOVING_PX && st.explains()? => Some(m),
                             _ => None,
                         })
                     };

@@ -12,16 +12,15 @@
 //! A camera in the hand moves the whole picture while the ball is held: a frame that
 //! differs from the first is compared again where the camera's motion puts each pixel,
 //! allowing for the motion's error at the first frame's edges ([`STILL_EDGE_PX`]), and
-//! is still when it matches there, by a motion of more than [`MOVING_PX`] that explains
-//! it. A still camera's alignment, pulled after a ball just released, may explain the
+//! is still when it matches there (the motion one that moves the frame by more than
+//! `MOVING_PX` and explains it: see `FirstLook::at`). A still camera's alignment, pulled after a ball just released, may explain the
 //! frame too, and its still start would keep a frame or two more: so a look compares
 //! under the camera's motion only when the look as it lies found the camera moving and
 //! no wire (see `FirstLook::at`).
 
 use crate::detect::steady::Motion;
 use crate::detect::tuning::{
-    MOVED_LEVELS, MOVED_SIGMAS, MOVING_MIN, MOVING_PX, STILL_EDGE_PX, STILL_MOVING_SHARE,
-    STILL_SAMPLE_STEP,
+    MOVED_LEVELS, MOVED_SIGMAS, MOVING_MIN, STILL_EDGE_PX, STILL_MOVING_SHARE, STILL_SAMPLE_STEP,
 };
 use anyhow::Result;
 
@@ -96,8 +95,7 @@ impl Stillness {
         if moved <= self.most_still() {
             return Ok(false);
         }
-        let (wf, hf) = (self.size.0 as f64, self.size.1 as f64);
-        if let Some(m) = camera()?.filter(|m| m.reach(wf, hf) > MOVING_PX) {
+        if let Some(m) = camera()? {
             if self.still_under(frame, m) {
                 return Ok(false);
             }
@@ -167,18 +165,16 @@ fn noise_threshold(mut d: Vec<f32>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rng::Rng;
 
     /// A noisy textured frame (grey levels 60..200, noise of a few levels from `seed`),
     /// with a dark disc of radius 12 at `x`.
     fn frame(seed: u64, x: f64) -> Vec<u8> {
         let (w, h) = (320usize, 240usize);
-        let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+        let mut rng = Rng::new(seed);
         (0..w * h)
             .map(|i| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let noise = ((s >> 33) % 7) as f64 - 3.0;
+                let noise = (rng.next_u64() % 7) as f64 - 3.0;
                 let (px, py) = ((i % w) as f64, (i / w) as f64);
                 if (px - x).hypot(py - 120.0) < 12.0 {
                     20
@@ -201,13 +197,10 @@ mod tests {
         let (w, h) = (320usize, 240usize);
         let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
         let (c, s) = (m.rot_rad.cos(), m.rot_rad.sin());
-        let mut r = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+        let mut rng = Rng::new(seed);
         (0..w * h)
             .map(|i| {
-                r = r
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let noise = ((r >> 33) % 5) as f64 - 2.0;
+                let noise = (rng.next_u64() % 5) as f64 - 2.0;
                 // The first frame's point this pixel shows: p = c + R^T (q - c - t).
                 let (qx, qy) = ((i % w) as f64 - cx - m.dx, (i / w) as f64 - cy - m.dy);
                 let (px, py) = (cx + c * qx + s * qy, cy - s * qx + c * qy);

@@ -18,11 +18,12 @@ use crate::detect::tuning::{
     SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
-use align::{align_step, prepare, Hold, Light, Reader, Step};
+use align::{align_step, prepare, Hold, Light, Reader, Scratch, Step};
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar, Size};
 use opencv::imgproc;
 use opencv::prelude::*;
+use std::cell::Cell;
 
 /// A frame's displacement against the first frame: a point `p` of the first frame is
 /// seen at `c + R(rot) (p - c) + t` in this one (`c` the frame's centre), frame px.
@@ -191,6 +192,8 @@ pub(super) struct Steady {
     /// glance asks for them twice (whether the motion explains the frame, then whether
     /// it does as a drift's).
     losses: Option<(f64, f64)>,
+    /// The pixels an alignment's step read (see [`Scratch`]).
+    scratch: Cell<Scratch>,
 }
 
 impl Steady {
@@ -233,6 +236,7 @@ impl Steady {
             hold_turn: false,
             turn_held: false,
             losses: None,
+            scratch: Cell::default(),
         })
     }
 
@@ -340,37 +344,12 @@ impl Steady {
     /// The alignment at level `k` from motion `start`: the motion reached, and what its
     /// last step found of the scene. A step that held the turn holds it at the later
     /// steps too (see [`Hold::Kept`]).
-    fn at_level(&self, k: usize, start: Motion, mut hold: Hold, light: &mut Light) -> Result<Step> {
-        let level = &self.levels[k];
+    fn at_level(&self, k: usize, start: Motion, hold: Hold, light: &mut Light) -> Result<Step> {
         let img = if k == 0 { &self.coarse } else { &self.smooth };
-        let mut m = start;
-        let mut last = None;
-        for _ in 0..ITERATIONS {
-            let step = align_step(level, img, m, MEASURE_PX, light, hold)?;
-            let Some(d) = step.motion else {
-                return Ok(step);
-            };
-            if step.held {
-                hold = hold.kept();
-            }
-            m.dx += d.dx;
-            m.dy += d.dy;
-            m.rot_rad += d.rot_rad;
-            let at_level = Motion {
-                dx: d.dx / level.shrink,
-                dy: d.dy / level.shrink,
-                ..d
-            };
-            let done = at_level.reach(f64::from(level.w), f64::from(level.h)) < CONVERGED_PX;
-            last = Some(Step {
-                motion: Some(m),
-                ..step
-            });
-            if done {
-                break;
-            }
-        }
-        Ok(last.expect("at least one iteration"))
+        let mut scratch = self.scratch.take();
+        let step = iterate(&self.levels[k], img, start, hold, light, &mut scratch);
+        self.scratch.set(scratch);
+        step
     }
 
     /// Counts, for the frame last measured, the first frame's pixels it does not show
@@ -451,9 +430,10 @@ impl Steady {
             return Ok(l);
         }
         let (level, img) = (&self.levels[1], &self.smooth);
-        let loss = |m: Motion| -> Result<f64> {
+        let scratch = self.scratch.get_mut();
+        let mut loss = |m: Motion| -> Result<f64> {
             let mut light = Light::at(level, img, m)?;
-            Ok(align_step(level, img, m, EXPLAIN_PX, &mut light, Hold::No)?.loss)
+            Ok(align_step(level, img, m, EXPLAIN_PX, &mut light, Hold::No, scratch)?.loss)
         };
         let (moved, still) = (loss(self.recent)?, loss(Motion::default())?);
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -492,6 +472,46 @@ impl Steady {
         f.data.copy_from_slice(self.warped.data_bytes()?);
         Ok(())
     }
+}
+
+/// The alignment at `level` (of the prepared frame `img`) from motion `start`: see
+/// [`Steady::at_level`].
+fn iterate(
+    level: &Level,
+    img: &Mat,
+    start: Motion,
+    mut hold: Hold,
+    light: &mut Light,
+    scratch: &mut Scratch,
+) -> Result<Step> {
+    let mut m = start;
+    let mut last = None;
+    for _ in 0..ITERATIONS {
+        let step = align_step(level, img, m, MEASURE_PX, light, hold, scratch)?;
+        let Some(d) = step.motion else {
+            return Ok(step);
+        };
+        if step.held {
+            hold = hold.kept();
+        }
+        m.dx += d.dx;
+        m.dy += d.dy;
+        m.rot_rad += d.rot_rad;
+        let at_level = Motion {
+            dx: d.dx / level.shrink,
+            dy: d.dy / level.shrink,
+            ..d
+        };
+        let done = at_level.reach(f64::from(level.w), f64::from(level.h)) < CONVERGED_PX;
+        last = Some(Step {
+            motion: Some(m),
+            ..step
+        });
+        if done {
+            break;
+        }
+    }
+    Ok(last.expect("at least one iteration"))
 }
 
 /// The `size` part of `f` at `origin` (frame px), as the first frame would show it

@@ -131,33 +131,46 @@ pub(super) fn align_step(
     tolerance_px: f32,
     light: &mut Light,
     hold: Hold,
+    scratch: &mut Scratch,
 ) -> Result<Step> {
     let at = Reader::new(level, img, m)?;
-    // The weighted sums that fit the light anew (see `Light`).
-    let mut sums = Sums::default();
-    let mut hm = [[0.0f64; 3]; 3];
-    let mut g = [0.0f64; 3];
-    let (mut sum_w, mut sum_we2) = (0.0f64, 0.0f64);
-    // Tukey's loss, summed, and the pixels it is summed over.
-    let (mut loss, mut count) = (0.0f64, 0.0f64);
-    for p in &level.points {
+    // Each pixel read once, with its difference from the first frame; then Tukey's
+    // weights of them all in one pass (the division in lanes); then the sums in two
+    // passes of fewer running totals each (the eighteen of one pass spilled out of the
+    // registers), each total summed in the pixels' order as one pass would.
+    let r = scratch;
+    r.room(level.points.len());
+    let mut n = 0;
+    for (i, p) in level.points.iter().enumerate() {
         let Some(grey) = at.grey(p) else {
             continue;
         };
-        let e = light.gain * grey + light.offset - p.grey;
-        // Tukey's biweight: a pixel far off weighs nothing. The weight is `v^2`, the
-        // loss `1 - v^3`.
-        let v = biweight(e, TUKEY_LEVELS + tolerance_px * p.gradient);
-        let w = v * v;
-        let kept = v * w;
+        r.i[n] = i as u32;
+        r.grey[n] = grey;
+        r.e[n] = light.gain * grey + light.offset - p.grey;
+        r.w[n] = TUKEY_LEVELS + tolerance_px * p.gradient;
+        n += 1;
+    }
+    let (i, grey, e) = (&r.i[..n], &r.grey[..n], &r.e[..n]);
+    let (w, kept) = (&mut r.w[..n], &mut r.kept[..n]);
+    // Tukey's biweight: a pixel far off weighs nothing. The weight is `v^2`, the loss
+    // `1 - v^3`.
+    for ((w, kept), &e) in w.iter_mut().zip(kept.iter_mut()).zip(e) {
+        let v = biweight(e, *w);
+        *w = v * v;
+        *kept = v * *w;
+    }
+    let (w, kept) = (&*w, &*kept);
+    let mut hm = [[0.0f64; 3]; 3];
+    let mut g = [0.0f64; 3];
+    for ((&i, &w), &e) in i.iter().zip(w).zip(e) {
+        let p = &level.points[i as usize];
         let (j0, j1, j2) = (
             f64::from(p.jac[0]),
             f64::from(p.jac[1]),
             f64::from(p.jac[2]),
         );
         let (w, e) = (f64::from(w), f64::from(e));
-        let (gi, gr) = (f64::from(grey), f64::from(p.grey));
-        sums.add(w, gi, gr);
         hm[0][0] += w * j0 * j0;
         hm[0][1] += w * j0 * j1;
         hm[0][2] += w * j0 * j2;
@@ -167,6 +180,17 @@ pub(super) fn align_step(
         g[0] += w * j0 * e;
         g[1] += w * j1 * e;
         g[2] += w * j2 * e;
+    }
+    // The weighted sums that fit the light anew (see `Light`).
+    let mut sums = Sums::default();
+    let (mut sum_w, mut sum_we2) = (0.0f64, 0.0f64);
+    // Tukey's loss, summed, and the pixels it is summed over.
+    let (mut loss, mut count) = (0.0f64, 0.0f64);
+    for ((((&i, &w), &e), &grey), &kept) in i.iter().zip(w).zip(e).zip(grey).zip(kept) {
+        let p = &level.points[i as usize];
+        let (w, e) = (f64::from(w), f64::from(e));
+        let (gi, gr) = (f64::from(grey), f64::from(p.grey));
+        sums.add(w, gi, gr);
         sum_w += w;
         sum_we2 += w * e * e;
         loss += 1.0 - f64::from(kept);
@@ -250,6 +274,32 @@ pub(super) fn align_step(
         held,
         turn_fixed: fixed == 3 && !held,
     })
+}
+
+/// The pixels of a level a step of the alignment read (see [`align_step`]), kept
+/// between steps so that their room is not asked for again: each one's index among the
+/// level's points, its grey in the frame, its difference from the first frame, Tukey's
+/// weight (its scale until weighed), and what Tukey's loss keeps of it.
+#[derive(Default)]
+pub(super) struct Scratch {
+    i: Vec<u32>,
+    grey: Vec<f32>,
+    e: Vec<f32>,
+    w: Vec<f32>,
+    kept: Vec<f32>,
+}
+
+impl Scratch {
+    /// Room for `n` pixels in each.
+    fn room(&mut self, n: usize) {
+        if self.i.len() < n {
+            self.i.resize(n, 0);
+            self.grey.resize(n, 0.0);
+            self.e.resize(n, 0.0);
+            self.w.resize(n, 0.0);
+            self.kept.resize(n, 0.0);
+        }
+    }
 }
 
 /// What a step of the alignment ([`align_step`]) found.

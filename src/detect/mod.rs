@@ -51,6 +51,7 @@ mod options;
 mod repeats;
 pub mod review;
 mod row;
+mod shrink;
 pub mod steady;
 mod still;
 pub mod summary;

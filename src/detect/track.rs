@@ -9,6 +9,7 @@ mod pivot;
 
 use super::geometry::WireGeometry;
 use super::light::Brightness;
+use super::shrink::Shrink;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
     BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
@@ -52,6 +53,8 @@ pub(super) struct Tracker {
     r_lo: f64,
     r_hi: f64,
     small: Mat,
+    /// The buffers of `small`'s shrinking (see [`Shrink`]).
+    shrink: Shrink,
     bg: Mat,
     /// What the line fits divide each pixel's evidence by, and the static marks they
     /// leave out (from the first look's background).
@@ -174,6 +177,7 @@ impl Tracker {
             r_lo: geo.r_lo / shrink,
             r_hi: geo.r_hi / shrink,
             small: Mat::default(),
+            shrink: Shrink::default(),
             bg,
             contrast,
             light: Brightness::new(reference.data_bytes()?),
@@ -271,15 +275,29 @@ impl Tracker {
         // size, normalised as it is copied).
         let mut gain = 1.0;
         if self.scale > 1.0 {
-            let full = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
-            imgproc::resize(
-                &full,
-                &mut self.small,
-                core::Size::new(w, h),
-                0.0,
-                0.0,
-                imgproc::INTER_AREA,
-            )?;
+            // The region is a whole number of blocks (see `geometry::search`), shrunk
+            // here as OpenCV's `INTER_AREA` would (see `shrink`); a frame of another size
+            // by OpenCV itself.
+            let k = self.scale as usize;
+            let (wu, hu) = (w as usize, h as usize);
+            if k as f64 == self.scale && (f.width, f.height) == (wu * k, hu * k) {
+                if self.small.cols() != w || self.small.rows() != h {
+                    self.small =
+                        Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
+                }
+                let out = self.small.data_bytes_mut()?;
+                self.shrink.block_means(&f.data, k, wu, hu, out);
+            } else {
+                let full = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
+                imgproc::resize(
+                    &full,
+                    &mut self.small,
+                    core::Size::new(w, h),
+                    0.0,
+                    0.0,
+                    imgproc::INTER_AREA,
+                )?;
+            }
             if !flash {
                 gain = self.light.normalise(self.small.data_bytes_mut()?);
             }

@@ -57,6 +57,8 @@ const NOT_KNOBS: &[(&str, &str)] = &[
     ("geometry/faint.rs", "FAINT_STAGE"),
     // How large `detect --steps` draws its pictures: no measurement reads it.
     ("track/diag.rs", "STEPS_MIN_WIDTH"),
+    // A block's width as a type's parameter: the shrink factor, whatever it is.
+    ("shrink.rs", "K"),
 ];
 
 /// The numeric constants declared in a source file (before its inline tests).

@@ -263,6 +263,34 @@ impl Tracker {
         Some(recent[0].1)
     }
 
+    /// Whether a run of refused frames re-anchors the track on the last three raw
+    /// measurements: they agree with one another (a smooth motion), so the history, not
+    /// the wire, was wrong. Not onto a line that stands still away from where the track
+    /// last was: a wire that was moving does not stop dead elsewhere, but a fixed mark
+    /// does not move (a twin's protractor numerals took the track that way at the
+    /// release, and held it for 2.7 s while the wire swung 19 deg away). Nor onto a
+    /// shadow: once the side the wire lies on beside its shadow is learnt, a line a
+    /// like pair's separation from the prediction `pred` on the shadow's side (a shadow
+    /// moves with its wire, as smoothly: a hand-held twin's wire, faint for three
+    /// frames near its turning point, gave three on its shadow 3.8 deg off, and the
+    /// track re-anchored there, the third frame `ok` on it, four times in 23 s).
+    fn reanchors(&self, pred: Option<f64>) -> bool {
+        let r = &self.raw[self.raw.len() - 3..];
+        let smooth = (r[2].1 - 2.0 * r[1].1 + r[0].1).abs() < self.gate && r[2].0 - r[0].0 < 0.2;
+        let still_elsewhere = (r[2].1 - r[0].1).abs() < REANCHOR_STILL_DEG.to_radians()
+            && self
+                .hist
+                .last()
+                .is_some_and(|h| (r[2].1 - h.1).abs() > REANCHOR_AWAY_GATES * self.gate);
+        let onto_shadow = pred
+            .zip(self.ridges.side())
+            .is_some_and(|(p, (side, sep))| {
+                let off = r[2].1 - p;
+                off * side < 0.0 && (off.abs() - sep).abs() <= PAIR_SEP_TOL * sep
+            });
+        smooth && !still_elsewhere && !onto_shadow
+    }
+
     pub(super) fn step(&mut self, f: &Frame, hint: Option<f64>) -> Result<AngleRow> {
         let (w, h) = (self.bg.cols(), self.bg.rows());
         // Global brightness: a flash or a dropout is kept out of the background.
@@ -462,29 +490,15 @@ impl Tracker {
                 self.raw.remove(0);
             }
         }
-        // Re-anchor after a run of rejections when the last three raw measurements agree
-        // with one another (a smooth motion): the history, not the wire, was wrong. Not
-        // onto a line that stands still away from where the track last was: a wire
-        // that was moving does not stop dead elsewhere, but a fixed mark does not move
-        // (a twin's protractor numerals took the track that way at the release, and
-        // held it for 2.7 s while the wire swung 19 deg away).
+        // Re-anchor after a run of rejections (see `Tracker::reanchors`).
         let flag = match flag {
-            Some(Flag::Gate) if self.since_good >= 2 && self.raw.len() >= 3 => {
+            Some(Flag::Gate)
+                if self.since_good >= 2 && self.raw.len() >= 3 && self.reanchors(pred) =>
+            {
                 let r = &self.raw[self.raw.len() - 3..];
-                let smooth =
-                    (r[2].1 - 2.0 * r[1].1 + r[0].1).abs() < self.gate && r[2].0 - r[0].0 < 0.2;
-                let still_elsewhere = (r[2].1 - r[0].1).abs() < REANCHOR_STILL_DEG.to_radians()
-                    && self
-                        .hist
-                        .last()
-                        .is_some_and(|h| (r[2].1 - h.1).abs() > REANCHOR_AWAY_GATES * self.gate);
-                if smooth && !still_elsewhere {
-                    self.hist.clear();
-                    self.hist.extend_from_slice(&r[..2]);
-                    None
-                } else {
-                    flag
-                }
+                self.hist.clear();
+                self.hist.extend_from_slice(&r[..2]);
+                None
             }
             other => other,
         };

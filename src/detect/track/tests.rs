@@ -133,6 +133,44 @@ fn a_frame_beside_one_restated_on_its_shadow_s_ridge_is_refused_with_it() {
     assert_eq!(hist, vec![wire, wire]);
 }
 
+#[test]
+fn a_run_of_refused_frames_on_the_learnt_shadow_s_side_does_not_re_anchor_the_track() {
+    // A wire swinging 0.35 deg a frame, its shadow 3.8 deg below it (the wire on the
+    // larger angle's side, +1, learnt). The track accepted the wire up to frame 9;
+    // frames 10 to 12 measured the shadow, smoothly, and were refused (gate).
+    let deg = |d: f64| d.to_radians();
+    let wire = |k: f64| deg(-30.0 + 0.35 * k);
+    let sep = deg(3.8);
+    let t_of = |k: f64| k / 30.0;
+    let runs = |side: f64, shift: f64| {
+        let mut tr = test_tracker((deg(-45.0), deg(-15.0)));
+        tr.gate = deg(1.0);
+        tr.ridges = measure::Ridges::learnt(side, sep);
+        tr.hist = (0..10).map(|k| (t_of(k as f64), wire(k as f64))).collect();
+        tr.raw = (10..13)
+            .map(|k| (t_of(k as f64), wire(k as f64) + shift))
+            .collect();
+        tr.since_good = 3;
+        tr.reanchors(Some(wire(12.0)))
+    };
+    // Onto the shadow's side by the pair's separation: not re-anchored.
+    assert!(!runs(1.0, -sep), "re-anchored onto the shadow");
+    // The same run with the wire learnt on the other side (the run is then the wire's
+    // side): re-anchored, as is a run on the wire's side (a track that was on the
+    // shadow finds the wire again).
+    assert!(runs(-1.0, -sep), "not re-anchored onto the wire's side");
+    assert!(runs(1.0, sep), "not re-anchored back onto the wire");
+    // Nothing learnt: re-anchored, as before.
+    let mut tr = test_tracker((deg(-45.0), deg(-15.0)));
+    tr.gate = deg(1.0);
+    tr.hist = (0..10).map(|k| (t_of(k as f64), wire(k as f64))).collect();
+    tr.raw = (10..13)
+        .map(|k| (t_of(k as f64), wire(k as f64) - sep))
+        .collect();
+    tr.since_good = 3;
+    assert!(tr.reanchors(Some(wire(12.0))));
+}
+
 /// A 320x240 wall at 200 with a dark wire from (160, 20) at `wire` rad, and a bright
 /// block (a person's shirt) over `block` (x and y ranges), when given.
 fn wall_wire(index: u64, wire: f64, block: Option<((usize, usize), (usize, usize))>) -> Frame {

@@ -1,13 +1,14 @@
-//! A frame shrunk by a whole factor `k`: each pixel the mean of a `k` x `k` block,
-//! rounded as OpenCV's `INTER_AREA` rounds it at a whole factor (at 2, the sum plus 2
-//! shifted right by 2: halves up; at 3 and more, the block's sum times `1 / k^2` in
-//! single precision, to the nearest, ties to even). The streaming pass
-//! shrinks every frame of its region so when the working scale is coarser than the
-//! video's (a 1920x1080 video at the default side: 3 x 3 blocks); OpenCV's whole-factor
-//! path visits the block's pixels one by one through a table of offsets, and took a
-//! third of a still 1920x1080 twin's streaming pass. Here the block's rows are summed a
-//! whole row at a time (runs of bytes the compiler vectorises), then each block's
-//! columns; the result is OpenCV's to the byte (test below).
+//! A frame shrunk by a whole factor `k` of 3 or more: each pixel the mean of a `k` x `k`
+//! block, rounded as OpenCV's `INTER_AREA` rounds it at such a factor (the block's sum
+//! times `1 / k^2` in single precision, to the nearest, ties to even). The streaming
+//! pass shrinks every frame of its region so when the working scale is coarser than the
+//! video's (a 1920x1080 video at the default side: 3 x 3 blocks); OpenCV's path for
+//! these factors visits the block's pixels one by one through a table of offsets, and
+//! took a third of a still 1920x1080 twin's streaming pass. Here the block's rows are
+//! summed a whole row at a time (runs of bytes the compiler vectorises), then each
+//! block's columns; the result is OpenCV's to the byte (test below). At 2 OpenCV has a
+//! path of its own in vector registers, no slower than this one (paired on the 1280x720
+//! bench twins), and it is used.
 
 /// Buffers kept from frame to frame.
 #[derive(Default)]
@@ -21,7 +22,7 @@ pub(crate) struct Shrink {
 
 impl Shrink {
     /// `src` (`w * k` x `h * k` px, row-major) shrunk `k` times into `out` (`w` x `h`
-    /// px). `k` is at least 2 and at most 257 (a column's sum of `k` bytes fits 16
+    /// px). `k` is at least 3 and at most 257 (a column's sum of `k` bytes fits 16
     /// bits).
     pub(crate) fn block_means(&mut self, src: &[u8], k: usize, w: usize, h: usize, out: &mut [u8]) {
         assert!(
@@ -34,13 +35,7 @@ impl Shrink {
         if self.lut_k != k {
             let scale = 1.0f32 / (k * k) as f32;
             self.lut = (0..=255 * k * k)
-                .map(|sum| {
-                    if k == 2 {
-                        ((sum + 2) >> 2) as u8
-                    } else {
-                        (sum as f32 * scale).round_ties_even() as u8
-                    }
-                })
+                .map(|sum| (sum as f32 * scale).round_ties_even() as u8)
                 .collect();
             self.lut_k = k;
         }
@@ -60,7 +55,6 @@ impl Shrink {
                 }
             }
             match k {
-                2 => columns::<2>(&self.rows, &self.lut, out_row),
                 3 => columns::<3>(&self.rows, &self.lut, out_row),
                 4 => columns::<4>(&self.rows, &self.lut, out_row),
                 _ => {
@@ -111,7 +105,7 @@ mod tests {
         let mut shrink = Shrink::default();
         // Noise over the whole range; a dark plate with a thin bright line on a slope
         // and blocks whose sums fall on a half (ties) everywhere.
-        for k in 2..=7 {
+        for k in 3..=7 {
             for (w, h) in [(1, 1), (3, 2), (17, 5), (64, 33), (141, 139), (194, 180)] {
                 for kind in 0..3 {
                     let (sw, sh) = (w * k, h * k);

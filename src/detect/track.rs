@@ -304,11 +304,11 @@ impl Tracker {
         let mut gain = 1.0;
         if self.scale > 1.0 {
             // The region is a whole number of blocks (see `geometry::search`), shrunk
-            // here as OpenCV's `INTER_AREA` would (see `shrink`); a frame of another size
-            // by OpenCV itself.
+            // here as OpenCV's `INTER_AREA` would (see `shrink`) by 3 or more; by 2, or
+            // a frame of another size, by OpenCV itself.
             let k = self.scale as usize;
             let (wu, hu) = (w as usize, h as usize);
-            if k as f64 == self.scale && (f.width, f.height) == (wu * k, hu * k) {
+            if k >= 3 && k as f64 == self.scale && (f.width, f.height) == (wu * k, hu * k) {
                 if self.small.cols() != w || self.small.rows() != h {
                     self.small =
                         Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;

@@ -10,6 +10,11 @@
 //! path of its own in vector registers, no slower than this one (paired on the 1280x720
 //! bench twins), and it is used.
 
+use anyhow::Result;
+use opencv::core::{self, Mat, Scalar};
+use opencv::imgproc;
+use opencv::prelude::*;
+
 /// Buffers kept from frame to frame.
 #[derive(Default)]
 pub(crate) struct Shrink {
@@ -21,10 +26,41 @@ pub(crate) struct Shrink {
 }
 
 impl Shrink {
+    /// `src` (`sw` x `sh` px, row-major) shrunk by block means into `small` (`w` x `h`
+    /// px, 8-bit), as OpenCV's `INTER_AREA`: here by a whole factor of 3 or more, by
+    /// OpenCV itself at 2 or at sizes that are not a whole number of blocks.
+    pub(crate) fn area(
+        &mut self,
+        src: &[u8],
+        (sw, sh): (usize, usize),
+        small: &mut Mat,
+        (w, h): (i32, i32),
+    ) -> Result<()> {
+        let (wu, hu) = (w.max(1) as usize, h.max(1) as usize);
+        let k = sw / wu;
+        if k >= 3 && (sw, sh) == (wu * k, hu * k) {
+            if small.cols() != w || small.rows() != h || small.typ() != core::CV_8UC1 {
+                *small = Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
+            }
+            self.block_means(src, k, wu, hu, small.data_bytes_mut()?);
+        } else {
+            let full = Mat::new_rows_cols_with_data(sh as i32, sw as i32, src)?;
+            imgproc::resize(
+                &full,
+                small,
+                core::Size::new(w, h),
+                0.0,
+                0.0,
+                imgproc::INTER_AREA,
+            )?;
+        }
+        Ok(())
+    }
+
     /// `src` (`w * k` x `h * k` px, row-major) shrunk `k` times into `out` (`w` x `h`
     /// px). `k` is at least 3 and at most 257 (a column's sum of `k` bytes fits 16
     /// bits).
-    pub(crate) fn block_means(&mut self, src: &[u8], k: usize, w: usize, h: usize, out: &mut [u8]) {
+    fn block_means(&mut self, src: &[u8], k: usize, w: usize, h: usize, out: &mut [u8]) {
         assert!(
             (2..=257).contains(&k),
             "a whole factor of 2 to 257, not {k}"
@@ -80,9 +116,7 @@ fn columns<const K: usize>(rows: &[u16], lut: &[u8], out: &mut [u8]) {
 mod tests {
     use super::*;
     use crate::rng::Rng;
-    use opencv::core::{Mat, Size};
-    use opencv::imgproc;
-    use opencv::prelude::*;
+    use opencv::core::Size;
 
     fn opencv_area(src: &[u8], k: usize, w: usize, h: usize) -> Vec<u8> {
         let m = Mat::new_rows_cols_with_data((h * k) as i32, (w * k) as i32, src).unwrap();

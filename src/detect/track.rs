@@ -273,7 +273,7 @@ impl Tracker {
     /// like pair's separation from the prediction `pred` on the shadow's side (a shadow
     /// moves with its wire, as smoothly: a hand-held twin's wire, faint for three
     /// frames near its turning point, gave three on its shadow 3.8 deg off, and the
-    /// track re-anchored there, the third frame `ok` on it, four times in 23 s).
+    /// track re-anchored there twice in 23 s, three frames `ok` on the shadow).
     fn reanchors(&self, pred: Option<f64>) -> bool {
         let r = &self.raw[self.raw.len() - 3..];
         let smooth = (r[2].1 - 2.0 * r[1].1 + r[0].1).abs() < self.gate && r[2].0 - r[0].0 < 0.2;
@@ -303,29 +303,9 @@ impl Tracker {
         // size, normalised as it is copied).
         let mut gain = 1.0;
         if self.scale > 1.0 {
-            // The region is a whole number of blocks (see `geometry::search`), shrunk
-            // here as OpenCV's `INTER_AREA` would (see `shrink`) by 3 or more; by 2, or
-            // a frame of another size, by OpenCV itself.
-            let k = self.scale as usize;
-            let (wu, hu) = (w as usize, h as usize);
-            if k >= 3 && k as f64 == self.scale && (f.width, f.height) == (wu * k, hu * k) {
-                if self.small.cols() != w || self.small.rows() != h {
-                    self.small =
-                        Mat::new_rows_cols_with_default(h, w, core::CV_8UC1, Scalar::all(0.0))?;
-                }
-                let out = self.small.data_bytes_mut()?;
-                self.shrink.block_means(&f.data, k, wu, hu, out);
-            } else {
-                let full = Mat::new_rows_cols_with_data(f.height as i32, f.width as i32, &f.data)?;
-                imgproc::resize(
-                    &full,
-                    &mut self.small,
-                    core::Size::new(w, h),
-                    0.0,
-                    0.0,
-                    imgproc::INTER_AREA,
-                )?;
-            }
+            // The region is a whole number of blocks (see `geometry::search`).
+            self.shrink
+                .area(&f.data, (f.width, f.height), &mut self.small, (w, h))?;
             if !flash {
                 gain = self.light.normalise(self.small.data_bytes_mut()?);
             }

@@ -1,9 +1,8 @@
 //! The randomised robustness sweep (`make robustness`): twins drawn across styles,
 //! sizes, frame rates, codecs, camera conditions (a moving camera, a wide lens, heavy
-//! compression among them), a room that is not empty (a ruled or gridded board, static
-//! edges, a second pendulum, a person walking through) and materials, each rendered,
-//! detected
-//! with no options and fitted from its geometry only, as the build measures a video
+//! compression, a phone's rolling shutter and dropped frames among them), a room that
+//! is not empty (a ruled or gridded board, static edges, a second pendulum, a person
+//! walking through) and materials, each rendered, detected with no options and fitted from its geometry only, as the build measures a video
 //! (`pipeline::detect`, so each verdict is the tool's own: the detector's pivot check
 //! and the swing scale's share of the angle uncertainty included). Prints the share
 //! detected, the angle RMS and s_r error percentiles, the results' verdicts (`ok` or
@@ -60,15 +59,21 @@ struct Scene {
 }
 
 /// The conditions the per-condition table counts apart.
-const CONDITIONS: [&str; 7] = [
+const CONDITIONS: [&str; 9] = [
     "still camera",
     "camera moves",
     "lens distortion",
     "distractor",
     "occlusion",
     "compression",
+    "rolling shutter",
+    "dropped frames",
     "plain room",
 ];
+
+/// The seed of a scene's phone conditions (its rolling shutter, its dropped frames) is
+/// the scene's seed with these bits flipped.
+const PHONE_STREAM: u64 = 0x5048_4f4e_4500_0000;
 
 impl Scene {
     fn draw(rng: &mut Rng, seed: u64) -> Self {
@@ -201,6 +206,24 @@ impl Scene {
         }
         if !room.is_empty() {
             set("room", format!("{{{}}}", room.join(", ")));
+        }
+        // A phone's recorder: its rolling shutter and the frames it drops, drawn from a
+        // stream of their own (the conditions above are drawn as before they came).
+        let mut phone = Rng::new(seed ^ PHONE_STREAM);
+        let mut set = |k: &str, v: String| keys.push((k.to_string(), v));
+        if phone.uniform() < 0.2 {
+            set(
+                "rolling_shutter",
+                format!("{:.2}", 0.5 + 0.4 * phone.uniform()),
+            );
+            tags.push("rolling shutter");
+        }
+        if phone.uniform() < 0.2 {
+            set(
+                "dropped_share",
+                format!("{:.3}", 0.01 + 0.04 * phone.uniform()),
+            );
+            tags.push("dropped frames");
         }
         if !tags
             .iter()
@@ -399,7 +422,14 @@ fn sheet_lens(
 ) -> Result<Option<rollfric::config::LensSpec>> {
     // Still, square to the sheet (an oblique view's far lines crowd), no held start
     // (longer than the sheet's second).
-    let drop = ["shake", "vfr_jitter", "room", "hold_s"];
+    let drop = [
+        "shake",
+        "vfr_jitter",
+        "room",
+        "hold_s",
+        "rolling_shutter",
+        "dropped_share",
+    ];
     let mut keys: Vec<(String, String)> = scene
         .keys
         .iter()

@@ -426,6 +426,12 @@ impl Experiment {
                     bail!("`synthetic.vfr_jitter` = {j} at `synthetic.fps` = {}: frames would come less than 2 ms apart (the times are whole milliseconds)", s.fps);
                 }
             }
+            if let Some(p) = s.dropped_share {
+                within("synthetic.dropped_share", p, 0.0, 0.2, "")?;
+            }
+            if let Some(r) = s.rolling_shutter {
+                within("synthetic.rolling_shutter", r, 0.0, 1.0, "")?;
+            }
             if let Some(t) = s.camera_tilt_deg {
                 within("synthetic.camera_tilt_deg", t, 0.0, 40.0, "deg")?;
                 if t > 0.0 && s.mirror {

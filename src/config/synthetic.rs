@@ -126,6 +126,22 @@ pub struct Synthetic {
     /// constant rate, `k / fps`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vfr_jitter: Option<f64>,
+    /// Frames the recorder drops, as a phone under load does: this share of the frames
+    /// (0 to 0.2), drawn from the seed, is missing from the video, whose timestamps keep
+    /// the gaps (the frames left keep their own times, as with `vfr_jitter`); the truth
+    /// has no row for them. Never the first or last frame, a spoiled one, nor the frame
+    /// before a duplicated one (the recorder repeats what it wrote). Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dropped_share: Option<f64>,
+    /// A rolling shutter, as a phone's sensor reads its rows: the time from the first
+    /// row to the last, as a fraction of the frame interval (0 to 1; a phone's is 0.5 to
+    /// 0.9 at 30 frames/s). Row `y` of `h` is exposed at `t + (y / (h - 1) - 1/2)` of it
+    /// times the interval, so the swinging wire bends and a moving camera's picture
+    /// shears (in 16 bands of rows, each at its own time; the second pendulum, the hand
+    /// and the walker are drawn at the frame's time). The truth stays the wire's angle
+    /// at `t`, the middle row's time. Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_shutter: Option<f64>,
     /// The camera tilted from the plate's normal by this angle, degrees, 0 to 40: a
     /// pinhole camera (its focal length `camera_focal_px`) on the plate's normal through
     /// the frame's centre, turned about an axis in the plate (`tilt_axis_deg`), so that

@@ -19,9 +19,10 @@
 //!   thin faint wire (`wire_width_px`, `wire_contrast`), the wire's soft shadow on the
 //!   plate (`shadow`), stronger or other mains flicker and drift (`flicker_hz`,
 //!   `flicker_depth`, `drift_depth`), the ball held before its release (`hold_s`), a
-//!   fulcrum anywhere, also outside the frame (`pivot_frac`), and a variable frame rate
+//!   fulcrum anywhere, also outside the frame (`pivot_frac`), a variable frame rate
 //!   (`vfr_jitter`: each frame rendered at its own time, which the file carries; see
-//!   the `vfr` module).
+//!   the `vfr` module), and frames the recorder drops (`dropped_share`: gaps in the
+//!   file's times, and no truth row).
 //! * The camera and the room (`shake`, `lens_k1`, `crf`, `room`; see the `shake` and
 //!   `room` modules): a camera that moves (the whole picture shifted and turned, zero
 //!   at the first frame), a wide lens's radial distortion, heavy compression, a ruled
@@ -91,6 +92,7 @@ pub struct SynthReport {
     /// `MJPG (avi, ffmpeg)`, `MJPG 4:4:4 (avi, ffmpeg)` (an odd size) or
     /// `H.264 (mp4, ffmpeg, variable frame rate)`.
     pub codec: String,
+    /// Frames written (the dropped ones not counted).
     pub frames: usize,
     pub width: u32,
     pub height: u32,
@@ -112,7 +114,7 @@ pub struct SynthReport {
     pub style: Style,
     /// Rendered without camera defects.
     pub clean: bool,
-    /// One row per frame.
+    /// One row per frame written (a dropped frame has none).
     pub truth: Vec<TruthRow>,
 }
 
@@ -171,7 +173,7 @@ pub fn truth_csv(rows: &[TruthRow]) -> String {
 
 /// The truth [`render`] would produce, without rendering.
 pub fn truth(exp: &Experiment, duration_s: Option<f64>) -> Result<Vec<TruthRow>> {
-    Ok(Plan::new(exp, duration_s)?.truth)
+    Ok(Plan::new(exp, duration_s)?.written_truth())
 }
 
 /// What the encoder thread is handed.
@@ -216,18 +218,20 @@ fn pump(
         });
         let rendered = (|| -> Result<()> {
             for i in first..total {
-                let job = if i > 0 && twin.plan.spoils[i] == Spoil::Duplicate {
-                    Job::Repeat
-                } else {
-                    if i > 0 {
-                        twin.render_frame(i)?;
-                    }
-                    let spare = match buffers.try_recv() {
-                        Ok(m) => m,
-                        Err(_) => twin.frame.try_clone()?,
+                // A dropped frame is piped as a repeat, which FFmpeg drops.
+                let job =
+                    if i > 0 && (twin.plan.spoils[i] == Spoil::Duplicate || twin.plan.dropped[i]) {
+                        Job::Repeat
+                    } else {
+                        if i > 0 {
+                            twin.render_frame(i)?;
+                        }
+                        let spare = match buffers.try_recv() {
+                            Ok(m) => m,
+                            Err(_) => twin.frame.try_clone()?,
+                        };
+                        Job::Frame(std::mem::replace(&mut twin.frame, spare))
                     };
-                    Job::Frame(std::mem::replace(&mut twin.frame, spare))
-                };
                 if to_encoder.send(job).is_err() {
                     break; // the encoder stopped: its error is reported below
                 }
@@ -268,7 +272,7 @@ fn render_inner(
     let mut twin = Twin::new(plan)?;
     let (w, h) = (twin.plan.geo.w, twin.plan.geo.h);
     twin.render_frame(0)?;
-    let times = twin.plan.vfr.as_ref().map(|v| v.filters());
+    let times = twin.plan.filters();
     let (mut pipe, mut tmp, path, codec) = open_writer(
         out,
         (w, h),
@@ -312,7 +316,7 @@ fn render_inner(
     Ok(SynthReport {
         path,
         codec,
-        frames: twin.plan.truth.len(),
+        frames: twin.plan.dropped.iter().filter(|&&d| !d).count(),
         width: g.w as u32,
         height: g.h as u32,
         fps: twin.plan.fps,
@@ -323,6 +327,6 @@ fn render_inner(
         rest_angle_rad: twin.plan.image_rest,
         style: twin.plan.s.style,
         clean: twin.plan.s.clean,
-        truth: std::mem::take(&mut twin.plan.truth),
+        truth: twin.plan.written_truth(),
     })
 }

@@ -166,7 +166,8 @@ impl Mover {
     }
 
     /// Composite the ball (at `theta_mid`) and the wire (averaged over `thetas`) over the
-    /// background already in `frame`, lit by `illum`.
+    /// background already in `frame`, lit by `illum`, in the rows `rows` (a rolling
+    /// shutter's band) or all.
     pub(super) fn draw(
         &mut self,
         frame: &mut [u8],
@@ -174,6 +175,7 @@ impl Mover {
         illum: &[f32],
         thetas: &[f64],
         theta_mid: f64,
+        rows: Option<(usize, usize)>,
     ) {
         let [px, py] = self.pivot;
         let [qx, qy] = self.plate_pivot;
@@ -207,6 +209,7 @@ impl Mover {
         let clip = |v: f64, n: usize| (v.max(0.0) as usize).min(n);
         let (rx0, rx1) = (clip(x0.floor(), self.w), clip(x1.ceil() + 1.0, self.w));
         let (ry0, ry1) = (clip(y0.floor(), self.h), clip(y1.ceil() + 1.0, self.h));
+        let (ry0, ry1) = rows.map_or((ry0, ry1), |(a, b)| (ry0.max(a), ry1.min(b)));
         if rx0 >= rx1 || ry0 >= ry1 {
             return;
         }

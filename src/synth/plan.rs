@@ -69,8 +69,12 @@ pub(super) struct Plan {
     /// A person walking through (`room.walker_s`).
     pub(super) walker: Option<Walker>,
     trajectory: crate::physics::ode::Trajectory,
+    /// Every frame's truth, the dropped ones' too (see [`Plan::written_truth`]).
     pub(super) truth: Vec<TruthRow>,
     pub(super) spoils: Vec<Spoil>,
+    /// The frames the recorder drops (`dropped_share`): rendered as nothing, written as a
+    /// repeat that FFmpeg's `select` drops.
+    pub(super) dropped: Vec<bool>,
 }
 
 impl Plan {
@@ -111,10 +115,13 @@ impl Plan {
         } else {
             theta_rest
         };
-        let vfr = s
-            .vfr_jitter
-            .filter(|&j| j > 0.0)
-            .map(|j| Vfr::new(j, s.fps, s.seed));
+        // Dropped frames leave gaps in the times, which the file carries as a variable
+        // rate's (whole milliseconds).
+        let dropping = s.dropped_share.is_some_and(|p| p > 0.0);
+        let vfr = match s.vfr_jitter.filter(|&j| j > 0.0) {
+            Some(j) => Some(Vfr::new(j, s.fps, s.seed)),
+            None => dropping.then(|| Vfr::new(0.0, s.fps, s.seed)),
+        };
         let times: Vec<f64> = match &vfr {
             Some(v) => (0..rec.series.t.len()).map(|k| v.ms(k) / 1000.0).collect(),
             None => rec.series.t.clone(),
@@ -153,6 +160,10 @@ impl Plan {
                 }
             }
         }
+        let dropped = match s.dropped_share.filter(|&p| p > 0.0) {
+            Some(p) => plan_drops(p, &spoils, &mut Rng::new(stream(s.seed, 9))),
+            None => vec![false; n],
+        };
         let truth = times
             .iter()
             .zip(&spoils)
@@ -182,7 +193,34 @@ impl Plan {
             trajectory: rec.trajectory,
             truth,
             spoils,
+            dropped,
         })
+    }
+
+    /// The FFmpeg filters that give the written frames their times and drop the dropped
+    /// ones (`None` at a constant rate with none dropped). `select` comes after `setpts`,
+    /// so that both count every frame piped in (`N`, `n`).
+    pub(super) fn filters(&self) -> Option<String> {
+        let times = self.vfr.as_ref()?.filters();
+        let gone: Vec<String> = (0..self.dropped.len())
+            .filter(|&k| self.dropped[k])
+            .map(|k| format!("eq(n\\,{k})"))
+            .collect();
+        Some(if gone.is_empty() {
+            times
+        } else {
+            format!("{times},select=not({})", gone.join("+"))
+        })
+    }
+
+    /// The truth of the frames written (the dropped ones left out).
+    pub(super) fn written_truth(&self) -> Vec<TruthRow> {
+        self.truth
+            .iter()
+            .zip(&self.dropped)
+            .filter(|(_, &d)| !d)
+            .map(|(r, _)| r.clone())
+            .collect()
     }
 
     /// Angle of the wire at time `t` in the scene as drawn (before any mirroring).
@@ -345,6 +383,22 @@ pub(super) fn wrap_deg(deg: f64) -> f64 {
 /// `n` spoiling events (hand, flash, duplicate, in turn) at pseudo-random frames, one
 /// per equal slot of the video between margins of 2 s (less for short videos), away
 /// from the slot's edges so that events stay apart. A hand covers 1 to 3 frames.
+/// The frames dropped at a share `p`: each frame with that chance, but not the first or
+/// the last, a spoiled one, or the one before a duplicated frame.
+fn plan_drops(p: f64, spoils: &[Spoil], rng: &mut Rng) -> Vec<bool> {
+    let n = spoils.len();
+    (0..n)
+        .map(|k| {
+            let u = rng.uniform();
+            k > 0
+                && k + 1 < n
+                && spoils[k] == Spoil::None
+                && spoils[k + 1] != Spoil::Duplicate
+                && u < p
+        })
+        .collect()
+}
+
 fn plan_spoils(n: usize, frames: usize, fps: f64, rng: &mut Rng) -> Vec<Spoil> {
     let mut out = vec![Spoil::None; frames];
     if n == 0 {

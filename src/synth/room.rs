@@ -149,7 +149,8 @@ impl SecondString {
             *th = self.theta(t);
         }
         let mid = self.theta(ts[ts.len() / 2]);
-        self.mover.draw(frame, bg, illum, &thetas[..ts.len()], mid);
+        self.mover
+            .draw(frame, bg, illum, &thetas[..ts.len()], mid, None);
         self.under.clear();
         self.under.extend_from_slice(frame);
     }

@@ -65,24 +65,37 @@ pub(super) fn apply(frame: &mut Mat, m: (f64, f64, f64), tmp: &mut Mat) -> Resul
     if dx == 0.0 && dy == 0.0 && rot == 0.0 {
         return Ok(());
     }
+    warp_rows(frame, m, 0, frame.rows(), tmp)?;
+    std::mem::swap(frame, tmp);
+    Ok(())
+}
+
+/// Rows `y0..y1` of `frame` as the camera moved by `m` sees them, into `out` (those rows
+/// only: `y1 - y0` rows, as wide as the frame).
+pub(super) fn warp_rows(
+    frame: &Mat,
+    (dx, dy, rot): (f64, f64, f64),
+    y0: i32,
+    y1: i32,
+    out: &mut Mat,
+) -> Result<()> {
     let (c, s) = (rot.cos(), rot.sin());
     let cx = 0.5 * (f64::from(frame.cols()) - 1.0);
     let cy = 0.5 * (f64::from(frame.rows()) - 1.0);
-    // Forward: q = R (p - c) + c + d.
+    // Forward: q = R (p - c) + c + d, then q's row counted from `y0`.
     let a = Mat::from_slice_2d(&[
         [c, -s, cx - c * cx + s * cy + dx],
-        [s, c, cy - s * cx - c * cy + dy],
+        [s, c, cy - s * cx - c * cy + dy - f64::from(y0)],
     ])?;
     imgproc::warp_affine(
-        &*frame,
-        tmp,
+        frame,
+        out,
         &a,
-        frame.size()?,
+        core::Size::new(frame.cols(), y1 - y0),
         imgproc::INTER_LINEAR,
         core::BORDER_REFLECT_101,
         Scalar::default(),
     )?;
-    std::mem::swap(frame, tmp);
     Ok(())
 }
 

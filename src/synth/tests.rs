@@ -496,3 +496,97 @@ fn a_mirrored_twin_is_the_twin_flipped_with_its_truth() {
 
 mod conditions;
 mod room;
+
+/// Each frame's time as the file carries it, s (ffprobe).
+fn frame_times(path: &Path) -> Vec<f64> {
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-select_streams", "v:0"])
+        .args(["-show_entries", "frame=pts_time", "-of", "csv=p=0"])
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", path.display());
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| l.trim().trim_end_matches(','))
+        .filter(|l| !l.is_empty())
+        .map(|l| {
+            l.parse()
+                .unwrap_or_else(|e| panic!("{}: {l:?}: {e}", path.display()))
+        })
+        .collect()
+}
+
+#[test]
+fn dropped_frames_leave_gaps_in_the_times_and_the_truth() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let full = render(
+        &exp(""),
+        &dir.path().join("full.avi"),
+        Some(3.0),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let dropping = exp(", dropped_share: 0.1");
+    for ext in ["mp4", "avi"] {
+        let rep = render(
+            &dropping,
+            &dir.path().join(format!("drop.{ext}")),
+            Some(3.0),
+            &mut |_, _| {},
+        )
+        .unwrap();
+        // 3 s at 30 frames/s is 91 frames; about a tenth of them are gone.
+        let gone = 91 - rep.frames;
+        assert!((3..=20).contains(&gone), "{ext}: {gone} dropped");
+        assert_eq!(rep.truth.len(), rep.frames);
+        assert_eq!(rep.truth, truth(&dropping, Some(3.0)).unwrap());
+        // The file carries the written frames' own times: gaps where frames are gone.
+        let times = frame_times(&rep.path);
+        assert_eq!(times.len(), rep.frames, "{ext}");
+        for (t, r) in times.iter().zip(&rep.truth) {
+            assert!((t - r.t_s).abs() < 1e-6, "{ext}: {t} against {}", r.t_s);
+        }
+        let gaps = times
+            .windows(2)
+            .filter(|w| w[1] - w[0] > 1.5 / 30.0)
+            .count();
+        assert!(gaps >= 3, "{ext}: {gaps} gaps");
+        // The truth of each written frame is the full twin's at its time (whole
+        // milliseconds, against k / 30 s: the wire moves at most 0.01 deg in 0.5 ms).
+        for r in &rep.truth {
+            let k = (r.t_s * 30.0).round() as usize;
+            assert!((full.truth[k].t_s - r.t_s).abs() < 5e-4, "{ext}: frame {k}");
+            let off = (full.truth[k].angle_rad - r.angle_rad).abs();
+            assert!(off < 3e-4, "{ext}: frame {k} {off} rad off");
+        }
+        // Each written frame is the full render's frame of its time: as near it as its
+        // neighbours, or nearer (each frame has its own sensor noise; a duplicated one
+        // repeats its predecessor).
+        if ext == "avi" {
+            let back = read_back(&rep.path, 320, 240);
+            let whole = read_back(&full.path, 320, 240);
+            for (m, r) in back.iter().zip(&rep.truth) {
+                // A duplicated frame repeats its predecessor.
+                if r.spoiled == "duplicate" {
+                    continue;
+                }
+                let k = (r.t_s * 30.0).round() as usize;
+                let d = diff(m, &whole[k]);
+                for j in [k.saturating_sub(1), (k + 1).min(90)] {
+                    if j != k {
+                        let dj = diff(m, &whole[j]);
+                        assert!(
+                            d <= dj,
+                            "the frame at {} s: {d} from frame {k}, {dj} from {j}",
+                            r.t_s
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

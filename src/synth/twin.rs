@@ -12,6 +12,10 @@ use anyhow::Result;
 use opencv::core::{self, Mat, Scalar};
 use opencv::prelude::*;
 
+/// A rolling shutter's bands of rows (`synthetic.rolling_shutter`), each drawn at its
+/// own time.
+const RS_BANDS: usize = 16;
+
 pub(super) struct Twin {
     pub(super) plan: Plan,
     bg: Vec<u8>,
@@ -94,19 +98,35 @@ impl Twin {
         let plan = &self.plan;
         let t = plan.truth[i].t_s;
         let dt = 1.0 / plan.fps;
-        // The exposure's sub-times, and the wire's angle at each.
-        let (mut ts, mut thetas) = ([0.0; SUBSAMPLES], [0.0; SUBSAMPLES]);
         let n_sub = if self.sensor.is_some() { SUBSAMPLES } else { 1 };
-        for k in 0..n_sub {
-            let f = if n_sub == 1 {
-                0.0
-            } else {
-                k as f64 / (n_sub - 1) as f64 - 0.5
-            };
-            ts[k] = t + f * EXPOSURE * dt;
-            thetas[k] = plan.theta(ts[k]);
-        }
-        let theta_mid = plan.theta(t);
+        // The exposure's sub-times about `tc`, and the wire's angle at each.
+        let exposure = |tc: f64| {
+            let (mut ts, mut thetas) = ([0.0; SUBSAMPLES], [0.0; SUBSAMPLES]);
+            for k in 0..n_sub {
+                let f = if n_sub == 1 {
+                    0.0
+                } else {
+                    k as f64 / (n_sub - 1) as f64 - 0.5
+                };
+                ts[k] = tc + f * EXPOSURE * dt;
+                thetas[k] = plan.theta(ts[k]);
+            }
+            (ts, thetas)
+        };
+        let (ts, thetas) = exposure(t);
+        // A rolling shutter's bands of rows, each with its own time (the frame's time
+        // at the middle row).
+        let h = plan.geo.h;
+        let bands: Vec<(usize, usize, f64)> = match plan.s.rolling_shutter.filter(|&r| r > 0.0) {
+            Some(r) => (0..RS_BANDS)
+                .map(|b| {
+                    let (y0, y1) = (b * h / RS_BANDS, (b + 1) * h / RS_BANDS);
+                    let yc = 0.5 * (y0 + y1) as f64 - 0.5;
+                    (y0, y1, t + (yc / (h - 1) as f64 - 0.5) * r * dt)
+                })
+                .collect(),
+            None => vec![(0, h, t)],
+        };
         {
             let buf = self.frame.data_bytes_mut()?;
             buf.copy_from_slice(&self.bg);
@@ -118,8 +138,28 @@ impl Twin {
                 }
                 None => &self.bg,
             };
-            self.mover
-                .draw(buf, under, &self.illum, &thetas[..n_sub], theta_mid);
+            if let [(_, _, tb)] = bands[..] {
+                self.mover.draw(
+                    buf,
+                    under,
+                    &self.illum,
+                    &thetas[..n_sub],
+                    plan.theta(tb),
+                    None,
+                );
+            } else {
+                for &(y0, y1, tb) in &bands {
+                    let (_, thetas) = exposure(tb);
+                    self.mover.draw(
+                        buf,
+                        under,
+                        &self.illum,
+                        &thetas[..n_sub],
+                        plan.theta(tb),
+                        Some((y0, y1)),
+                    );
+                }
+            }
         }
         if let Spoil::Hand { k, n, event } = plan.spoils[i] {
             let g = &plan.geo;
@@ -144,7 +184,19 @@ impl Twin {
                 .paint(&mut self.frame, &self.illum, c, u, tilt, smear)?;
         }
         if let Some(path) = &self.shake {
-            shake::apply(&mut self.frame, path.at(t), &mut self.flipped)?;
+            if let [(_, _, tb)] = bands[..] {
+                shake::apply(&mut self.frame, path.at(tb), &mut self.flipped)?;
+            } else {
+                // Each band of rows as the camera stood at its own time.
+                self.flipped = self.frame.try_clone()?;
+                let mut band = Mat::default();
+                for &(y0, y1, tb) in &bands {
+                    shake::warp_rows(&self.flipped, path.at(tb), y0 as i32, y1 as i32, &mut band)?;
+                    let step = 3 * plan.geo.w;
+                    self.frame.data_bytes_mut()?[y0 * step..y1 * step]
+                        .copy_from_slice(band.data_bytes()?);
+                }
+            }
         }
         if let Some(walker) = &plan.walker {
             walker.paint(&mut self.frame, &self.illum, t)?;

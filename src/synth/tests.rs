@@ -590,3 +590,51 @@ fn dropped_frames_leave_gaps_in_the_times_and_the_truth() {
         }
     }
 }
+
+/// A rolling shutter's band of rows is the still shutter's frame at that band's own time
+/// (the wire and the camera's motion with it), and the bands' times differ.
+#[test]
+fn a_rolling_shutter_s_rows_are_each_seen_at_their_own_time() {
+    let keys = ", clean: true, shake: {px: 3.0, deg: 0.4, hz: 6.0}";
+    let rolling = exp(&format!("{keys}, rolling_shutter: 0.9"));
+    let mut rs = Twin::new(Plan::new(&rolling, Some(1.0)).unwrap()).unwrap();
+    let mut still = Twin::new(Plan::new(&exp(keys), Some(1.0)).unwrap()).unwrap();
+    let i = 12;
+    rs.render_frame(i).unwrap();
+    let t = rs.plan.truth[i].t_s;
+    let (h, step) = (240usize, 3 * 320usize);
+    let rows =
+        |m: &Mat, y0: usize, y1: usize| m.data_bytes().unwrap()[y0 * step..y1 * step].to_vec();
+    let most = |a: &[u8], b: &[u8]| a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)).max().unwrap();
+    let mut apart = 0;
+    for b in [0, 5, 15] {
+        let (y0, y1) = (b * h / 16, (b + 1) * h / 16);
+        let yc = 0.5 * (y0 + y1) as f64 - 0.5;
+        still.plan.truth[i].t_s = t + (yc / (h - 1) as f64 - 0.5) * 0.9 / 30.0;
+        still.render_frame(i).unwrap();
+        // (The band's warp counts its rows from its own first: OpenCV's fixed-point
+        // interpolation may round a pixel or two differently.)
+        let (a, s) = (rows(&rs.frame, y0, y1), rows(&still.frame, y0, y1));
+        let mean = a
+            .iter()
+            .zip(&s)
+            .map(|(x, y)| f64::from(x.abs_diff(*y)))
+            .sum::<f64>()
+            / a.len() as f64;
+        assert!(
+            most(&a, &s) <= 3 && mean < 0.05,
+            "band {b}: {} grey levels off its own time's frame at most, {mean} on average",
+            most(&a, &s)
+        );
+        // At the frame's own time the camera stood elsewhere for the outer bands.
+        still.plan.truth[i].t_s = t;
+        still.render_frame(i).unwrap();
+        if most(&rows(&rs.frame, y0, y1), &rows(&still.frame, y0, y1)) > 10 {
+            apart += 1;
+        }
+    }
+    assert!(
+        apart >= 2,
+        "{apart} of 3 bands differ from the frame's own time"
+    );
+}

@@ -1,8 +1,9 @@
 //! The randomised robustness sweep (`make robustness`): twins drawn across styles,
 //! sizes, frame rates, codecs, camera conditions (a moving camera, a wide lens, heavy
-//! compression, a phone's rolling shutter and dropped frames among them), a room that
-//! is not empty (a ruled or gridded board, static edges, a second pendulum, a person
-//! walking through) and materials, each rendered, detected with no options and fitted from its geometry only, as the build measures a video
+//! compression, a phone's rolling shutter and dropped frames, a hand releasing the ball
+//! among them), a room that is not empty (a ruled or gridded board, static edges, a
+//! second pendulum, a person walking through) and materials, each rendered, detected
+//! with no options and fitted from its geometry only, as the build measures a video
 //! (`pipeline::detect`, so each verdict is the tool's own: the detector's pivot check
 //! and the swing scale's share of the angle uncertainty included). Prints the share
 //! detected, the angle RMS and s_r error percentiles, the results' verdicts (`ok` or
@@ -59,7 +60,7 @@ struct Scene {
 }
 
 /// The conditions the per-condition table counts apart.
-const CONDITIONS: [&str; 9] = [
+const CONDITIONS: [&str; 10] = [
     "still camera",
     "camera moves",
     "lens distortion",
@@ -68,6 +69,7 @@ const CONDITIONS: [&str; 9] = [
     "compression",
     "rolling shutter",
     "dropped frames",
+    "hand releases",
     "plain room",
 ];
 
@@ -207,8 +209,9 @@ impl Scene {
         if !room.is_empty() {
             set("room", format!("{{{}}}", room.join(", ")));
         }
-        // A phone's recorder: its rolling shutter and the frames it drops, drawn from a
-        // stream of their own (the conditions above are drawn as before they came).
+        // A phone's recorder (its rolling shutter, the frames it drops) and the hand that
+        // releases the ball, drawn from a stream of their own (the conditions above are
+        // drawn as before these came).
         let mut phone = Rng::new(seed ^ PHONE_STREAM);
         let mut set = |k: &str, v: String| keys.push((k.to_string(), v));
         if phone.uniform() < 0.2 {
@@ -224,6 +227,11 @@ impl Scene {
                 format!("{:.3}", 0.01 + 0.04 * phone.uniform()),
             );
             tags.push("dropped frames");
+        }
+        // The operator's hand releasing a held ball, in most scenes that hold it.
+        if phone.uniform() < 0.6 && keys.iter().any(|(k, _)| k == "hold_s") {
+            keys.push(("release_hand".to_string(), "true".to_string()));
+            tags.push("hand releases");
         }
         if !tags
             .iter()
@@ -429,6 +437,7 @@ fn sheet_lens(
         "hold_s",
         "rolling_shutter",
         "dropped_share",
+        "release_hand",
     ];
     let mut keys: Vec<(String, String)> = scene
         .keys

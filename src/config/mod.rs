@@ -445,6 +445,9 @@ impl Experiment {
                 let w = s.width as f64;
                 within("synthetic.camera_focal_px", f, 0.3 * w, 10.0 * w, "px")?;
             }
+            if s.release_hand && !s.hold_s.is_some_and(|h| h > 0.0) {
+                bail!("`synthetic.release_hand` without `synthetic.hold_s`: the hand releases a ball held for a while (set `hold_s`)");
+            }
             if let Some(h) = s.hold_s {
                 non_negative("synthetic.hold_s", h, "s")?;
                 let most = s.duration_s.unwrap_or(DEFAULT_MAX_DURATION_S);

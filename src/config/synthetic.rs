@@ -106,6 +106,12 @@ pub struct Synthetic {
     /// Also shifts the angle series `rollfric simulate` writes. Default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hold_s: Option<f64>,
+    /// The operator's hand holds the ball until `hold_s` and then draws back, out of the
+    /// way in 0.4 s: a hand seen from above, its fingers on the ball from beyond it, its
+    /// arm reaching away from the fulcrum (the wire stays in view; the frames are not
+    /// spoiled). Needs `hold_s`. Default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub release_hand: bool,
     /// Where the fulcrum is in the image, `[x, y]` as fractions of the width and the
     /// height from the top left corner, each -1 to 2: anywhere, also outside the frame
     /// (`[0.5, -0.05]`: just above it). The wire is then as long as keeps the ball's

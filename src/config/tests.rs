@@ -262,6 +262,18 @@ fn other_cameras_conditions_are_checked_naming_the_key() {
                 "`synthetic.vfr_jitter` = 1 : expected a value from 0 to 0.9",
             ),
             (
+                "dropped_share: 0.3",
+                "`synthetic.dropped_share` = 0.3 : expected a value from 0 to 0.2",
+            ),
+            (
+                "rolling_shutter: 1.5",
+                "`synthetic.rolling_shutter` = 1.5 : expected a value from 0 to 1",
+            ),
+            (
+                "release_hand: true",
+                "`synthetic.release_hand` without `synthetic.hold_s`",
+            ),
+            (
                 "vfr_jitter: 0.9, fps: 60",
                 "`synthetic.vfr_jitter` = 0.9 at `synthetic.fps` = 60: frames would come less than 2 ms apart",
             ),

@@ -638,3 +638,42 @@ fn a_rolling_shutter_s_rows_are_each_seen_at_their_own_time() {
         "{apart} of 3 bands differ from the frame's own time"
     );
 }
+
+/// The operator's hand is on the ball while it is held, draws back at the release, and is
+/// gone 0.4 s later; nowhere near the fulcrum.
+#[test]
+fn the_releasing_hand_holds_the_ball_then_leaves_the_picture_as_it_was() {
+    let keys = ", hold_s: 0.5, spoiled_frames: 0";
+    let mut with =
+        Twin::new(Plan::new(&exp(&format!("{keys}, release_hand: true")), Some(2.0)).unwrap())
+            .unwrap();
+    let mut without = Twin::new(Plan::new(&exp(keys), Some(2.0)).unwrap()).unwrap();
+    let pivot = with.plan.image_pivot();
+    let changed = |a: &Mat, b: &Mat| {
+        let (a, b) = (a.data_bytes().unwrap(), b.data_bytes().unwrap());
+        let mut n = 0;
+        let mut near_pivot = 0;
+        for (i, (x, y)) in a.chunks(3).zip(b.chunks(3)).enumerate() {
+            if x.iter().zip(y).any(|(p, q)| p.abs_diff(*q) > 20) {
+                n += 1;
+                let (px, py) = ((i % 320) as f64, (i / 320) as f64);
+                if (px - pivot[0]).hypot(py - pivot[1]) < 40.0 {
+                    near_pivot += 1;
+                }
+            }
+        }
+        (n, near_pivot)
+    };
+    // Held (frame 6, 0.2 s), drawing back (frame 18, 0.6 s), gone (frame 30, 1 s).
+    for (i, hand) in [(6, true), (18, true), (30, false)] {
+        with.render_frame(i).unwrap();
+        without.render_frame(i).unwrap();
+        let (n, near) = changed(&with.frame, &without.frame);
+        if hand {
+            assert!(n > 300, "frame {i}: {n} pixels show the hand");
+            assert_eq!(near, 0, "frame {i}: the hand reaches the fulcrum");
+        } else {
+            assert_eq!(n, 0, "frame {i}: {n} pixels still differ");
+        }
+    }
+}

@@ -15,6 +15,9 @@ use opencv::prelude::*;
 /// A rolling shutter's bands of rows (`synthetic.rolling_shutter`), each drawn at its
 /// own time.
 const RS_BANDS: usize = 16;
+/// The hand that releases the ball (`synthetic.release_hand`) is out of the way this long
+/// after the release, s.
+const RELEASE_S: f64 = 0.4;
 
 pub(super) struct Twin {
     pub(super) plan: Plan,
@@ -182,6 +185,34 @@ impl Twin {
             let smear = (0.04 * g.w as f64).max(3.0);
             self.hand
                 .paint(&mut self.frame, &self.illum, c, u, tilt, smear)?;
+        }
+        // The operator's hand holds the ball until its release and draws back
+        // (`release_hand`): its fingertips at the ball's centre, from beyond it.
+        if let Some(hold) = plan.s.hold_s.filter(|&h| h > 0.0 && plan.s.release_hand) {
+            let since = t - hold;
+            if since < RELEASE_S {
+                let g = &plan.geo;
+                let th = plan.theta(0.0);
+                let u = 0.55 * g.ball_r;
+                let back = 3.0 + 8.0 * (since / RELEASE_S).max(0.0);
+                let r = g.d_px + back * u;
+                let p = [g.pivot[0] + r * th.cos(), g.pivot[1] + r * th.sin()];
+                let c = plan.view.map_or(p, |v| v.apply(p));
+                // Drawing back, it moves 8 u in `RELEASE_S`, blurred over the exposure.
+                let smear = if since > 0.0 {
+                    (8.0 * u / RELEASE_S * EXPOSURE * dt).max(1.0)
+                } else {
+                    1.0
+                };
+                self.hand.paint(
+                    &mut self.frame,
+                    &self.illum,
+                    c,
+                    u,
+                    th - std::f64::consts::FRAC_PI_2,
+                    smear,
+                )?;
+            }
         }
         if let Some(path) = &self.shake {
             if let [(_, _, tb)] = bands[..] {

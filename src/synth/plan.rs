@@ -209,7 +209,7 @@ impl Plan {
         Some(if gone.is_empty() {
             times
         } else {
-            format!("{times},select=not({})", gone.join("+"))
+            format!("{times},select=not({})", balanced_sum(&gone))
         })
     }
 
@@ -383,6 +383,19 @@ pub(super) fn wrap_deg(deg: f64) -> f64 {
 /// `n` spoiling events (hand, flash, duplicate, in turn) at pseudo-random frames, one
 /// per equal slot of the video between margins of 2 s (less for short videos), away
 /// from the slot's edges so that events stay apart. A hand covers 1 to 3 frames.
+/// `terms` summed as a balanced tree of parenthesised halves: FFmpeg's expression parser
+/// recurses once per `+` of a flat sum, and a long one (78 dropped frames) is refused.
+fn balanced_sum(terms: &[String]) -> String {
+    match terms {
+        [] => "0".to_string(),
+        [one] => one.clone(),
+        _ => {
+            let (a, b) = terms.split_at(terms.len() / 2);
+            format!("({})+({})", balanced_sum(a), balanced_sum(b))
+        }
+    }
+}
+
 /// The frames dropped at a share `p`: each frame with that chance, but not the first or
 /// the last, a spoiled one, or the one before a duplicated frame.
 fn plan_drops(p: f64, spoils: &[Spoil], rng: &mut Rng) -> Vec<bool> {

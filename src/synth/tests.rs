@@ -530,6 +530,17 @@ fn dropped_frames_leave_gaps_in_the_times_and_the_truth() {
         &mut |_, _| {},
     )
     .unwrap();
+    // A long video dropping many frames: FFmpeg takes the whole list.
+    let many = exp(", dropped_share: 0.2");
+    let long = render(
+        &many,
+        &dir.path().join("many.avi"),
+        Some(20.0),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert!(601 - long.frames > 90, "{} frames written", long.frames);
+    assert_eq!(frame_times(&long.path).len(), long.frames);
     let dropping = exp(", dropped_share: 0.1");
     for ext in ["mp4", "avi"] {
         let rep = render(

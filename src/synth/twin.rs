@@ -116,7 +116,7 @@ impl Twin {
             }
             (ts, thetas)
         };
-        let (ts, thetas) = exposure(t);
+        let (ts, _) = exposure(t);
         // A rolling shutter's bands of rows, each with its own time (the frame's time
         // at the middle row).
         let h = plan.geo.h;
@@ -141,27 +141,18 @@ impl Twin {
                 }
                 None => &self.bg,
             };
-            if let [(_, _, tb)] = bands[..] {
+            // Each band with the wire as its own time saw it (one band, the whole frame,
+            // without a rolling shutter).
+            for &(y0, y1, tb) in &bands {
+                let (_, thetas) = exposure(tb);
                 self.mover.draw(
                     buf,
                     under,
                     &self.illum,
                     &thetas[..n_sub],
                     plan.theta(tb),
-                    None,
+                    Some((y0, y1)),
                 );
-            } else {
-                for &(y0, y1, tb) in &bands {
-                    let (_, thetas) = exposure(tb);
-                    self.mover.draw(
-                        buf,
-                        under,
-                        &self.illum,
-                        &thetas[..n_sub],
-                        plan.theta(tb),
-                        Some((y0, y1)),
-                    );
-                }
             }
         }
         if let Spoil::Hand { k, n, event } = plan.spoils[i] {

@@ -292,20 +292,6 @@ fn a_fulcrum_above_the_frame_still_shows_most_of_the_wire() {
     }
 }
 
-/// Every frame's presentation time as ffprobe decodes it, s.
-fn ffprobe_times(path: &Path) -> Vec<f64> {
-    let out = Command::new("ffprobe")
-        .args(["-v", "error", "-select_streams", "v:0"])
-        .args(["-show_entries", "frame=pts_time", "-of", "csv=p=0"])
-        .arg(path)
-        .output()
-        .unwrap();
-    String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .filter_map(|l| l.split(',').next()?.trim().parse().ok())
-        .collect()
-}
-
 #[test]
 fn variable_frame_rate_videos_carry_each_frames_own_time() {
     if !crate::require::require(

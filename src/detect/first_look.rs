@@ -4,10 +4,10 @@
 
 use super::*;
 use crate::detect::tuning::{
-    DECODE_ONCE_MAX_BYTES, EXPLAINS, HELD_MAX_BYTES, INIT_SECONDS, LOOK_EVERY, LOOK_EVERY_S,
-    LOOK_HINT_EXPLAINS, LOOK_MAX_BYTES, LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX, MOVING_SHARE,
-    PASS_FLOOR, PRUNE_SHARE, READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS, WORK_MAX_PIXELS,
-    WORK_SIDE_PX,
+    DECODE_ONCE_MAX_BYTES, EXPLAINS, HELD_MAX_BYTES, HELD_SWEEP_DEG, INIT_SECONDS, LOOK_EVERY,
+    LOOK_EVERY_S, LOOK_HINT_EXPLAINS, LOOK_MAX_BYTES, LOOK_MAX_FRAMES, LOOK_MIN_FRAMES, MOVING_PX,
+    MOVING_SHARE, PASS_FLOOR, PRUNE_SHARE, READ_AHEAD_BYTES, STILL_KEEP, STILL_MAX_SECONDS,
+    WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
 
 /// The whole factor a region of `w` x `h` px is shrunk by at a working side of
@@ -112,8 +112,12 @@ pub(super) struct FirstLook<'a> {
     /// are steadied from the pass's first (see `steady::Late::following`).
     pub(super) follow_region: bool,
     /// A still start is judged under the camera's motion (see `still.rs`): the look as
-    /// it lies found the camera moving and no wire.
+    /// it lies found the camera moving and no wire, or a wire that swept little.
     pub(super) held_under_motion: bool,
+    /// A wire that swept little in the look, as it lies, is kept as found: the look with
+    /// the still start judged under the camera's motion dropped none of it or did not
+    /// see it sweep more.
+    pub(super) little_sweep_kept: bool,
 }
 
 impl<'a> FirstLook<'a> {
@@ -198,6 +202,7 @@ impl<'a> FirstLook<'a> {
             started,
             moving: known_moving,
             held_under_motion,
+            little_sweep_kept,
             ..
         } = *self;
         let info = input.info();
@@ -430,6 +435,52 @@ impl<'a> FirstLook<'a> {
                     }),
                     _ => Err(e).with_context(|| format!("{}: no wire found", name)),
                 };
+            }
+            // A moving camera's look that found a wire sweeping little (under
+            // `HELD_SWEEP_DEG`): a held ball whose wire the look spent its frames on, the
+            // swing's first moments at its end (the camera's motion moved the scene from
+            // the first frames, and the still start was not judged under it). Such a
+            // sweep fixes the pivot poorly along the wire: a 3 deg sweep put it 37 px down
+            // a swaying twin's wire (the hand that released the ball drawing back), and
+            // the angles swung 24 % too far. Looked at again with the still start judged
+            // under the camera's motion; kept when that drops more of a still start and
+            // sees the wire sweep more.
+            Ok((geo, _))
+                if moving
+                    && !held_under_motion
+                    && !little_sweep_kept
+                    && geometry::sweep_deg(&geo) < HELD_SWEEP_DEG =>
+            {
+                let swept = geometry::sweep_deg(&geo);
+                if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                    eprintln!(
+                        "still: the wire swept {swept:.1} deg; a still start under the camera's \
+                         motion?"
+                    );
+                }
+                drop(stream);
+                input.prepare();
+                let again = FirstLook {
+                    held_under_motion: true,
+                    ..*self
+                };
+                if let Ok(l) = again.at(use_shrink) {
+                    if l.dropped > dropped && geometry::sweep_deg(&l.geo) > swept {
+                        return Ok(Located {
+                            looks: l.looks + 1,
+                            ..l
+                        });
+                    }
+                }
+                input.prepare();
+                let kept = FirstLook {
+                    little_sweep_kept: true,
+                    ..*self
+                };
+                return kept.at(use_shrink).map(|l| Located {
+                    looks: l.looks + 2,
+                    ..l
+                });
             }
             found => {
                 let (geo, noise) = found.with_context(|| format!("{}: no wire found", name))?;

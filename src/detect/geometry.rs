@@ -471,7 +471,7 @@ fn roughness(angles: &[Option<f64>], stride: usize) -> f64 {
 
 /// The range of directions the first look's wire lines cover, deg, on the branch
 /// about their circular mean: a bob's outline fans out over most of the circle.
-fn sweep_deg(g: &WireGeometry) -> f64 {
+pub fn sweep_deg(g: &WireGeometry) -> f64 {
     (g.theta_max - g.theta_min).to_degrees()
 }
 

@@ -210,6 +210,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         moving: false,
         follow_region: false,
         held_under_motion: false,
+        little_sweep_kept: false,
     };
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale.

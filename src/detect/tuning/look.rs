@@ -119,6 +119,14 @@ knobs! {
         what "a pixel moved: its least difference",
         chosen_by "cb79a79: over a keyframe's compression noise (up to about 9 levels); not swept";
 
+    /// See `FirstLook::at`: a moving camera's look whose wire swept less than this, no
+    /// still start dropped, is looked at again with the still start judged under the
+    /// camera's motion (a held ball's wire sweeps none; a release angle of 3 deg or more
+    /// sweeps more than this within a look's first swing).
+    HELD_SWEEP_DEG: f64 = 6.0, "deg",
+        what "a moving camera's look whose wire swept less is looked at again for a still start",
+        chosen_by "hand-picked: a hand-held twin whose hand released the ball, 3.0 deg swept (the pivot 37 px off), 20 deg after";
+
     /// The scene moves when more than this share of the compared pixels moved (a still
     /// frame: a few in ten thousand; the ball and the wire leaving their place: several
     /// in a thousand) ...

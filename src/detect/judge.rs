@@ -15,6 +15,7 @@ use crate::detect::tuning::{
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
 use swing::*;
+pub(in crate::detect) use swing::{fourth_difference, fourth_differences};
 
 /// What the detector saw, without any geometry.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

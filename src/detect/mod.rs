@@ -52,6 +52,7 @@ mod repeats;
 pub mod review;
 mod row;
 mod shrink;
+pub mod shutter;
 pub mod steady;
 mod still;
 pub mod summary;
@@ -555,11 +556,13 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         .filter(|l| !l.moved_from_start())
         .and_then(|l| l.camera())
         .and_then(|c| c.from_s);
-    // Each steadied frame's turn (none for a still camera).
-    let turns = match (&mut src, &mut late) {
-        (PassSource::Crop(c), _) if c.steady_from.is_some() => c.followed.take_turns(),
-        (_, Some(l)) => l.take_turns(),
-        _ => Vec::new(),
+    // Each steadied frame's turn and motion (none for a still camera).
+    let (turns, steadied) = match (&mut src, &mut late) {
+        (PassSource::Crop(c), _) if c.steady_from.is_some() => {
+            (c.followed.take_turns(), c.followed.take_steadied())
+        }
+        (_, Some(l)) => (l.take_turns(), l.take_steadied()),
+        _ => Default::default(),
     };
     drop(late);
     drop(src);
@@ -576,6 +579,12 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     });
     let refined = tracker.refine_pivot(&mut rows, lens.as_ref());
     let pivot = refined.pivot;
+    // A rolling shutter's lean under the camera's motion, taken out of the angles.
+    let readout = shutter::take_out(&mut rows, &steadied, f64::from(info.height));
+    let camera = camera.map(|c| steady::CameraMotion {
+        readout_ms: readout.map(|r| 1e3 * r.readout_s),
+        ..c
+    });
     flag_isolated(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(

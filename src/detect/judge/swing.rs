@@ -101,7 +101,7 @@ pub(super) fn periods(s: &Swing) -> Vec<f64> {
 
 /// Fourth differences of the angles over runs of five consecutive found frames, and the
 /// index of each run's middle frame.
-pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
+pub(in crate::detect) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
     rows.windows(5)
         .enumerate()
         .filter_map(|(i, w)| {
@@ -118,7 +118,7 @@ pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
 }
 
 /// The fourth difference of five consecutive values.
-pub(super) fn fourth_difference(v: &[f64]) -> f64 {
+pub(in crate::detect) fn fourth_difference(v: &[f64]) -> f64 {
     v[0] - 4.0 * v[1] + 6.0 * v[2] - 4.0 * v[3] + v[4]
 }
 

@@ -212,6 +212,11 @@ impl Late {
         self.followed.take_turns()
     }
 
+    /// Each frame steadied: its index, time and motion (taken out).
+    pub(in crate::detect) fn take_steadied(&mut self) -> Vec<crate::detect::shutter::Steadied> {
+        self.followed.take_steadied()
+    }
+
     /// The camera's motion, when it was found to move.
     pub(in crate::detect) fn camera(&self) -> Option<CameraMotion> {
         self.on.then(|| CameraMotion {
@@ -236,6 +241,10 @@ pub struct CameraMotion {
     /// s (the frames before were taken as still). Absent: every frame was steadied.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub from_s: Option<f64>,
+    /// A rolling shutter's readout, first row to last, ms, fitted to the angles and taken
+    /// out of them (see `shutter`). Absent: none stood clear of the angles' noise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub readout_ms: Option<f64>,
 }
 
 impl CameraMotion {
@@ -253,10 +262,11 @@ impl CameraMotion {
     }
 
     /// In words, as the reports give it: "RMS 1.20 px and 0.150 deg, at most 3.1 px"
-    /// (and the frames not measurable, if any).
+    /// (and the frames not measurable, if any, and a rolling shutter's readout taken
+    /// out).
     pub fn describe(&self) -> String {
         format!(
-            "RMS {:.2} px and {:.3} deg, at most {:.1} px{}",
+            "RMS {:.2} px and {:.3} deg, at most {:.1} px{}{}",
             self.rms_px,
             self.rms_deg,
             self.max_px,
@@ -264,6 +274,13 @@ impl CameraMotion {
                 format!(", {} frames not measurable", self.unmeasured)
             } else {
                 String::new()
+            },
+            match self.readout_ms {
+                Some(ms) => format!(
+                    "; a rolling shutter read out over {ms:.1} ms, its lean taken out of the \
+                     angles"
+                ),
+                None => String::new(),
             }
         )
     }
@@ -281,6 +298,8 @@ pub(in crate::detect) struct Followed {
     unmeasured: usize,
     /// Each frame's index and the turn it was steadied by (see [`Turn`]).
     turns: Vec<Turn>,
+    /// Each frame's index, time and motion (see `shutter`).
+    steadied: Vec<crate::detect::shutter::Steadied>,
 }
 
 /// A steadied frame's index and the turn it was steadied by, radians: `None` where the
@@ -313,6 +332,7 @@ impl Followed {
         };
         self.last = m;
         self.turns.push((f.index, (!held).then_some(m.rot_rad)));
+        self.steadied.push((f.index, f.t_s, m));
         let d = m.dx.hypot(m.dy);
         self.n += 1;
         self.sum_shift2 += d * d;
@@ -327,6 +347,11 @@ impl Followed {
         std::mem::take(&mut self.turns)
     }
 
+    /// Each frame followed so far: its index, time and motion (taken out).
+    pub(in crate::detect) fn take_steadied(&mut self) -> Vec<crate::detect::shutter::Steadied> {
+        std::mem::take(&mut self.steadied)
+    }
+
     /// What the frames followed so far add up to.
     pub(in crate::detect) fn camera(&self) -> CameraMotion {
         let n = self.n.max(1) as f64;
@@ -336,6 +361,7 @@ impl Followed {
             max_px: self.max_px,
             unmeasured: self.unmeasured,
             from_s: None,
+            readout_ms: None,
         }
     }
 }

@@ -593,6 +593,14 @@ fn a_hand_held_camera_whose_turn_only_the_coarser_scale_fixes_is_steadied() {
     assert!(rms <= 0.03, "angle RMS {rms:.4} deg");
 }
 
+/// Seed 2's sweep, scene 49, cut to 16 s: a ball held 1.97 s under a camera swaying
+/// 1.1 px (960x540, a ruled board).
+const SCENE_49: &str = "  s_r_m: 5.81e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  \
+                        fps: 30\n  style: dark-wire\n  seed: 2049\n  rest_angle_deg: 96.8\n  \
+                        mirror: true\n  wire_width_px: 1\n  wire_contrast: 0.63\n  \
+                        hold_s: 1.97\n  shake: {px: 1.11, deg: 0.057, hz: 0.27}\n  \
+                        vfr_jitter: 0.20\n  room: {board: ruled}\n  duration_s: 16\n";
+
 /// A ball held for 2 s under a slowly swaying camera (seed 2's sweep, scene 49: 960x540,
 /// a ruled board, 1.1 px of sway): every edge moved, so no frame of the still start was
 /// dropped, and the look, spent on the held wire, took the protractor's base line
@@ -601,14 +609,7 @@ fn a_hand_held_camera_whose_turn_only_the_coarser_scale_fixes_is_steadied() {
 /// judged under the camera's motion, the wire is found and followed.
 #[test]
 fn a_ball_held_under_a_moving_camera_is_not_the_look_s_whole_view() {
-    let Some((detected, rms)) = moving_twin(
-        "carbon-fiber",
-        "  s_r_m: 5.81e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  fps: 30\n  \
-         style: dark-wire\n  seed: 2049\n  rest_angle_deg: 96.8\n  mirror: true\n  \
-         wire_width_px: 1\n  wire_contrast: 0.63\n  hold_s: 1.97\n  \
-         shake: {px: 1.11, deg: 0.057, hz: 0.27}\n  vfr_jitter: 0.20\n  \
-         room: {board: ruled}\n  duration_s: 16\n",
-    ) else {
+    let Some((detected, rms)) = moving_twin("carbon-fiber", SCENE_49) else {
         return;
     };
     assert!(detected.contains("the camera moved (RMS"), "{detected}");
@@ -623,14 +624,9 @@ fn a_ball_held_under_a_moving_camera_is_not_the_look_s_whole_view() {
 /// under the camera's motion, and sees the wire sweep 20 deg about its pivot.
 #[test]
 fn a_hand_releasing_a_held_ball_under_a_swaying_camera_does_not_leave_the_look_a_sliver() {
-    let Some((detected, rms)) = moving_twin(
-        "carbon-fiber",
-        "  s_r_m: 5.81e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  fps: 30\n  \
-         style: dark-wire\n  seed: 2049\n  rest_angle_deg: 96.8\n  mirror: true\n  \
-         wire_width_px: 1\n  wire_contrast: 0.63\n  hold_s: 1.97\n  \
-         shake: {px: 1.11, deg: 0.057, hz: 0.27}\n  vfr_jitter: 0.20\n  \
-         room: {board: ruled}\n  release_hand: true\n  duration_s: 16\n",
-    ) else {
+    let Some((detected, rms)) =
+        moving_twin("carbon-fiber", &format!("{SCENE_49}  release_hand: true\n"))
+    else {
         return;
     };
     assert!(detected.contains("the camera moved (RMS"), "{detected}");

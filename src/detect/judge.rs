@@ -15,7 +15,7 @@ use crate::detect::tuning::{
 use crate::verdict::Status as Verdict;
 use serde::{Deserialize, Serialize};
 use swing::*;
-pub(in crate::detect) use swing::{fourth_difference, fourth_differences};
+pub(in crate::detect) use swing::{paired_fourth_differences, slope_through_origin};
 
 /// What the detector saw, without any geometry.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -149,16 +149,8 @@ pub fn turn_check(
             .ok()
             .map(|i| turns[i].1.unwrap_or(0.0))
     };
-    let pairs: Vec<(f64, f64)> = fourth_differences(rows)
-        .into_iter()
-        .filter_map(|(mid, da)| {
-            let r: Option<Vec<f64>> = rows[mid - 2..=mid + 2]
-                .iter()
-                .map(|row| turn_at(row.frame))
-                .collect();
-            r.map(|r| (fourth_difference(&r), da))
-        })
-        .collect();
+    let turn: Vec<Option<f64>> = rows.iter().map(|row| turn_at(row.frame)).collect();
+    let pairs = paired_fourth_differences(rows, &turn);
     let (sxx, syy) = (
         pairs.iter().map(|p| p.0 * p.0).sum::<f64>(),
         pairs.iter().map(|p| p.1 * p.1).sum::<f64>(),
@@ -184,9 +176,8 @@ pub fn turn_check(
         return None;
     }
     let sxy: f64 = pairs.iter().map(|p| p.0 * p.1).sum();
-    let b = sxy / sxx;
-    let s2 = pairs.iter().map(|p| (p.1 - b * p.0).powi(2)).sum::<f64>() / (pairs.len() - 1) as f64;
-    let z = b.abs() / (s2 / sxx).sqrt().max(f64::MIN_POSITIVE);
+    let (_, z) = slope_through_origin(&pairs)?;
+    let z = z.abs();
     let r2 = (sxy * sxy / (sxx * syy)).min(1.0);
     let noise = noise_of(pairs.iter().map(|p| p.1)).to_degrees();
     let moves = noise * r2.sqrt();

@@ -556,14 +556,13 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         .filter(|l| !l.moved_from_start())
         .and_then(|l| l.camera())
         .and_then(|c| c.from_s);
-    // Each steadied frame's turn and motion (none for a still camera).
-    let (turns, steadied) = match (&mut src, &mut late) {
-        (PassSource::Crop(c), _) if c.steady_from.is_some() => {
-            (c.followed.take_turns(), c.followed.take_steadied())
-        }
-        (_, Some(l)) => (l.take_turns(), l.take_steadied()),
-        _ => Default::default(),
+    // Each steadied frame (none for a still camera).
+    let steadied = match (&mut src, &mut late) {
+        (PassSource::Crop(c), _) if c.steady_from.is_some() => c.followed.take_steadied(),
+        (_, Some(l)) => l.take_steadied(),
+        _ => Vec::new(),
     };
+    let turns: Vec<steady::Turn> = steadied.iter().map(steady::Steadied::turn).collect();
     drop(late);
     drop(src);
     if rows.is_empty() {
@@ -582,7 +581,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     // A rolling shutter's lean under the camera's motion, taken out of the angles.
     let readout = shutter::take_out(&mut rows, &steadied, f64::from(info.height));
     let camera = camera.map(|c| steady::CameraMotion {
-        readout_ms: readout.map(|r| 1e3 * r.readout_s),
+        readout_ms: readout.map(|s| 1e3 * s),
         ..c
     });
     flag_isolated(&mut rows);

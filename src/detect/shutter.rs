@@ -26,24 +26,10 @@
 //! as at its own time); as a second term of the same readout it fitted worse (0.049 deg),
 //! and is left out.
 
-use super::judge::{fourth_difference, fourth_differences};
-use super::steady::Motion;
+use super::judge::{paired_fourth_differences, slope_through_origin};
+use super::steady::{Motion, Steadied};
 use super::tuning::{MAX_READOUT, READOUT_SIGNIFICANCE};
 use super::{AngleRow, Status};
-
-/// A steadied frame: its index, its time, s, and the motion it was warped back by.
-pub type Steadied = (u64, f64, Motion);
-
-/// A rolling shutter's readout, fitted and taken out of the angles.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Readout {
-    /// The rows' readout, first to last, s.
-    pub readout_s: f64,
-    /// Its standard errors from none.
-    pub z: f64,
-    /// The RMS of the corrections, deg.
-    pub rms_deg: f64,
-}
 
 /// The lean per second of readout (see the module's text) of each row with an angle,
 /// by row; `None` where the steadied frames do not give the camera's velocity.
@@ -51,7 +37,7 @@ fn leans(rows: &[AngleRow], steadied: &[Steadied], height: f64) -> Vec<Option<f6
     rows.iter()
         .map(|r| {
             let theta = r.angle_rad?;
-            let i = steadied.binary_search_by_key(&r.frame, |s| s.0).ok()?;
+            let i = steadied.binary_search_by_key(&r.frame, |s| s.index).ok()?;
             let get = |k: usize| steadied.get(k);
             let (a2, a1, b1, b2) = (
                 get(i.checked_sub(2)?)?,
@@ -59,11 +45,12 @@ fn leans(rows: &[AngleRow], steadied: &[Steadied], height: f64) -> Vec<Option<f6
                 get(i + 1)?,
                 get(i + 2)?,
             );
-            let dt = Some(b1.1 - a1.1).filter(|dt| *dt > 0.0)?;
+            let dt = Some(b1.t_s - a1.t_s).filter(|dt| *dt > 0.0)?;
             // The five-point derivative (a camera shaking at 5 Hz, filmed at 30 fps, is
             // a sixth too slow by the three-point one).
             let rate = |f: fn(&Motion) -> f64| {
-                (8.0 * (f(&b1.2) - f(&a1.2)) - (f(&b2.2) - f(&a2.2))) / (6.0 * dt)
+                let d = |b: &Steadied, a: &Steadied| f(&b.motion) - f(&a.motion);
+                (8.0 * d(b1, a1) - d(b2, a2)) / (6.0 * dt)
             };
             let (vx, vy) = (rate(|m| m.dx), rate(|m| m.dy));
             let (dx, dy) = (theta.cos(), theta.sin());
@@ -74,38 +61,21 @@ fn leans(rows: &[AngleRow], steadied: &[Steadied], height: f64) -> Vec<Option<f6
 
 /// Fits the readout of a rolling shutter to the angles of `rows` (see the module's
 /// text) and takes the lean out of them, when it stands clear of noise within a frame's
-/// interval; the readout fitted, or `None` (the angles untouched).
+/// interval: the readout, first row to last, s, or `None` (the angles untouched).
 /// `steadied` in frame order, their motions in full-frame px; `height` the picture's
 /// rows.
-pub(super) fn take_out(
-    rows: &mut [AngleRow],
-    steadied: &[Steadied],
-    height: f64,
-) -> Option<Readout> {
+pub(super) fn take_out(rows: &mut [AngleRow], steadied: &[Steadied], height: f64) -> Option<f64> {
     if steadied.len() < 5 {
         return None;
     }
     let lean = leans(rows, steadied, height);
-    let pairs: Vec<(f64, f64)> = fourth_differences(rows)
-        .into_iter()
-        .filter_map(|(mid, da)| {
-            let g: Option<Vec<f64>> = lean[mid - 2..=mid + 2].iter().copied().collect();
-            g.map(|g| (fourth_difference(&g), da))
-        })
-        .collect();
+    let pairs = paired_fourth_differences(rows, &lean);
     if pairs.len() < 20 {
         return None;
     }
-    let sxx: f64 = pairs.iter().map(|p| p.0 * p.0).sum();
-    let sxy: f64 = pairs.iter().map(|p| p.0 * p.1).sum();
-    if sxx <= 0.0 {
-        return None;
-    }
-    let k = sxy / sxx;
-    let s2 = pairs.iter().map(|p| (p.1 - k * p.0).powi(2)).sum::<f64>() / (pairs.len() - 1) as f64;
-    let z = k / (s2 / sxx).sqrt().max(f64::MIN_POSITIVE);
+    let (k, z) = slope_through_origin(&pairs)?;
     // The frame interval, s: the median of the steadied frames' steps.
-    let mut steps: Vec<f64> = steadied.windows(2).map(|w| w[1].1 - w[0].1).collect();
+    let mut steps: Vec<f64> = steadied.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
     let mid = steps.len() / 2;
     let interval = *steps.select_nth_unstable_by(mid, f64::total_cmp).1;
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -118,19 +88,12 @@ pub(super) fn take_out(
     if z < READOUT_SIGNIFICANCE || k > MAX_READOUT * interval {
         return None;
     }
-    let (mut sum2, mut n) = (0.0f64, 0.0f64);
     for (r, g) in rows.iter_mut().zip(&lean) {
         if let (Some(a), Some(g), true) = (&mut r.angle_rad, g, r.status != Status::Missing) {
             *a -= k * g;
-            sum2 += (k * g).powi(2);
-            n += 1.0;
         }
     }
-    Some(Readout {
-        readout_s: k,
-        z,
-        rms_deg: (sum2 / n.max(1.0)).sqrt().to_degrees(),
-    })
+    Some(k)
 }
 
 #[cfg(test)]
@@ -166,11 +129,15 @@ mod tests {
                 flag: None,
                 moments: None,
             });
-            let m = Motion {
-                dx,
-                ..Motion::default()
-            };
-            steadied.push((k, t, m));
+            steadied.push(Steadied {
+                index: k,
+                t_s: t,
+                motion: Motion {
+                    dx,
+                    ..Motion::default()
+                },
+                turn_held: false,
+            });
         }
         (rows, truth, steadied)
     }
@@ -180,7 +147,7 @@ mod tests {
         let (mut rows, truth, steadied) = filmed(0.025);
         let before = rms_off_deg(&rows, &truth);
         let r = take_out(&mut rows, &steadied, H).expect("a readout");
-        assert!((r.readout_s - 0.025).abs() < 0.001, "{r:?}");
+        assert!((r - 0.025).abs() < 0.001, "{r} s");
         let after = rms_off_deg(&rows, &truth);
         // The five-point derivative of a 5 Hz shake at 30 fps is 3.5 % slow.
         assert!(before > 0.2 && after < 0.015, "{before} -> {after} deg RMS");

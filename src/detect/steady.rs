@@ -554,5 +554,5 @@ mod follow;
 #[cfg(test)]
 mod tests;
 
-pub use follow::{CameraMotion, Turn};
+pub use follow::{CameraMotion, Steadied, Turn};
 pub(super) use follow::{Followed, Late};

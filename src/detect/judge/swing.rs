@@ -101,7 +101,7 @@ pub(super) fn periods(s: &Swing) -> Vec<f64> {
 
 /// Fourth differences of the angles over runs of five consecutive found frames, and the
 /// index of each run's middle frame.
-pub(in crate::detect) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
+pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
     rows.windows(5)
         .enumerate()
         .filter_map(|(i, w)| {
@@ -117,8 +117,38 @@ pub(in crate::detect) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f6
         .collect()
 }
 
+/// The fourth differences of a quantity `x` known by row (none where it is not) paired
+/// with the angles' over the same runs of five found frames (see
+/// [`fourth_differences`]): `(x's, the angles')`, for a regression of the angles' noise
+/// on it.
+pub(in crate::detect) fn paired_fourth_differences(
+    rows: &[AngleRow],
+    x: &[Option<f64>],
+) -> Vec<(f64, f64)> {
+    fourth_differences(rows)
+        .into_iter()
+        .filter_map(|(mid, da)| {
+            let v: Option<Vec<f64>> = x[mid - 2..=mid + 2].iter().copied().collect();
+            v.map(|v| (fourth_difference(&v), da))
+        })
+        .collect()
+}
+
+/// The least-squares slope through the origin of `(x, y)` pairs, and the slope over its
+/// standard error; `None` when the `x` are all 0.
+pub(in crate::detect) fn slope_through_origin(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let sxx: f64 = pairs.iter().map(|p| p.0 * p.0).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let sxy: f64 = pairs.iter().map(|p| p.0 * p.1).sum();
+    let b = sxy / sxx;
+    let s2 = pairs.iter().map(|p| (p.1 - b * p.0).powi(2)).sum::<f64>() / (pairs.len() - 1) as f64;
+    Some((b, b / (s2 / sxx).sqrt().max(f64::MIN_POSITIVE)))
+}
+
 /// The fourth difference of five consecutive values.
-pub(in crate::detect) fn fourth_difference(v: &[f64]) -> f64 {
+pub(super) fn fourth_difference(v: &[f64]) -> f64 {
     v[0] - 4.0 * v[1] + 6.0 * v[2] - 4.0 * v[3] + v[4]
 }
 

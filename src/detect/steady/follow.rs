@@ -206,14 +206,8 @@ impl Late {
         self.on && !self.still_seen
     }
 
-    /// Each frame steadied: its index and the turn it was steadied by, radians (taken
-    /// out).
-    pub(in crate::detect) fn take_turns(&mut self) -> Vec<Turn> {
-        self.followed.take_turns()
-    }
-
-    /// Each frame steadied: its index, time and motion (taken out).
-    pub(in crate::detect) fn take_steadied(&mut self) -> Vec<crate::detect::shutter::Steadied> {
+    /// Each frame steadied (taken out).
+    pub(in crate::detect) fn take_steadied(&mut self) -> Vec<Steadied> {
         self.followed.take_steadied()
     }
 
@@ -296,10 +290,26 @@ pub(in crate::detect) struct Followed {
     sum_rot2: f64,
     max_px: f64,
     unmeasured: usize,
-    /// Each frame's index and the turn it was steadied by (see [`Turn`]).
-    turns: Vec<Turn>,
-    /// Each frame's index, time and motion (see `shutter`).
-    steadied: Vec<crate::detect::shutter::Steadied>,
+    /// Each frame followed.
+    steadied: Vec<Steadied>,
+}
+
+/// A frame steadied: its index and time, s, the motion it was warped back by, and
+/// whether the scene fixed its shift but not its turn, which was then held at none (see
+/// `Steady::steadying`).
+#[derive(Clone, Copy, Debug)]
+pub struct Steadied {
+    pub index: u64,
+    pub t_s: f64,
+    pub motion: Motion,
+    pub turn_held: bool,
+}
+
+impl Steadied {
+    /// The frame's index and the turn it was steadied by (see [`Turn`]).
+    pub fn turn(&self) -> Turn {
+        (self.index, (!self.turn_held).then_some(self.motion.rot_rad))
+    }
 }
 
 /// A steadied frame's index and the turn it was steadied by, radians: `None` where the
@@ -331,8 +341,12 @@ impl Followed {
             }
         };
         self.last = m;
-        self.turns.push((f.index, (!held).then_some(m.rot_rad)));
-        self.steadied.push((f.index, f.t_s, m));
+        self.steadied.push(Steadied {
+            index: f.index,
+            t_s: f.t_s,
+            motion: m,
+            turn_held: held,
+        });
         let d = m.dx.hypot(m.dy);
         self.n += 1;
         self.sum_shift2 += d * d;
@@ -341,14 +355,8 @@ impl Followed {
         Ok(m)
     }
 
-    /// Each frame followed so far: its index and the turn it was steadied by, radians
-    /// (taken out).
-    pub(in crate::detect) fn take_turns(&mut self) -> Vec<Turn> {
-        std::mem::take(&mut self.turns)
-    }
-
-    /// Each frame followed so far: its index, time and motion (taken out).
-    pub(in crate::detect) fn take_steadied(&mut self) -> Vec<crate::detect::shutter::Steadied> {
+    /// Each frame followed so far (taken out).
+    pub(in crate::detect) fn take_steadied(&mut self) -> Vec<Steadied> {
         std::mem::take(&mut self.steadied)
     }
 

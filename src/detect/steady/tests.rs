@@ -416,7 +416,7 @@ fn a_camera_known_to_move_is_followed_from_the_first_frame() {
     assert!(!late.moved_from_start());
     assert_eq!(c.unmeasured, 0, "{c:?}");
     assert!((c.max_px - 0.3 * 5.9).abs() < 0.1, "{c:?}");
-    assert_eq!(late.take_turns().len(), 60);
+    assert_eq!(late.take_steadied().len(), 60);
     // Glanced at, the same frames are taken as still until two glances see the drift.
     let late = late_on(|t| 0.3 * t, 0.0);
     assert!(late

@@ -84,6 +84,11 @@ fn main() -> Result<()> {
         .with_context(|| format!("{dir}: cannot read"))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.is_dir())
+        // The detected scenes whose fit the sweep refused (`unfitted-NNN`) have nothing to cover.
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("scene-"))
+        })
         .collect();
     scenes.sort();
     println!(

@@ -18,7 +18,8 @@
 //! (defaults 60, 1 and 40); a fourth argument, a scene's number, runs that scene alone and
 //! keeps its folder. Scenes are drawn from a fixed seed: the same arguments give
 //! the same scenes. With `ROBUSTNESS_KEEP=DIR`, each measured scene's experiment file,
-//! angles, truth and swing scale are kept in `DIR/scene-NNN/` (not its video), for
+//! angles, truth, swing scale and detection verdict (with its angle RMS) are kept in
+//! `DIR/scene-NNN/` (not its video; `DIR/unfitted-NNN/` when the fit was refused), for
 //! analyses that re-fit the sweep's angles without detecting again (the interval
 //! coverage of `examples/coverage.rs`). `ROBUSTNESS_WORK_SIDE=PX` detects every scene
 //! at that working side (`video.work_side_px`, default 640). `ROBUSTNESS_LENS=sheet`
@@ -787,8 +788,14 @@ fn main() -> Result<()> {
                 ));
             }
         }
-        if let (Some(keep), Ok(Outcome::Measured { .. })) = (&keep, &outcome) {
-            let to = keep.join(format!("scene-{i:03}"));
+        // A detected scene whose fit was refused is kept apart (`unfitted-NNN`): the
+        // coverage re-fits the `scene-NNN` folders only.
+        if let (Some(keep), Some(s)) = (&keep, &seen) {
+            let fitted = matches!(outcome, Ok(Outcome::Measured { .. }));
+            let to = keep.join(format!(
+                "{}-{i:03}",
+                if fitted { "scene" } else { "unfitted" }
+            ));
             std::fs::create_dir_all(&to)
                 .with_context(|| format!("{}: cannot create", to.display()))?;
             for f in [
@@ -800,6 +807,10 @@ fn main() -> Result<()> {
                 std::fs::copy(dir.path().join(&f), to.join(&f))
                     .with_context(|| format!("{}: cannot copy {f}", to.display()))?;
             }
+            std::fs::write(
+                to.join("detection.txt"),
+                format!("{:.6} {}\n", s.angle_rms_deg, s.label),
+            )?;
         }
         for (c, row) in CONDITIONS.iter().zip(by_condition.iter_mut()) {
             if !scene.tags.contains(c) {

@@ -122,18 +122,22 @@ fn invisible_rope_is_not_called_good() {
     };
     if ok {
         assert_eq!(v["verdict"], "suspect", "{}", v["checks"]);
-        let f = failed(&v);
-        assert!(f.contains(&"period".to_string()), "{f:?}");
-        let reason = v["checks"]
+        // The frames that jump off the path of those about them are not found (58 % of
+        // the frames found), and what is left of the edge's track swings irregularly:
+        // `found` or `period` says no wire was seen.
+        let said: Vec<String> = v["checks"]
             .as_array()
             .unwrap()
             .iter()
-            .find(|c| c["check"] == "period")
-            .unwrap()["reason"]
-            .as_str()
-            .unwrap()
-            .to_string();
-        assert!(reason.contains("no wire seen"), "{reason}");
+            .filter(|c| c["passed"] == false)
+            .filter(|c| c["check"] == "found" || c["check"] == "period")
+            .map(|c| c["reason"].as_str().unwrap().to_string())
+            .collect();
+        assert!(
+            said.iter().any(|r| r.contains("no wire seen")),
+            "{:?}: {said:?}",
+            failed(&v)
+        );
     } else {
         assert_eq!(v["verdict"], "refused");
     }

@@ -2,7 +2,7 @@
 //! marks.
 
 use super::{unwrap_near, AngleRow, Flag, Pt, Status};
-use crate::detect::tuning::{FILL_REACH_S, ISOLATED_RUN, LOSS_FRAMES};
+use crate::detect::tuning::{FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LOSS_FRAMES};
 use std::collections::BTreeMap;
 
 /// Operator marks replace the detection: the angle of the line through the two points,
@@ -54,6 +54,74 @@ pub(super) fn flag_isolated(rows: &mut [AngleRow]) {
             for r in &mut rows[start..i] {
                 r.flag = Some(Flag::Isolated);
             }
+        }
+    }
+}
+
+/// Flag the found frames whose angle leaves the smooth path of the found frames about
+/// them (`Flag::Jump`): a quadratic in time through up to three good frames on each side
+/// within [`FILL_REACH_S`], the frame itself left out; a frame is flagged when it lies
+/// more than [`JUMP_MIN_DEG`] and more than [`JUMP_STEPS`] frames' motion (the
+/// quadratic's slope over the median frame interval) off it, and lies further off than
+/// any good frame within three on either side (the others are judged again without it,
+/// a jump pulling its neighbours' paths). A wire cannot leave its path for a frame and
+/// come back: a track starting beside a wire's shadow took the shadow for one frame,
+/// 5.3 deg off, between frames on the wire, and called it `ok` (seed 2's sweep scene 8).
+pub(super) fn flag_jumps(rows: &mut [AngleRow]) {
+    let dt = {
+        let mut d: Vec<f64> = rows.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
+        if d.is_empty() {
+            return;
+        }
+        crate::numerics::median(&mut d)
+    };
+    let min = JUMP_MIN_DEG.to_radians();
+    loop {
+        let good: Vec<usize> = rows
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.flag.is_none() && r.status == Status::Ok && r.angle_rad.is_some())
+            .map(|(i, _)| i)
+            .collect();
+        let angle = |i: usize| rows[i].angle_rad.unwrap_or(0.0);
+        let off: Vec<f64> = (0..good.len())
+            .map(|j| {
+                let (i, t) = (good[j], rows[good[j]].t_s);
+                let near = |g: &usize| (rows[*g].t_s - t).abs() <= FILL_REACH_S;
+                let before = good[j.saturating_sub(3)..j].iter().filter(|g| near(g));
+                let after = good[j + 1..(j + 4).min(good.len())]
+                    .iter()
+                    .filter(|g| near(g));
+                if before.clone().count() == 0 || after.clone().count() == 0 {
+                    return 0.0;
+                }
+                let pts = before.chain(after).map(|&g| {
+                    let x = rows[g].t_s - t;
+                    ([1.0, x, x * x], angle(g))
+                });
+                match crate::numerics::least_squares3(pts) {
+                    Some([at, slope, _]) => {
+                        let off = (angle(i) - at).abs();
+                        if off > min && off > JUMP_STEPS * slope.abs() * dt {
+                            off
+                        } else {
+                            0.0
+                        }
+                    }
+                    None => 0.0,
+                }
+            })
+            .collect();
+        let mut flagged = false;
+        for j in 0..good.len() {
+            let around = j.saturating_sub(3)..(j + 4).min(good.len());
+            if off[j] > 0.0 && around.clone().all(|k| off[k] <= off[j]) {
+                rows[good[j]].flag = Some(Flag::Jump);
+                flagged = true;
+            }
+        }
+        if !flagged {
+            return;
         }
     }
 }
@@ -193,5 +261,69 @@ mod tests {
         apply_marks(&mut rows, &marks, Pt::new(100.0, 0.0), 1.5);
         assert_eq!(rows[0].status, Status::Manual);
         assert!((rows[0].angle_rad.unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    /// A swing of `amp_deg` with period `period_s` at 25 frames/s for 4 s, about 90 deg.
+    fn swing(amp_deg: f64, period_s: f64) -> Vec<AngleRow> {
+        (0..100)
+            .map(|i| {
+                let t = i as f64 / 25.0;
+                let a = 90.0 + amp_deg * (std::f64::consts::TAU * t / period_s).cos();
+                AngleRow {
+                    frame: i,
+                    t_s: t,
+                    angle_rad: Some(a.to_radians()),
+                    status: Status::Ok,
+                    quality: 1.0,
+                    flag: None,
+                    moments: None,
+                }
+            })
+            .collect()
+    }
+
+    fn jumps(rows: &mut [AngleRow]) -> Vec<u64> {
+        flag_jumps(rows);
+        rows.iter()
+            .filter(|r| r.flag == Some(Flag::Jump))
+            .map(|r| r.frame)
+            .collect()
+    }
+
+    #[test]
+    fn a_frame_off_its_neighbours_path_is_a_jump_and_is_filled() {
+        // A smooth swing has none.
+        assert!(jumps(&mut swing(10.0, 2.0)).is_empty());
+        // One frame on a shadow 5 deg off (seed 2's sweep scene 8: 5.3 deg).
+        let mut rows = swing(10.0, 2.0);
+        let true_30 = rows[30].angle_rad;
+        rows[30].angle_rad = rows[30].angle_rad.map(|a| a - 5f64.to_radians());
+        assert_eq!(jumps(&mut rows), [30]);
+        fill_flagged(&mut rows);
+        assert_eq!(rows[30].status, Status::Corrected);
+        let e = (rows[30].angle_rad.unwrap() - true_30.unwrap()).to_degrees();
+        assert!(e.abs() < 0.05, "filled {e} deg off");
+        // Two in a row: the worse first, then the other without it.
+        let mut rows = swing(10.0, 2.0);
+        rows[30].angle_rad = rows[30].angle_rad.map(|a| a - 5f64.to_radians());
+        rows[31].angle_rad = rows[31].angle_rad.map(|a| a - 4f64.to_radians());
+        assert_eq!(jumps(&mut rows), [30, 31]);
+    }
+
+    #[test]
+    fn a_frame_off_by_less_than_its_own_motion_is_no_jump() {
+        // 30 deg in 1.3 s at 25 frames/s: at the crossing (t = 0.325 s, frame 8) the wire
+        // moves 5.8 deg a frame, and a frame 1.5 deg off its path (a quarter of a frame's
+        // time) is no jump; at the turning point (frame 16, t = 0.65 s) it is.
+        let mut rows = swing(30.0, 1.3);
+        rows[8].angle_rad = rows[8].angle_rad.map(|a| a + 1.5f64.to_radians());
+        assert!(jumps(&mut rows).is_empty());
+        let mut rows = swing(30.0, 1.3);
+        rows[16].angle_rad = rows[16].angle_rad.map(|a| a + 1.5f64.to_radians());
+        assert_eq!(jumps(&mut rows), [16]);
+        // Under a degree is not judged.
+        let mut rows = swing(30.0, 1.3);
+        rows[16].angle_rad = rows[16].angle_rad.map(|a| a + 0.9f64.to_radians());
+        assert!(jumps(&mut rows).is_empty());
     }
 }

@@ -72,7 +72,7 @@ pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
-use fill::{apply_marks, fill_flagged, flag_isolated};
+use fill::{apply_marks, fill_flagged, flag_isolated, flag_jumps};
 use first_look::*;
 use geometry::InitFrames;
 use nalgebra::Vector2;
@@ -585,6 +585,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         ..c
     });
     flag_isolated(&mut rows);
+    flag_jumps(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(
         &mut rows,

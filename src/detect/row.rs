@@ -24,6 +24,9 @@ pub enum Flag {
     /// A few frames found between two losses of the wire (a person passing in front of
     /// it): not trusted on their own.
     Isolated,
+    /// The angle leaves the smooth path of the found frames about it, as a wire cannot
+    /// (a shadow or an edge taken for one frame).
+    Jump,
 }
 
 impl Flag {
@@ -36,6 +39,7 @@ impl Flag {
             Flag::Duplicate => "duplicate",
             Flag::Disturbed => "disturbed",
             Flag::Isolated => "isolated",
+            Flag::Jump => "jump",
         }
     }
 
@@ -48,6 +52,7 @@ impl Flag {
             Flag::Duplicate,
             Flag::Disturbed,
             Flag::Isolated,
+            Flag::Jump,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)

@@ -53,7 +53,7 @@ fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
     assert!((noise - 0.005).abs() < 0.001, "noise {noise}");
     assert_eq!(s.ok_share, 1.0);
     for c in [
-        "found", "turns", "crossed", "period", "smooth", "stalls", "rest", "envelope",
+        "found", "turns", "crossed", "period", "rhythm", "smooth", "stalls", "rest", "envelope",
     ] {
         assert!(v.checks.iter().any(|x| x.check == c), "no `{c}` check");
     }
@@ -278,4 +278,31 @@ fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
     let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
     let c = v.checks.iter().find(|c| c.check == "crossed").unwrap();
     assert!(c.passed && c.value > 0.7, "{:?}", c);
+}
+
+#[test]
+fn a_track_that_flicks_and_rests_between_has_no_pendulum_s_rhythm() {
+    // Every 2.5 s the track flicks twice about 90 deg (a period of 0.3 s) and is lost for
+    // 0.9 s: its crossings give a half period of 0.15 s, its turning points come every
+    // half second or so (seed 4's sweep scene 48: 0.13 s against 0.91).
+    let mut rows = swinging();
+    for r in &mut rows {
+        let u = r.t_s % 2.5;
+        if u < 0.6 {
+            let a = 90.0 + 5.0 * (std::f64::consts::TAU * u / 0.3).sin();
+            r.angle_rad = Some(a.to_radians());
+        } else if u < 1.5 {
+            r.status = Status::Missing;
+            r.angle_rad = None;
+        } else {
+            r.angle_rad = Some(90f64.to_radians());
+        }
+    }
+    let v = judge(&rows, [0.0, 0.0], None, None);
+    let c = v.checks.iter().find(|c| c.check == "rhythm").unwrap();
+    assert!(!c.passed && c.value > 2.0, "{:?}", v.checks);
+    // A pendulum's turning points come every half period its crossings give.
+    let v = judge(&swinging(), [0.0, 0.0], None, None);
+    let c = v.checks.iter().find(|c| c.check == "rhythm").unwrap();
+    assert!(c.passed && (c.value - 1.0).abs() < 0.01, "{:?}", c);
 }

@@ -28,6 +28,12 @@ knobs! {
         what "largest spread of the periods swing to swing (of the median)",
         chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
 
+    /// Largest factor between the time from turning point to turning point and the half
+    /// period the crossings of the rest angle give (either way).
+    RHYTHM_MAX: f64 = 1.25, "times",
+        what "largest factor between the turning points' pace and the crossings' half period",
+        chosen_by "issue 50, 94 twins of seeds 4 and 2 with a period and 4 turning points: within 0.984-1.021 but five, all off by over 0.29 deg RMS: 6.8 (seed 4 scene 48, 6.1 deg RMS, called ok), 3.3, 2.3, 1.24, 0.96; the real clips measured ok 0.997-0.999";
+
     /// Largest noise from frame to frame, as a share of the swing's amplitude.
     NOISE_SHARE_MAX: f64 = 0.02, "share",
         what "largest frame-to-frame noise, as a share of the amplitude",

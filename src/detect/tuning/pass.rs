@@ -136,6 +136,21 @@ knobs! {
         what "a loss of the wire: this many frames in a row flagged or without an angle",
         chosen_by "27c1bbf: the same walker twin; not swept";
 
+    /// A found frame whose angle leaves the smooth path of its found neighbours (a
+    /// quadratic in time through up to three on each side, within `FILL_REACH_S`) by more
+    /// than this, deg, ...
+    JUMP_MIN_DEG: f64 = 1.0, "deg",
+        what "a found frame this far off its neighbours' smooth path may be flagged a jump",
+        chosen_by "issue 50, seed 4 and seed 2's first 32 scenes (97 detected twins): frames flagged in 8 scenes, six already suspect, a shadow's frame 5.3 deg off in one called ok (seed 2 scene 8) and a flicking track (seed 4 scene 48); none in the 89 others; the real clips measured ok: none at 0.5";
+
+    /// ... and by more than this many times the angle's own motion over a frame there (a
+    /// wire's path moves by a few degrees a frame at a fast swing's crossing, and a frame's
+    /// time or the codec's blur put it off that path by a fraction of that), is flagged
+    /// `Flag::Jump`: a wire cannot leave its path and come back in one frame.
+    JUMP_STEPS: f64 = 2.0, "frames of motion",
+        what "... and by this many times the angle's motion over a frame",
+        chosen_by "issue 50: the green-screen clip (29 deg at 25 frames/s) leaves its path by up to 0.99 deg at its crossings, under one frame's motion; at two, none of the real clips measured ok has a frame flagged at 0.5 deg";
+
     FILL_REACH_S: f64 = 0.3, "s",
         what "a flagged frame is filled from good frames at most this far in time",
         chosen_by "297050c: the first detector's value; not measured";

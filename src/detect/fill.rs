@@ -269,15 +269,7 @@ mod tests {
             .map(|i| {
                 let t = i as f64 / 25.0;
                 let a = 90.0 + amp_deg * (std::f64::consts::TAU * t / period_s).cos();
-                AngleRow {
-                    frame: i,
-                    t_s: t,
-                    angle_rad: Some(a.to_radians()),
-                    status: Status::Ok,
-                    quality: 1.0,
-                    flag: None,
-                    moments: None,
-                }
+                AngleRow::found(i, t, a.to_radians())
             })
             .collect()
     }

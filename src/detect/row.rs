@@ -77,6 +77,23 @@ pub struct AngleRow {
     pub moments: Option<[f64; 6]>,
 }
 
+#[cfg(test)]
+impl AngleRow {
+    /// A frame found (`ok`, full quality, unflagged) at `t_s` with `angle_rad`: the
+    /// unit tests' hand-made series.
+    pub(crate) fn found(frame: u64, t_s: f64, angle_rad: f64) -> Self {
+        AngleRow {
+            frame,
+            t_s,
+            angle_rad: Some(angle_rad),
+            status: Status::Ok,
+            quality: 1.0,
+            flag: None,
+            moments: None,
+        }
+    }
+}
+
 /// The result of a detection.
 #[derive(Clone, Debug, Serialize)]
 pub struct Detection {

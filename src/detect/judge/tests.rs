@@ -16,15 +16,7 @@ fn swinging() -> Vec<AngleRow> {
             let t = k as f64 / FPS;
             let amp = 10.0 - 0.2 * (2.0 * t / PERIOD);
             let a = 90.0 + amp * (std::f64::consts::TAU * t / PERIOD).cos() + 0.005 * rng.normal();
-            AngleRow {
-                frame: k as u64,
-                t_s: t,
-                angle_rad: Some(a.to_radians()),
-                status: Status::Ok,
-                quality: 1.0,
-                flag: None,
-                moments: None,
-            }
+            AngleRow::found(k as u64, t, a.to_radians())
         })
         .collect()
 }

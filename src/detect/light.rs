@@ -21,6 +21,10 @@ pub(super) struct Brightness {
     samples: Vec<(u32, u32)>,
     hist: Vec<u32>,
     lut: [u8; 256],
+    /// The same division as `lut` in fixed point, when it gives every grey level as
+    /// `lut` does ([`fixed_point_of`]): `(v * m + 2^15) >> 16`, which the compiler
+    /// runs on many pixels at once (a table lookup is one pixel at a time).
+    fixed: Option<u32>,
     /// Of the last frame's votes, the share far from its gain ([`FOREIGN_RATIO`]).
     foreign: f64,
     /// Typical foreign share and gain of the frames not covered
@@ -44,6 +48,7 @@ impl Brightness {
             samples,
             hist: vec![0; RATIO_BINS],
             lut: [0; 256],
+            fixed: None,
             foreign: 0.0,
             foreign_ref: None,
             gain_ref: None,
@@ -122,8 +127,9 @@ impl Brightness {
     pub(super) fn normalise(&mut self, frame: &mut [u8]) -> f64 {
         let (g, divide) = self.plan(frame);
         if divide {
-            for v in frame.iter_mut() {
-                *v = self.lut[*v as usize];
+            match self.fixed {
+                Some(m) => frame.iter_mut().for_each(|v| *v = divided(*v, m)),
+                None => frame.iter_mut().for_each(|v| *v = self.lut[*v as usize]),
             }
         }
         g
@@ -134,8 +140,15 @@ impl Brightness {
     pub(super) fn normalise_into(&mut self, frame: &[u8], out: &mut [u8]) -> f64 {
         let (g, divide) = self.plan(frame);
         if divide {
-            for (o, v) in out.iter_mut().zip(frame) {
-                *o = self.lut[*v as usize];
+            match self.fixed {
+                Some(m) => out
+                    .iter_mut()
+                    .zip(frame)
+                    .for_each(|(o, v)| *o = divided(*v, m)),
+                None => out
+                    .iter_mut()
+                    .zip(frame)
+                    .for_each(|(o, v)| *o = self.lut[*v as usize]),
             }
         } else {
             out.copy_from_slice(frame);
@@ -155,8 +168,30 @@ impl Brightness {
         for (v, out) in self.lut.iter_mut().enumerate() {
             *out = (v as f64 / g).round().min(255.0) as u8;
         }
+        self.fixed = fixed_point_of(&self.lut, g);
         (g, true)
     }
+}
+
+/// `v` divided as the multiplier `m` of [`fixed_point_of`] divides it.
+#[inline]
+fn divided(v: u8, m: u32) -> u8 {
+    ((u32::from(v) * m + (1 << 15)) >> 16).min(255) as u8
+}
+
+/// A multiplier `m` (near `2^16 / g`) with which [`divided`] gives every grey level
+/// exactly as `lut` does (the division by `g`, rounded, at most 255), or `None` when no
+/// multiplier near it does (a quotient within a rounding of a half): the table is then
+/// read as it is, and the frame is the same to the byte either way.
+fn fixed_point_of(lut: &[u8; 256], g: f64) -> Option<u32> {
+    let m0 = (65536.0 / g).round();
+    if !(1.0..=f64::from(u32::MAX / 512)).contains(&m0) {
+        return None;
+    }
+    let m0 = m0 as u32;
+    [m0, m0 - 1, m0 + 1]
+        .into_iter()
+        .find(|&m| (0..=255u8).all(|v| divided(v, m) == lut[v as usize]))
 }
 
 #[cfg(test)]
@@ -250,5 +285,36 @@ mod tests {
         assert_eq!(b.gain(&vec![100u8; 10_000]), None);
         let mut b = Brightness::new(&scene(1.0, 0.0));
         assert_eq!(b.gain(&[100u8; 10]), None);
+    }
+
+    #[test]
+    fn the_fixed_point_division_gives_every_grey_level_as_the_table_or_is_not_used() {
+        // Gains across flicker's and a dimming's range, finely: where a multiplier is
+        // found it divides all 256 levels as the table does, and one is found for most.
+        let mut found = 0;
+        let n = 4000;
+        for k in 0..n {
+            let g = 0.5 + 1.5 * k as f64 / n as f64;
+            let mut lut = [0u8; 256];
+            for (v, out) in lut.iter_mut().enumerate() {
+                *out = (v as f64 / g).round().min(255.0) as u8;
+            }
+            if let Some(m) = fixed_point_of(&lut, g) {
+                found += 1;
+                for v in 0..=255u8 {
+                    assert_eq!(divided(v, m), lut[v as usize], "gain {g}, level {v}");
+                }
+            }
+        }
+        assert!(found > n * 9 / 10, "a multiplier for {found} of {n} gains");
+        // A gain whose quotients fall on a half is left to the table: 2 gives 1/2,
+        // 3/2, ... exactly, which the table rounds up (away from zero) and so does the
+        // fixed point; a multiplier off by one would round them down.
+        let mut lut = [0u8; 256];
+        for (v, out) in lut.iter_mut().enumerate() {
+            *out = (v as f64 / 2.0).round().min(255.0) as u8;
+        }
+        let m = fixed_point_of(&lut, 2.0).expect("2^15 divides exactly");
+        assert_eq!(m, 1 << 15);
     }
 }

@@ -178,8 +178,8 @@ impl FfmpegPipe {
                 ])
                 .args(["-pix_fmt", "yuv420p", "-threads", "4"])
                 // With x264's threaded lookahead (on by default with frame threads) the
-                // file depended on the threads' timing: the same frames piped in gave
-                // another file in 3 of 7 encodes on a loaded two-core machine (a 960x540
+                // file depended on the threads' timing: the same frames piped in six
+                // times gave three different files on a two-core machine (a 960x540
                 // sweep twin at 60 frames/s; 80 of its 2361 frames differed). Without it,
                 // 9 of 9 gave the same bytes, in the same time.
                 .args(["-x264-params", "sync-lookahead=0"])

@@ -127,10 +127,10 @@ impl Brightness {
     pub(super) fn normalise(&mut self, frame: &mut [u8]) -> f64 {
         let (g, divide) = self.plan(frame);
         if divide {
-            match self.fixed {
-                Some(m) => frame.iter_mut().for_each(|v| *v = divided(*v, m)),
-                None => frame.iter_mut().for_each(|v| *v = self.lut[*v as usize]),
-            }
+            self.divide(frame.iter_mut().map(|v| {
+                let level = *v;
+                (v, level)
+            }));
         }
         g
     }
@@ -140,20 +140,20 @@ impl Brightness {
     pub(super) fn normalise_into(&mut self, frame: &[u8], out: &mut [u8]) -> f64 {
         let (g, divide) = self.plan(frame);
         if divide {
-            match self.fixed {
-                Some(m) => out
-                    .iter_mut()
-                    .zip(frame)
-                    .for_each(|(o, v)| *o = divided(*v, m)),
-                None => out
-                    .iter_mut()
-                    .zip(frame)
-                    .for_each(|(o, v)| *o = self.lut[*v as usize]),
-            }
+            self.divide(out.iter_mut().zip(frame.iter().copied()));
         } else {
             out.copy_from_slice(frame);
         }
         g
+    }
+
+    /// Each pixel's grey level divided by the planned gain into its place: in fixed
+    /// point when a multiplier matches the table ([`fixed_point_of`]), else by the table.
+    fn divide<'a>(&self, pixels: impl Iterator<Item = (&'a mut u8, u8)>) {
+        match self.fixed {
+            Some(m) => pixels.for_each(|(o, v)| *o = divided(v, m)),
+            None => pixels.for_each(|(o, v)| *o = self.lut[v as usize]),
+        }
     }
 
     /// The frame's gain (1 when unknown), and whether the frame is to be divided by it

@@ -715,7 +715,7 @@ fn a_drift_found_late_is_measured_again_with_every_frame_steadied() {
 
 /// A tripod swaying 1.07 px and 0.05 deg every 4 s (1280x720): the pass's glances, 2 s
 /// apart, each see it at the opposite phase and never two in a row agree, so the camera
-/// is taken for still, and the last glances find the static scene off (before: 0.15 deg
+/// is taken for still, and two glances in a row find the static scene off (before: 0.15 deg
 /// RMS against the truth, `suspect (still)`). The video is measured again, every frame
 /// of the region steadied onto the first, and that measurement is `ok`.
 #[test]
@@ -730,7 +730,7 @@ fn a_sway_the_glances_never_confirmed_is_measured_again_with_every_frame_steadie
         return;
     };
     assert!(
-        detected.contains("the static scene lies off by the last glances")
+        detected.contains("the static scene lies off at two glances in a row")
             && detected.contains("measuring again with every frame steadied"),
         "{detected}"
     );

@@ -99,7 +99,7 @@ impl DetectionVerdict {
 
 /// `still`: a camera taken as still throughout, whose static scene (the pendulum's
 /// sweep left out) is found displaced by more than [`STILL_MAX_PX`] (`reach_px`, at the
-/// region's farthest corner) between the first frame and the last glances at it, moved
+/// region's farthest corner) between the first frame and two glances in a row, moved
 /// unfollowed: every angle carries the pivot's displacement (a tenth of a degree for
 /// every 0.4 px at 230 px from the pivot).
 pub fn still_check(reach_px: f64) -> DetectionCheck {
@@ -110,7 +110,7 @@ pub fn still_check(reach_px: f64) -> DetectionCheck {
         reach_px <= STILL_MAX_PX,
         format!(
             "the camera was taken as still, and the static scene lies {reach_px:.2} px from \
-             where the first frame has it by the last glances (at most {STILL_MAX_PX} px)"
+             where the first frame has it at two glances in a row (at most {STILL_MAX_PX} px)"
         ),
         "the camera drifted and the detector did not follow it",
     )

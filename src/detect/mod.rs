@@ -224,10 +224,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     // saw it; the look saw it still): every frame of the region is measured again
     // steadied onto the first, as the frames after it was found were. A drift's first
     // seconds carry its early part (8.6 px over 40 s, found at 8 s: those frames erred
-    // up to 0.37 deg). One never confirmed, whose static scene the last glances find off
-    // (the `still` check failed: a sway whose period is about twice the glances' 2 s,
-    // each glance seeing it at the opposite phase, so that no two in a row agree), is
-    // measured again the same way.
+    // up to 0.37 deg). One never confirmed, whose static scene two glances in a row find
+    // off (the `still` check failed: a sway whose period is about twice the glances' 2 s,
+    // each glance seeing it at the opposite phase, so that no two in a row agree; or one
+    // whose motion explains too little of a plain or compressed frame), is measured
+    // again the same way.
     let from_start = d.moved_from_start;
     let unconfirmed =
         !from_start && d.moved_later_s.is_none() && d.verdict.failed().any(|c| c.check == "still");
@@ -243,8 +244,8 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
     } else if unconfirmed {
         looks.follow_region = true;
         Some(
-            "the static scene lies off by the last glances, though no two glances in a row \
-             found the camera moving"
+            "the static scene lies off at two glances in a row, though no two glances in a \
+             row found the camera moving"
                 .to_string(),
         )
     } else {

@@ -359,6 +359,18 @@ fn a_camera_bumped_late_and_not_followed_is_found_by_the_ends_look() {
     assert!(followed && at_end.is_none(), "{followed} {at_end:?}");
 }
 
+/// A camera displaced by 2 px from 3 s to 7 s of a noisy recording and back (a tripod
+/// knocked, swaying back): the glances at 4 s and 6 s see it, too few to be followed as
+/// a drift, and the last two glances (8 s and 10 s) find the static scene where it was.
+/// Two glances in a row found it off: the `still` check's figure is theirs.
+#[test]
+fn a_camera_displaced_for_a_while_is_found_by_two_glances_in_a_row() {
+    let late = late_on(|t| if (3.0..7.0).contains(&t) { 2.0 } else { 0.0 }, 150.0);
+    assert!(late.camera().is_none());
+    let d = late.unfollowed().unwrap().expect("measured");
+    assert!((d - 2.0).abs() < 0.4, "{d} px");
+}
+
 /// A camera found moving after the look is said to be steadied from the frame it was
 /// found at, the frames before taken as still; one that moved from the start (no
 /// glance found it still) is told apart (`detect` then measures it again).

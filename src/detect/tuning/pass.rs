@@ -105,7 +105,7 @@ knobs! {
         chosen_by "09b4502 (issue 10): hand-picked; no figure";
 
     // From mod.rs.
-    /// A camera taken for still whose static scene the last glances find off (the `still`
+    /// A camera taken for still whose static scene two glances in a row find off (the `still`
     /// check failed) is measured again steadied, and that measurement kept when `ok` and
     /// when the steadying added at most this much noise from frame to frame, deg (in
     /// quadrature: `sqrt(noise2^2 - noise1^2)`). Three plain 320x240 walls whose glances

@@ -110,40 +110,36 @@ impl Late {
                 slot => *slot = Some(f.clone()),
             }
             let (w, h) = (f.width as f64, f.height as f64);
-            let glanced = st.measure(f)?;
+            let moved_px = st.measure(f)?.is_some_and(|m| m.reach(w, h) > MOVING_PX);
             // A glance that found the frame moved is measured on the static scene too (a
             // still camera's, which the pendulum does not pull, costs nothing more), and
             // counts when that motion explains the frame by `LATE_EXPLAINS`: a small
             // region that the swinging ball fills (124x82 px, a real clip, still) reads
             // 1.9 px there, at 0.98 to 1.03 of the loss unaligned; a tripod's sway over
             // a scene (0.46 Hz, 1280x720) 0.9 to 2.0 px at 0.48 to 0.72.
-            let reach = match glanced {
-                Some(m) if m.reach(w, h) > MOVING_PX => {
-                    let first = self.first.as_ref().expect("kept until the camera moves");
-                    let on_scene = match &mut self.on_scene {
-                        Some(o) => o,
-                        slot => slot.insert(Steady::new(first, Some(&self.sweep))?),
-                    };
-                    match on_scene.glance(f)? {
-                        Some(m) if on_scene.explains_by(LATE_EXPLAINS)? => Some(m.reach(w, h)),
-                        _ => None,
-                    }
+            let reach = if moved_px {
+                let first = self.first.as_ref().expect("kept until the camera moves");
+                let on_scene = match &mut self.on_scene {
+                    Some(o) => o,
+                    slot => slot.insert(Steady::new(first, Some(&self.sweep))?),
+                };
+                match on_scene.glance(f)? {
+                    Some(m) if on_scene.explains_by(LATE_EXPLAINS)? => Some(m.reach(w, h)),
+                    _ => None,
                 }
-                _ => None,
+            } else {
+                None
             };
             if let (Some(a), Some(b)) = (self.last_reach, reach) {
                 let pair = a.min(b);
                 self.pair_reach = Some(self.pair_reach.map_or(pair, |p| p.max(pair)));
             }
             self.last_reach = reach;
-            let moved = match glanced {
-                Some(m) if m.reach(w, h) > MOVING_PX => {
-                    st.explains()? || Self::drifts(&mut self.drift, st, f)?
-                }
-                _ => {
-                    self.drift.clear();
-                    false
-                }
+            let moved = if moved_px {
+                st.explains()? || Self::drifts(&mut self.drift, st, f)?
+            } else {
+                self.drift.clear();
+                false
             };
             // Two glances in a row: a region that two rods or a shadow fill pulls one
             // glance of a still camera along now and then, not two running.
@@ -236,10 +232,7 @@ impl Late {
                 .zip(m)
                 .map(|(r, m)| r.min(m.reach(g.width as f64, g.height as f64)));
         }
-        Ok(match (reach, self.pair_reach) {
-            (Some(r), Some(p)) => Some(r.max(p)),
-            (r, p) => r.or(p),
-        })
+        Ok(reach.into_iter().chain(self.pair_reach).reduce(f64::max))
     }
 
     /// Whether the camera was found moving by glances none before which found it still:

@@ -7,7 +7,8 @@
 //! * [`linear_fit`] is the ordinary least-squares line `y = intercept + slope x` with the
 //!   standard error of its slope; [`slope_through_origin`] is the least-squares line
 //!   `y = k x`; [`quadratic_at`] is the least-squares quadratic's value at a point;
-//!   [`least_squares3`] is the least-squares fit of `y` on three regressors.
+//!   [`least_squares3`] is the least-squares fit of `y` on three regressors, [`least_squares`]
+//!   on any number.
 //! * [`golden_section_min`] narrows a bracket around the minimum of a unimodal function;
 //!   [`bisect`] narrows a bracket around the point where a condition stops holding.
 //!
@@ -21,7 +22,7 @@ use serde::Serialize;
 /// solved by Cholesky. `None` with fewer than three points, or points that do not fix a
 /// quadratic.
 pub fn quadratic_at(pts: impl IntoIterator<Item = (f64, f64)>, at: f64) -> Option<f64> {
-    let (chol, atb, n) = normal_equations3(pts.into_iter().map(|(x, y)| {
+    let (chol, atb, n) = normal_equations(pts.into_iter().map(|(x, y)| {
         let x = x - at;
         ([1.0, x, x * x], y)
     }))?;
@@ -32,21 +33,21 @@ pub fn quadratic_at(pts: impl IntoIterator<Item = (f64, f64)>, at: f64) -> Optio
     p.is_finite().then_some(p)
 }
 
-/// The normal equations of `y` on three regressors over the rows, summed in their order:
+/// The normal equations of `y` on `N` regressors over the rows, summed in their order:
 /// the Cholesky factor of `sum x x^T`, `sum x y` and the count of rows (`None` when the
 /// factor does not exist).
-fn normal_equations3(
-    rows: impl IntoIterator<Item = ([f64; 3], f64)>,
+fn normal_equations<const N: usize>(
+    rows: impl IntoIterator<Item = ([f64; N], f64)>,
 ) -> Option<(
-    nalgebra::Cholesky<f64, nalgebra::U3>,
-    nalgebra::Vector3<f64>,
+    nalgebra::Cholesky<f64, nalgebra::Const<N>>,
+    nalgebra::SVector<f64, N>,
     usize,
 )> {
-    let mut ata = nalgebra::Matrix3::<f64>::zeros();
-    let mut atb = nalgebra::Vector3::<f64>::zeros();
+    let mut ata = nalgebra::SMatrix::<f64, N, N>::zeros();
+    let mut atb = nalgebra::SVector::<f64, N>::zeros();
     let mut n = 0;
     for (x, y) in rows {
-        let v = nalgebra::Vector3::from(x);
+        let v = nalgebra::SVector::<f64, N>::from(x);
         ata += v * v.transpose();
         atb += v * y;
         n += 1;
@@ -60,14 +61,21 @@ fn normal_equations3(
 /// regressors that are not independent: a pivot of the Cholesky factor under 1e-6 of
 /// the largest).
 pub fn least_squares3(rows: impl IntoIterator<Item = ([f64; 3], f64)>) -> Option<[f64; 3]> {
-    let (chol, atb, _) = normal_equations3(rows)?;
+    least_squares(rows)
+}
+
+/// [`least_squares3`] on `N` regressors.
+pub fn least_squares<const N: usize>(
+    rows: impl IntoIterator<Item = ([f64; N], f64)>,
+) -> Option<[f64; N]> {
+    let (chol, atb, _) = normal_equations(rows)?;
     // Dependent regressors leave a pivot of the factor at rounding level, not zero.
     let d = chol.l_dirty().diagonal();
     if d.min() <= 1e-6 * d.max() {
         return None;
     }
     let c = chol.solve(&atb);
-    c.iter().all(|v| v.is_finite()).then(|| [c[0], c[1], c[2]])
+    c.iter().all(|v| v.is_finite()).then(|| c.into())
 }
 
 /// Median of `v`: the middle value of an odd count, the mean of the two middle values of

@@ -295,6 +295,60 @@ fn check(
 
 /// What the rows saw, and the checks on it. `pivot_u_px` is the pivot's uncertainty,
 /// `pivot_drift_deg` how far the wire's lines stray from it for a while, if known.
+/// The swing of the angles `a` at times `t` about their rest angle (the median midpoint
+/// of successive turning points, found about the middle of the central 90 % of the
+/// angles): the rest angle, the amplitude's scale (half that range) and the swing.
+fn swing_about_rest(t: &[f64], a: &[f64]) -> (f64, f64, Swing) {
+    let mut sorted = a.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let pct = |p: f64| sorted[((sorted.len() - 1) as f64 * p).round() as usize];
+    let (rest0, scale) = if sorted.is_empty() {
+        (f64::NAN, f64::NAN)
+    } else {
+        (0.5 * (pct(0.05) + pct(0.95)), 0.5 * (pct(0.95) - pct(0.05)))
+    };
+    let first = swing(t, a, rest0, HYSTERESIS * scale);
+    let rest = if first.turns.len() >= 2 {
+        median(
+            first
+                .turns
+                .windows(2)
+                .map(|w| 0.5 * (w[0].1 + w[1].1))
+                .collect(),
+        )
+    } else {
+        rest0
+    };
+    (rest, scale, swing(t, a, rest, HYSTERESIS * scale))
+}
+
+/// A swing's median period, s (`None` with fewer than two whole swings), and its whole
+/// swings.
+fn period_of(sw: &Swing) -> (Option<f64>, usize) {
+    let p = periods(sw);
+    let swings = sw.up.len().min(sw.down.len()).saturating_sub(1);
+    ((swings >= 2 && !p.is_empty()).then(|| median(p)), swings)
+}
+
+/// Where the angles swing: the median period (as [`Seen::period_s`]) and the first
+/// and last crossings of the rest angle, s.
+pub(super) struct SwingSpan {
+    pub period_s: f64,
+    pub first_s: f64,
+    pub last_s: f64,
+}
+
+/// The swing of the angles `a` at times `t` (none with fewer than two whole swings).
+pub(super) fn swing_span(t: &[f64], a: &[f64]) -> Option<SwingSpan> {
+    let sw = swing_about_rest(t, a).2;
+    let crossings = || sw.up.iter().chain(&sw.down).map(|c| c.0);
+    Some(SwingSpan {
+        period_s: period_of(&sw).0?,
+        first_s: crossings().fold(f64::INFINITY, f64::min),
+        last_s: crossings().fold(f64::NEG_INFINITY, f64::max),
+    })
+}
+
 pub fn judge(
     rows: &[AngleRow],
     pivot_px: [f64; 2],
@@ -309,32 +363,9 @@ pub fn judge(
         .filter(|r| r.status == Status::Ok)
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
         .unzip();
-    // The amplitude's scale: half the range of the central 90 % of the angles.
-    let mut sorted = a.clone();
-    sorted.sort_by(f64::total_cmp);
-    let pct = |p: f64| sorted[((sorted.len() - 1) as f64 * p).round() as usize];
-    let (rest0, scale) = if sorted.is_empty() {
-        (f64::NAN, f64::NAN)
-    } else {
-        (0.5 * (pct(0.05) + pct(0.95)), 0.5 * (pct(0.95) - pct(0.05)))
-    };
-    let first = swing(&t, &a, rest0, HYSTERESIS * scale);
-    // The rest angle: the median midpoint of successive turning points.
-    let rest = if first.turns.len() >= 2 {
-        median(
-            first
-                .turns
-                .windows(2)
-                .map(|w| 0.5 * (w[0].1 + w[1].1))
-                .collect(),
-        )
-    } else {
-        rest0
-    };
-    let sw = swing(&t, &a, rest, HYSTERESIS * scale);
+    let (rest, scale, sw) = swing_about_rest(&t, &a);
     let p = periods(&sw);
-    let swings = sw.up.len().min(sw.down.len()).saturating_sub(1);
-    let period = (swings >= 2 && !p.is_empty()).then(|| median(p.clone()));
+    let (period, swings) = period_of(&sw);
     let amp = |turns: &[(f64, f64)]| {
         (turns.len() == 2).then(|| {
             turns

@@ -72,7 +72,7 @@ pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
-use fill::{apply_marks, fill_flagged, flag_isolated, flag_jumps};
+use fill::{apply_marks, fill_flagged, flag_isolated, flag_jumps, flag_off_swing, flag_unsteadied};
 use first_look::*;
 use geometry::InitFrames;
 use nalgebra::Vector2;
@@ -573,6 +573,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         bail!("{}: the decoder gave frames without timestamps", name);
     }
     flag_repeats(&mut rows);
+    flag_unsteadied(&mut rows, &steadied);
     let lens = opts.lens.map(|l| {
         let info = input.info();
         crate::lens::Lens::new(l.k1, l.u_k1, info.width, info.height)
@@ -587,6 +588,14 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     });
     flag_isolated(&mut rows);
     flag_jumps(&mut rows);
+    let (t, a): (Vec<f64>, Vec<f64>) = rows
+        .iter()
+        .filter(|r| r.flag.is_none())
+        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
+        .unzip();
+    if let Some(span) = judge::swing_span(&t, &a) {
+        flag_off_swing(&mut rows, &span);
+    }
     fill_flagged(&mut rows);
     apply_marks(
         &mut rows,

@@ -27,6 +27,12 @@ pub enum Flag {
     /// The angle leaves the smooth path of the found frames about it, as a wire cannot
     /// (a shadow or an edge taken for one frame).
     Jump,
+    /// The camera moves, and this frame's motion could not be measured (a person hid
+    /// the static scene): the angle, steadied by the last motion measured, is a guess.
+    Unsteadied,
+    /// Near a loss of the wire, the angle leaves the swing's path through the found
+    /// frames about it (the track took up something else: a person's edge).
+    OffSwing,
 }
 
 impl Flag {
@@ -40,6 +46,8 @@ impl Flag {
             Flag::Disturbed => "disturbed",
             Flag::Isolated => "isolated",
             Flag::Jump => "jump",
+            Flag::Unsteadied => "unsteadied",
+            Flag::OffSwing => "off-swing",
         }
     }
 
@@ -53,6 +61,8 @@ impl Flag {
             Flag::Disturbed,
             Flag::Isolated,
             Flag::Jump,
+            Flag::Unsteadied,
+            Flag::OffSwing,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)

@@ -137,6 +137,7 @@ mod tests {
                     ..Motion::default()
                 },
                 turn_held: false,
+                measured: true,
             });
         }
         (rows, truth, steadied)

@@ -398,6 +398,19 @@ impl Steady {
         self.forget();
     }
 
+    /// Tukey's loss of the frame last measured, aligned (a share of its pixels).
+    pub(super) fn loss(&self) -> f64 {
+        self.loss
+    }
+
+    /// The frame last measured is not taken: the next is measured from `m` (whose frame
+    /// was left off by `loss`), as though it had been the last.
+    pub(super) fn back_to(&mut self, m: Motion, loss: f64) {
+        self.losses = None;
+        self.recent = m;
+        self.loss = loss;
+    }
+
     /// Later frames are measured from no motion, as the first frame's neighbours.
     pub(super) fn forget(&mut self) {
         self.losses = None;

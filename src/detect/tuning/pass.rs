@@ -136,6 +136,33 @@ knobs! {
         what "a loss of the wire: this many frames in a row flagged or without an angle",
         chosen_by "27c1bbf: the same walker twin; not swept";
 
+    /// See `flag_off_swing`: a found frame more than this off the swing's path fitted
+    /// about it, deg, ...
+    OFF_SWING_MIN_DEG: f64 = 1.0, "deg",
+        what "a found frame this far off the swing's path fitted about it is flagged",
+        chosen_by "issue 49: a walker's edge followed 2.8 to 16 deg off after a loss; as JUMP_MIN_DEG";
+
+    /// ... and more than this many times the fit's robust scatter, is flagged.
+    OFF_SWING_SIGMAS: f64 = 8.0, "times",
+        what "... and more than this many times the fit's robust scatter",
+        chosen_by "issue 50: seeds 1 and 2 (128 twins), prototyped on their CSVs: frames under 0.5 deg off flagged only in two scenes already suspect; hand-picked";
+
+    /// Each fit of the swing's path is made again on the frames within this many times
+    /// its robust scatter ...
+    OFF_SWING_KEEP_SIGMAS: f64 = 4.0, "times",
+        what "a fit of the swing's path is made again on the frames within this many times its scatter",
+        chosen_by "hand-picked; not swept";
+
+    /// ... so many times in all.
+    OFF_SWING_ROUNDS: usize = 3, "fits",
+        what "fits of the swing's path in all",
+        chosen_by "hand-picked; not swept";
+
+    /// A step of the swing is judged when at least this many found frames fix its path.
+    OFF_SWING_MIN_FIT: usize = 20, "frames",
+        what "found frames needed to judge a step of the swing",
+        chosen_by "hand-picked; not swept";
+
     /// A found frame whose angle leaves the smooth path of its found neighbours (a
     /// quadratic in time through up to three on each side, within `FILL_REACH_S`) by more
     /// than this, deg, ...

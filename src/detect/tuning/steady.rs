@@ -243,4 +243,22 @@ knobs! {
     LATE_EVERY_S: f64 = 2.0, "s",
         what "a camera seen still is glanced at this often on the pass",
         chosen_by "010dc75: at 1 s a 22 s 60 fps clip took 4 % more CPU; the drift twin errs the same at 2 s";
+
+    /// See `Followed::next`: a steadied frame whose pixels, aligned, are off (Tukey's
+    /// loss) more than this many times the typical frame's ...
+    HIDDEN_TIMES: f64 = 3.0, "times",
+        what "a steadied frame whose aligned loss is this many times the typical has its scene hidden",
+        chosen_by "issue 49: a walker over a 640x480 sway twin 0.13 -> 0.87, the motion read 8 px and 3 deg off; seed 1's 14 steadied scenes: 172 frames found, 168 spoiled (walker, hand, flash) and 4 beside a walker; no other above 2.7 times after the first twenty but two beside a walker under 0.3";
+
+    /// ... and more than this loss (a share of the pixels) has its static scene hidden
+    /// (a person in front): its motion is not measured, but held.
+    HIDDEN_MIN_LOSS: f64 = 0.3, "share",
+        what "... and more than this loss",
+        chosen_by "issue 49: steadied frames of the moved real clips 0.04 to 0.07; hand-picked";
+
+    /// How much of each steadied frame not hidden the typical loss takes in (at first,
+    /// the mean of those so far).
+    HIDDEN_FOLLOW: f64 = 0.01, "share",
+        what "how fast the typical loss of a steadied frame follows",
+        chosen_by "hand-picked; not swept";
 }

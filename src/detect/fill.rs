@@ -5,8 +5,9 @@ use super::judge::SwingSpan;
 use super::steady::Steadied;
 use super::{unwrap_near, AngleRow, Flag, Pt, Status};
 use crate::detect::tuning::{
-    FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LOSS_FRAMES, OFF_SWING_KEEP_SIGMAS,
-    OFF_SWING_MIN_DEG, OFF_SWING_MIN_FIT, OFF_SWING_ROUNDS, OFF_SWING_SIGMAS,
+    FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LEAP_RUN_PERIODS, LEAP_SPEED_TIMES,
+    LOSS_FRAMES, OFF_SWING_KEEP_SIGMAS, OFF_SWING_MIN_DEG, OFF_SWING_MIN_FIT, OFF_SWING_ROUNDS,
+    OFF_SWING_SIGMAS,
 };
 use std::collections::BTreeMap;
 
@@ -202,6 +203,52 @@ pub(super) fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
     }
     for k in off {
         rows[k].flag = Some(Flag::OffSwing);
+    }
+}
+
+/// Flag the found frames of a run that a leap no swing makes parts from a longer run
+/// beside it (`Flag::Leapt`). Between two found frames `dt` s apart, a wire swinging
+/// at the swing's period and amplitude scale (`span`) turns at most `omega A dt`;
+/// a change of more than [`LEAP_SPEED_TIMES`] that and [`JUMP_MIN_DEG`] is a leap. The
+/// found frames are cut into runs at each leap, and a run shorter than the longer of
+/// the runs it leaps from or to, and lasting less than [`LEAP_RUN_PERIODS`] of the
+/// period, is flagged: one of the two sides is not the wire, and the shorter is the
+/// likelier. On a hand-held 640x480 twin (seed 1's sweep, scene 32)
+/// the track sat on a static edge for its first 16 found frames, 24 to 32 deg off and
+/// `ok`, and leapt 19 deg onto the wire; the swing had not begun to cross its rest
+/// angle, where `flag_off_swing` does not judge.
+pub(super) fn flag_leapt(rows: &mut [AngleRow], span: &SwingSpan) {
+    let found: Vec<usize> = (0..rows.len())
+        .filter(|&i| rows[i].flag.is_none() && rows[i].angle_rad.is_some())
+        .collect();
+    let speed = std::f64::consts::TAU / span.period_s * span.scale;
+    let angle = |i: usize| rows[i].angle_rad.unwrap_or(0.0);
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut start = 0;
+    for k in 1..=found.len() {
+        let leap = k == found.len() || {
+            let (a, b) = (found[k - 1], found[k]);
+            let dt = rows[b].t_s - rows[a].t_s;
+            let limit = LEAP_SPEED_TIMES * speed * dt + JUMP_MIN_DEG.to_radians();
+            (angle(b) - angle(a)).abs() > limit
+        };
+        if leap {
+            runs.push((start, k));
+            start = k;
+        }
+    }
+    let len = |r: &(usize, usize)| r.1 - r.0;
+    let lasts = |r: &(usize, usize)| rows[found[r.1 - 1]].t_s - rows[found[r.0]].t_s;
+    let mut leapt = Vec::new();
+    for (j, run) in runs.iter().enumerate() {
+        let before = j.checked_sub(1).map_or(0, |i| len(&runs[i]));
+        let after = runs.get(j + 1).map_or(0, len);
+        if len(run) < before.max(after) && lasts(run) < LEAP_RUN_PERIODS * span.period_s {
+            leapt.extend(found[run.0..run.1].iter().copied());
+        }
+    }
+    for i in leapt {
+        rows[i].flag = Some(Flag::Leapt);
     }
 }
 
@@ -496,6 +543,40 @@ mod tests {
         let mut rows = swinging(120, 0.0);
         *rows[60].angle_rad.as_mut().unwrap() += 5f64.to_radians();
         assert!(off_swing(&mut rows).is_empty());
+    }
+
+    /// A track that sits on a static line 30 deg off for its first 16 found frames, then
+    /// leaps onto the wire: those 16 are flagged, and no frame of the swing. A run as
+    /// short but lasting more than half a period (frames far apart) is kept.
+    #[test]
+    fn a_short_run_a_leap_parts_from_the_swing_is_flagged() {
+        let span = SwingSpan {
+            period_s: 2.0,
+            first_s: 1.0,
+            last_s: 19.0,
+            scale: 10f64.to_radians(),
+        };
+        let mut rows = swinging(600, 0.0);
+        for r in &mut rows[2..18] {
+            r.angle_rad = Some(0.0);
+        }
+        flag_leapt(&mut rows, &span);
+        let leapt: Vec<usize> = (0..rows.len())
+            .filter(|&i| rows[i].flag == Some(Flag::Leapt))
+            .collect();
+        // The first two frames, on the wire, are a run shorter than the static line's
+        // and leap to it: they go too.
+        assert_eq!(leapt, (0..18).collect::<Vec<_>>());
+        // Two frames on the line 1.2 s apart (the others between not found).
+        let mut rows = swinging(600, 0.0);
+        for r in &mut rows[2..40] {
+            r.angle_rad = Some(0.0);
+        }
+        for r in &mut rows[3..39] {
+            r.flag = Some(Flag::Weak);
+        }
+        flag_leapt(&mut rows, &span);
+        assert!(rows.iter().all(|r| r.flag != Some(Flag::Leapt)));
     }
 
     /// The found frames whose camera motion was held, not measured, are flagged.

@@ -330,22 +330,25 @@ fn period_of(sw: &Swing) -> (Option<f64>, usize) {
     ((swings >= 2 && !p.is_empty()).then(|| median(p)), swings)
 }
 
-/// Where the angles swing: the median period (as [`Seen::period_s`]) and the first
-/// and last crossings of the rest angle, s.
+/// Where the angles swing: the median period (as [`Seen::period_s`]), the first and
+/// last crossings of the rest angle, s, and the amplitude's scale (half the range of
+/// the central 90 % of the angles), rad.
 pub(super) struct SwingSpan {
     pub period_s: f64,
     pub first_s: f64,
     pub last_s: f64,
+    pub scale: f64,
 }
 
 /// The swing of the angles `a` at times `t` (none with fewer than two whole swings).
 pub(super) fn swing_span(t: &[f64], a: &[f64]) -> Option<SwingSpan> {
-    let sw = swing_about_rest(t, a).2;
+    let (_, scale, sw) = swing_about_rest(t, a);
     let crossings = || sw.up.iter().chain(&sw.down).map(|c| c.0);
     Some(SwingSpan {
         period_s: period_of(&sw).0?,
         first_s: crossings().fold(f64::INFINITY, f64::min),
         last_s: crossings().fold(f64::NEG_INFINITY, f64::max),
+        scale,
     })
 }
 

@@ -72,7 +72,10 @@ pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
-use fill::{apply_marks, fill_flagged, flag_isolated, flag_jumps, flag_off_swing, flag_unsteadied};
+use fill::{
+    apply_marks, fill_flagged, flag_isolated, flag_jumps, flag_leapt, flag_off_swing,
+    flag_unsteadied,
+};
 use first_look::*;
 use geometry::InitFrames;
 use nalgebra::Vector2;
@@ -594,6 +597,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
         .unzip();
     if let Some(span) = judge::swing_span(&t, &a) {
+        flag_leapt(&mut rows, &span);
         flag_off_swing(&mut rows, &span);
     }
     fill_flagged(&mut rows);

@@ -33,6 +33,9 @@ pub enum Flag {
     /// Near a loss of the wire, the angle leaves the swing's path through the found
     /// frames about it (the track took up something else: a person's edge).
     OffSwing,
+    /// The frame's run of found frames leaps from or to a longer run by more than a
+    /// swing can turn (the track sat on something else for a while).
+    Leapt,
 }
 
 impl Flag {
@@ -48,6 +51,7 @@ impl Flag {
             Flag::Jump => "jump",
             Flag::Unsteadied => "unsteadied",
             Flag::OffSwing => "off-swing",
+            Flag::Leapt => "leapt",
         }
     }
 
@@ -63,6 +67,7 @@ impl Flag {
             Flag::Jump,
             Flag::Unsteadied,
             Flag::OffSwing,
+            Flag::Leapt,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)

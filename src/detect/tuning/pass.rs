@@ -163,6 +163,19 @@ knobs! {
         what "found frames needed to judge a step of the swing",
         chosen_by "hand-picked; not swept";
 
+    /// See `flag_leapt`: two found frames whose angles differ by more than this many
+    /// times what the swing turns at its fastest over the time between them (and by
+    /// `JUMP_MIN_DEG`) part the track into runs.
+    LEAP_SPEED_TIMES: f64 = 2.0, "times",
+        what "a change of angle more than this many times the swing's fastest parts the track",
+        chosen_by "issue 50: seed 1 scene 32, a static edge held 16 frames then left by 19 deg (limit 11 deg there); hand-picked";
+
+    /// ... and a run shorter than a run it leaps from or to is flagged when it lasts
+    /// less than this share of the period.
+    LEAP_RUN_PERIODS: f64 = 0.5, "periods",
+        what "a run parted by leaps is flagged when shorter than its neighbour and this share of the period",
+        chosen_by "issue 50: prototyped on seeds 1 and 2 (128 twins): without it a suspect scene (seed 2, 33) lost 570 frames, 490 within 0.5 deg; with it, frames flagged only in scene 32 and four scenes already suspect";
+
     /// A found frame whose angle leaves the smooth path of its found neighbours (a
     /// quadratic in time through up to three on each side, within `FILL_REACH_S`) by more
     /// than this, deg, ...

@@ -146,6 +146,21 @@ pub(super) fn flag_jumps(rows: &mut [AngleRow]) {
     }
 }
 
+/// Flag the found frames the swing their unflagged neighbours make (see
+/// [`SwingSpan`]) shows not to be the wire's: a short run a leap parts from it
+/// ([`flag_leapt`]), then a frame off its path ([`flag_off_swing`]). Without two whole
+/// swings, nothing is judged.
+pub(super) fn flag_against_swing(rows: &mut [AngleRow]) {
+    let (t, a): (Vec<f64>, Vec<f64>) = rows
+        .iter()
+        .filter_map(|r| Some((r.t_s, r.unflagged_angle()?)))
+        .unzip();
+    if let Some(span) = super::judge::swing_span(&t, &a) {
+        flag_leapt(rows, &span);
+        flag_off_swing(rows, &span);
+    }
+}
+
 /// Flag the found frames that leave the swing's path (`Flag::OffSwing`). Over the
 /// swing (`span`: from a quarter period before its first crossing of the rest angle to
 /// a quarter period after its last; a ball held before its release, or come to rest,
@@ -163,8 +178,7 @@ pub(super) fn flag_jumps(rows: &mut [AngleRow]) {
 /// person's edge for seven frames, up to 16 deg off, `ok`; on a 1920x1080 twin under
 /// CRF 39 the track lost the wire at the swing's fastest and took what lay in its gate
 /// for a few frames at a time, 23 frames `ok` 1 to 7.6 deg off.
-pub(super) fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
-    let good = |r: &AngleRow| r.flag.is_none() && r.angle_rad.is_some();
+fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
     let p = span.period_s;
     let omega = std::f64::consts::TAU / p;
     let min = OFF_SWING_MIN_DEG.to_radians();
@@ -187,10 +201,7 @@ pub(super) fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
             .iter()
             .enumerate()
             .take_while(|(_, r)| r.t_s <= hi)
-            .filter_map(|(k, r)| {
-                let a = r.angle_rad.filter(|_| good(r))?;
-                Some((first + k, terms(r.t_s), a))
-            })
+            .filter_map(|(k, r)| Some((first + k, terms(r.t_s), r.unflagged_angle()?)))
             .collect();
         if let Some((res, scatter)) = robust_fit(&window, min) {
             let limit = (OFF_SWING_SIGMAS * scatter).max(min);
@@ -217,9 +228,9 @@ pub(super) fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
 /// the track sat on a static edge for its first 16 found frames, 24 to 32 deg off and
 /// `ok`, and leapt 19 deg onto the wire; the swing had not begun to cross its rest
 /// angle, where `flag_off_swing` does not judge.
-pub(super) fn flag_leapt(rows: &mut [AngleRow], span: &SwingSpan) {
+fn flag_leapt(rows: &mut [AngleRow], span: &SwingSpan) {
     let found: Vec<usize> = (0..rows.len())
-        .filter(|&i| rows[i].flag.is_none() && rows[i].angle_rad.is_some())
+        .filter(|&i| rows[i].unflagged_angle().is_some())
         .collect();
     let speed = std::f64::consts::TAU / span.period_s * span.scale;
     let angle = |i: usize| rows[i].angle_rad.unwrap_or(0.0);
@@ -296,7 +307,7 @@ pub(super) fn fill_flagged(rows: &mut [AngleRow]) {
     let good: Vec<usize> = rows
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.flag.is_none() && r.angle_rad.is_some())
+        .filter(|(_, r)| r.unflagged_angle().is_some())
         .map(|(i, _)| i)
         .collect();
     let flagged: Vec<usize> = rows
@@ -509,8 +520,7 @@ mod tests {
     fn off_swing(rows: &mut [AngleRow]) -> Vec<usize> {
         let (t, a): (Vec<f64>, Vec<f64>) = rows
             .iter()
-            .filter(|r| r.flag.is_none())
-            .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
+            .filter_map(|r| Some((r.t_s, r.unflagged_angle()?)))
             .unzip();
         if let Some(span) = crate::detect::judge::swing_span(&t, &a) {
             assert!((span.period_s - 2.0).abs() < 0.01, "{}", span.period_s);

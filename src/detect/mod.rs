@@ -73,8 +73,7 @@ pub use row::{AngleRow, Detection, Flag, Status};
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
 use fill::{
-    apply_marks, fill_flagged, flag_isolated, flag_jumps, flag_leapt, flag_off_swing,
-    flag_unsteadied,
+    apply_marks, fill_flagged, flag_against_swing, flag_isolated, flag_jumps, flag_unsteadied,
 };
 use first_look::*;
 use geometry::InitFrames;
@@ -591,15 +590,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     });
     flag_isolated(&mut rows);
     flag_jumps(&mut rows);
-    let (t, a): (Vec<f64>, Vec<f64>) = rows
-        .iter()
-        .filter(|r| r.flag.is_none())
-        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
-        .unzip();
-    if let Some(span) = judge::swing_span(&t, &a) {
-        flag_leapt(&mut rows, &span);
-        flag_off_swing(&mut rows, &span);
-    }
+    flag_against_swing(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(
         &mut rows,

@@ -92,6 +92,14 @@ pub struct AngleRow {
     pub moments: Option<[f64; 6]>,
 }
 
+impl AngleRow {
+    /// The angle of a frame found and not flagged (none otherwise): what the checks
+    /// after the pass judge and the fill fills from.
+    pub(crate) fn unflagged_angle(&self) -> Option<f64> {
+        self.angle_rad.filter(|_| self.flag.is_none())
+    }
+}
+
 #[cfg(test)]
 impl AngleRow {
     /// A frame found (`ok`, full quality, unflagged) at `t_s` with `angle_rad`: the

@@ -74,6 +74,13 @@ impl Flag {
     }
 }
 
+/// The moments a found frame keeps of its wire's strip, re-centred on its own free
+/// line: `[whole, far]`, the whole band's strip (the swing scale's check) and the strip
+/// beyond [`crate::detect::tuning::FREE_STRIP_FROM`] of the band's outer radius (the
+/// pivot's refinement and the angles' refit), where no shadow or static edge merges
+/// with the wire near the pivot.
+pub type KeptMoments = [[f64; 6]; 2];
+
 /// One frame's result.
 #[derive(Clone, Debug, Serialize)]
 pub struct AngleRow {
@@ -87,9 +94,9 @@ pub struct AngleRow {
     pub flag: Option<Flag>,
     /// Weighted moments of the wire pixels `[sum w, sum w x, sum w y, sum w x^2,
     /// sum w x y, sum w y^2]` (working-scale region pixels), so that the angle can be
-    /// refitted about a refined pivot after the pass.
+    /// refitted about a refined pivot after the pass ([`KeptMoments`]).
     #[serde(skip)]
-    pub moments: Option<[f64; 6]>,
+    pub moments: Option<KeptMoments>,
 }
 
 impl AngleRow {

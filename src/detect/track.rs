@@ -9,6 +9,7 @@ mod pivot;
 
 use super::geometry::WireGeometry;
 use super::light::Brightness;
+use super::row::KeptMoments;
 use super::shrink::Shrink;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
@@ -31,14 +32,14 @@ struct Undecided {
     frame: u64,
     t_s: f64,
     taken: f64,
-    other: Option<(f64, f64, [f64; 6])>,
+    other: Option<(f64, f64, KeptMoments)>,
 }
 
 /// A row the pass measured again on the other ridge of its pair (angle, quality,
 /// moments), or refused (none: a frame between two so restated, which saw no pair).
 pub(super) struct Restated {
     pub frame: u64,
-    pub other: Option<(f64, f64, [f64; 6])>,
+    pub other: Option<(f64, f64, KeptMoments)>,
 }
 
 /// Per-frame state of the streaming pass.
@@ -80,7 +81,7 @@ pub(super) struct Tracker {
     /// This frame's measurement of the other ridge of a pair, taken while the side was
     /// not known; the accepted frames holding one, until it is; and the rows restated
     /// once it is, for the pass to take ([`Tracker::take_restated`]).
-    pair_other: Option<(f64, f64, [f64; 6])>,
+    pair_other: Option<(f64, f64, KeptMoments)>,
     undecided: Vec<Undecided>,
     restated: Vec<Restated>,
     prev: Vec<u8>,

@@ -9,13 +9,14 @@ use super::Tracker;
 use crate::detect::line::{
     fit_line_through, line_through_moments, moments, moments_of, unwrap_near, Line, Moments,
 };
+use crate::detect::row::KeptMoments;
 use crate::detect::tuning::{
-    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_HALF, FREE_STRIP_PASSES, HIST_BIN_PX, HIST_MAX_BINS,
-    HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX, PAIR_MIN_VOTES,
-    PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO, PEAK_STEP_BINS, RIVAL_COVER,
-    RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED,
-    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, UNDECIDED_MAX_FRAMES,
-    WIDTH_STRIP,
+    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_FROM, FREE_STRIP_HALF, FREE_STRIP_PASSES, HIST_BIN_PX,
+    HIST_MAX_BINS, HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX,
+    PAIR_MIN_VOTES, PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO,
+    PEAK_STEP_BINS, RIVAL_COVER, RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START,
+    RIVAL_WIDER_GATED, SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS,
+    UNDECIDED_MAX_FRAMES, WIDTH_STRIP,
 };
 use crate::detect::Pt;
 use anyhow::Result;
@@ -52,7 +53,7 @@ impl Tracker {
         &mut self,
         pred: Option<f64>,
         gate: f64,
-    ) -> Result<Option<(f64, f64, [f64; 6])>> {
+    ) -> Result<Option<(f64, f64, KeptMoments)>> {
         let mut b = std::mem::take(&mut self.scratch);
         let found = self.measure_with(&mut b, pred, gate);
         self.scratch = b;
@@ -64,7 +65,7 @@ impl Tracker {
         b: &mut Scratch,
         pred: Option<f64>,
         gate: f64,
-    ) -> Result<Option<(f64, f64, [f64; 6])>> {
+    ) -> Result<Option<(f64, f64, KeptMoments)>> {
         self.pair_other = None;
         // Only the wedge's rectangle holds evidence this frame (see `evidence`): its
         // pixels over their threshold, row by row.
@@ -163,7 +164,12 @@ impl Tracker {
     /// The wire's angle, coverage and strip moments about the line through the pivot at
     /// `th0` (a histogram peak's angle), from the candidates `b.cand`; `mid` is the
     /// wedge's middle, the branch the angle is given on.
-    fn refine(&self, b: &mut Scratch, th0: f64, mid: f64) -> Result<Option<(f64, f64, [f64; 6])>> {
+    fn refine(
+        &self,
+        b: &mut Scratch,
+        th0: f64,
+        mid: f64,
+    ) -> Result<Option<(f64, f64, KeptMoments)>> {
         let piv = self.piv;
         let (r_lo, r_hi) = (self.r_lo, self.r_hi);
         let mut line = Line {
@@ -240,9 +246,21 @@ impl Tracker {
     /// more than [`FREE_STRIP_DRIFT`] px at either end of the band (a neighbouring
     /// ridge) keeps the strip about the pivot's line. The re-centred strip is narrower
     /// ([`FREE_STRIP_HALF`]) than the one the line is found in: it holds the wire's
-    /// ridge and less of its flanks' neighbours (a shadow's edge, the noise). `b.sel`
-    /// holds the first strip on entry.
-    fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<[f64; 6]> {
+    /// ridge and less of its flanks' neighbours (a shadow's edge, the noise). It
+    /// is kept twice ([`KeptMoments`]): over the whole band, and without the wire nearest
+    /// the pivot ([`FREE_STRIP_FROM`] of the band's outer radius), where a shadow or a
+    /// static edge merges with it. `b.sel` holds the first strip on entry.
+    fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<KeptMoments> {
+        let far = self.r_lo.max(FREE_STRIP_FROM * self.r_hi);
+        Ok([
+            self.recentred_moments(about, self.r_lo, b)?,
+            self.recentred_moments(about, far, b)?,
+        ])
+    }
+
+    /// The moments of the strip re-centred on the wire's free line, from the radius
+    /// `from` out ([`Self::free_strip_moments`]).
+    fn recentred_moments(&self, about: &Line, from: f64, b: &mut Scratch) -> Result<[f64; 6]> {
         let fallback = moments(&b.sel);
         let ends = [self.r_lo, self.r_hi].map(|r| about.point + about.dir * r);
         let mut m = fallback;
@@ -253,7 +271,7 @@ impl Tracker {
             if ends.iter().any(|e| free.distance(*e) > FREE_STRIP_DRIFT) {
                 return Ok(fallback);
             }
-            self.strip_pixels(&free, FREE_STRIP_HALF, &mut b.strip)?;
+            self.strip_pixels_from(&free, FREE_STRIP_HALF, from, &mut b.strip)?;
             if b.strip.len() < MIN_LINE_PIXELS {
                 return Ok(fallback);
             }
@@ -271,6 +289,17 @@ impl Tracker {
     /// inside ([`edge_share`]), so the strip holds the same area of evidence wherever
     /// the line falls between pixel centres.
     fn strip_pixels(&self, line: &Line, half: f64, out: &mut Vec<(Pt, f64)>) -> Result<()> {
+        self.strip_pixels_from(line, half, self.r_lo, out)
+    }
+
+    /// [`Self::strip_pixels`] from the radius `r_lo` (px of the working scale) out.
+    fn strip_pixels_from(
+        &self,
+        line: &Line,
+        half: f64,
+        r_lo: f64,
+        out: &mut Vec<(Pt, f64)>,
+    ) -> Result<()> {
         let (cols, rows) = (self.ev.cols() as usize, self.ev.rows() as usize);
         let ev = self.ev.data_bytes()?;
         let piv = self.piv;
@@ -282,7 +311,7 @@ impl Tracker {
             -line.dir
         };
         let foot = line.point + d * (piv - line.point).dot(&d);
-        let (a, b) = (foot + d * self.r_lo, foot + d * self.r_hi);
+        let (a, b) = (foot + d * r_lo, foot + d * self.r_hi);
         // Along the major axis `u` (y when the line is steep), the strip at `u` spans
         // `v` within `(half + STRIP_EDGE) / |d_u|` of the line: a step of `v` is `|d_u|`
         // px across it.
@@ -308,7 +337,7 @@ impl Tracker {
             span,
             nv,
             piv: (piv_u, piv_v),
-            band2: (self.r_lo * self.r_lo, self.r_hi * self.r_hi),
+            band2: (r_lo * r_lo, self.r_hi * self.r_hi),
             half,
             across,
         };

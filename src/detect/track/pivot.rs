@@ -49,7 +49,7 @@ impl Tracker {
             .iter()
             .filter(|r| r.flag.is_none() && r.status == Status::Ok)
             .filter_map(|r| {
-                let m = r.moments.as_ref()?;
+                let m = &r.moments.as_ref()?[0];
                 let (about, _) = m.line_about(p)?;
                 let free = m.free_line()?;
                 let (about, free) = match lens {
@@ -120,7 +120,7 @@ impl Tracker {
         let timed: Vec<(f64, Line)> = rows
             .iter()
             .filter(|r| r.flag.is_none())
-            .filter_map(|r| Some((r.t_s, r.moments.as_ref().and_then(|m| m.free_line())?)))
+            .filter_map(|r| Some((r.t_s, r.moments.as_ref().and_then(|m| m[1].free_line())?)))
             .map(|(t, ln)| match lens {
                 Some(l) => (
                     t,
@@ -152,7 +152,7 @@ impl Tracker {
             None => p,
         };
         for r in rows.iter_mut() {
-            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m.line_about(p)) {
+            if let Some((a, _)) = r.moments.as_ref().and_then(|m| m[1].line_about(p)) {
                 if let Some(old) = r.angle_rad {
                     r.angle_rad = Some(unwrap_near(a, old));
                 }

@@ -117,7 +117,7 @@ fn a_frame_beside_one_restated_on_its_shadow_s_ridge_is_refused_with_it() {
             frame,
             t_s,
             taken,
-            other: other.map(|o| (o, 1.0, [0.0; 6])),
+            other: other.map(|o| (o, 1.0, [[0.0; 6]; 2])),
         });
     }
     tr.restate_undecided();

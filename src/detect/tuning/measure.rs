@@ -29,6 +29,21 @@ knobs! {
         what "half width of the re-centred strip (working scale)",
         chosen_by "fda42d4: faint wire + shadow 0.55 -> 0.27 deg, pivot 1.5 -> 0.7 px; 1280x720 twin swing 0.4 -> 0.2 % small";
 
+    /// The radius, as a share of the band's outer radius, inside which the re-centred
+    /// strip leaves the wire out. Near the pivot a soft shadow and the wire (and, at a
+    /// shrunk working scale, the static edges crossing there) merge into one ridge whose
+    /// middle lies off the wire's line; the free lines, pulled at their inner ends, meet
+    /// off the pivot along the wire. On a 1280x720 twin worked at half size (a dark wire
+    /// with a soft shadow 5.7 deg off, three static edges through the fulcrum) the pivot
+    /// came 3.5 px short along the wire and the swing 1.09 % wide; from a quarter out,
+    /// -0.07 % (the same twin without the edges: -0.05 % before). Measured from the
+    /// pivot, not from the band's inner end: a pivot beyond the frame's edge, whose
+    /// wire is seen far from it, keeps its whole band (a 1920x1080 twin cut from the
+    /// band's inner end read its swing 0.39 % small).
+    FREE_STRIP_FROM: f64 = 0.25, "share",
+        what "radius (share of the band's outer one) inside which the re-centred strip leaves the wire out",
+        chosen_by "one twin (shadow + static edges, 1280x720 at half size): swing +1.09 -> -0.07 %; checked on sweep seeds 1 and 2";
+
     /// Farthest a free line may lie from the line through the pivot at the band's ends, px
     /// of the working scale, for its strip to be kept.
     FREE_STRIP_DRIFT: f64 = 3.0, "px",

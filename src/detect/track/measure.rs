@@ -251,11 +251,16 @@ impl Tracker {
     /// the pivot ([`FREE_STRIP_FROM`] of the band's outer radius), where a shadow or a
     /// static edge merges with it. `b.sel` holds the first strip on entry.
     fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<KeptMoments> {
-        let far = self.r_lo.max(FREE_STRIP_FROM * self.r_hi);
-        Ok([
-            self.recentred_moments(about, self.r_lo, b)?,
-            self.recentred_moments(about, far, b)?,
-        ])
+        let whole = self.recentred_moments(about, self.r_lo, b)?;
+        // A band that starts beyond the cut (a pivot beyond the frame's edge) keeps
+        // the whole strip: the same moments, not measured twice.
+        let from = FREE_STRIP_FROM * self.r_hi;
+        let far = if from > self.r_lo {
+            self.recentred_moments(about, from, b)?
+        } else {
+            whole
+        };
+        Ok([whole, far])
     }
 
     /// The moments of the strip re-centred on the wire's free line, from the radius

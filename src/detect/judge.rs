@@ -510,7 +510,7 @@ pub fn judge(
             share <= NOISE_SHARE_MAX,
             format!(
                 "the angle's noise from frame to frame is {:.4} deg, {:.2} % of the swing's \
-                 {:.2} deg (a wire's is under {:.0} %)",
+                 {:.2} deg (a wire's is under {:.2} %)",
                 noise.to_degrees(),
                 100.0 * share,
                 scale.to_degrees(),

@@ -52,6 +52,31 @@ fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
 }
 
 #[test]
+fn an_angle_whose_noise_is_a_large_share_of_its_swing_is_suspect() {
+    // The swing's scale (half the range of its central 90 %) is about 7.5 deg: 0.02 deg
+    // of noise is under 0.3 % of it, 0.05 deg over 0.6 %.
+    let noisy = |sigma: f64| {
+        let mut rng = Rng::new(11);
+        let rows: Vec<AngleRow> = swinging()
+            .into_iter()
+            .map(|r| {
+                let a = r.angle_rad.unwrap() + (sigma * rng.normal()).to_radians();
+                AngleRow::found(r.frame, r.t_s, a)
+            })
+            .collect();
+        judge(&rows, [100.0, 20.0], Some(0.3), None)
+    };
+    let calm = noisy(0.02);
+    let share = calm.checks.iter().find(|c| c.check == "smooth").unwrap();
+    assert!(share.passed, "{share:?}");
+    assert!(share.value < 0.0035, "{share:?}");
+    let rough = noisy(0.05);
+    let share = rough.checks.iter().find(|c| c.check == "smooth").unwrap();
+    assert!(!share.passed && share.value > 0.006, "{share:?}");
+    assert_ne!(rough.verdict, Verdict::Ok);
+}
+
+#[test]
 fn a_track_that_never_turns_back_is_suspect() {
     // Found in every frame, smooth, and drifting slowly over 3 deg: no turning point
     // (a track on something static, steadied by a camera's misread motion). No check on

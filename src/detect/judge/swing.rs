@@ -2,7 +2,7 @@
 //! turning points between them, the periods, the noise, the stalls, the rest angle from
 //! turning points and the spans between them.
 
-use crate::detect::tuning::{MAX_GAP_S, STALL_RANGE};
+use crate::detect::tuning::{AT_REST_MIN, DYING_SHARE_MAX, MAX_GAP_S, STALL_RANGE, STOP_SHARE};
 use crate::detect::{AngleRow, Status};
 
 /// The swing's crossings of `rest` and its turning points.
@@ -75,6 +75,31 @@ pub(super) fn swing(t: &[f64], a: &[f64], rest: f64, h: f64) -> Swing {
         }
     }
     s
+}
+
+/// When a swing seen to die out is over, s: a `period` after the last found angle off
+/// `rest` by more than [`STOP_SHARE`] of `scale`, when at least [`AT_REST_MIN`] found
+/// angles follow it (all at rest, then) and the found angles of the period before it
+/// lie within [`DYING_SHARE_MAX`] of `scale` of rest: the swing was seen to shrink to
+/// nothing, not lost halfway. `None` for a swing that lasts to the end, or was lost.
+/// A wire at rest fades into the still scene: its frames after the swing say nothing
+/// of how well the swing was followed.
+pub(super) fn swing_end(t: &[f64], a: &[f64], rest: f64, scale: f64, period: f64) -> Option<f64> {
+    if !(scale > 0.0 && period > 0.0) {
+        return None;
+    }
+    let off = |x: f64| (x - rest).abs() / scale;
+    let last = a.iter().rposition(|&x| off(x) > STOP_SHARE)?;
+    if a.len() - 1 - last < AT_REST_MIN {
+        return None;
+    }
+    let end = t[last];
+    let dying = t
+        .iter()
+        .zip(a)
+        .filter(|(&ti, _)| ti > end - period && ti <= end)
+        .all(|(_, &x)| off(x) <= DYING_SHARE_MAX);
+    dying.then_some(end + period)
 }
 
 /// The median of `v` (NaN when empty).

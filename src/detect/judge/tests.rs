@@ -76,6 +76,43 @@ fn an_angle_whose_noise_is_a_large_share_of_its_swing_is_suspect() {
     assert_ne!(rough.verdict, Verdict::Ok);
 }
 
+/// A swing that dies out at 10 s (10 deg falling linearly to nothing, Eq. 33), then
+/// 15 s at rest, 50 frames/s: found in every frame up to `lost_s`, then only in every
+/// tenth frame within 0.5 deg of rest (a wire at rest fading into the still scene, or
+/// a track that finds the wire only as it crosses).
+fn swung_out(lost_s: f64) -> Vec<AngleRow> {
+    (0..(25.0 * FPS) as usize)
+        .map(|k| {
+            let t = k as f64 / FPS;
+            let amp = (10.0 * (1.0 - t / 10.0)).max(0.0);
+            let dev = amp * (std::f64::consts::TAU * t / PERIOD).cos();
+            let seen = t < lost_s || (k % 10 == 0 && dev.abs() < 0.5);
+            let mut r = AngleRow::found(k as u64, t, (90.0 + dev).to_radians());
+            if !seen {
+                r.status = Status::Missing;
+                r.angle_rad = None;
+            }
+            r
+        })
+        .collect()
+}
+
+#[test]
+fn a_wire_at_rest_after_its_swing_is_not_looked_for() {
+    // Found in 500 + 75 of 1250 frames (46 %), and in every frame of the swing: the
+    // share up to a period after the swing's end (12 s) is 510 of 600.
+    let v = judge(&swung_out(10.0), [100.0, 20.0], Some(0.3), None);
+    let found = v.checks.iter().find(|c| c.check == "found").unwrap();
+    assert!(found.passed && found.value > 0.8, "{found:?}");
+    assert!(v.seen.ok_share < 0.5, "{}", v.seen.ok_share);
+    // Lost at 4 s, swinging 6 deg, and found after only where the wire crosses its rest:
+    // the share is the whole video's.
+    let v = judge(&swung_out(4.0), [100.0, 20.0], Some(0.3), None);
+    let found = v.checks.iter().find(|c| c.check == "found").unwrap();
+    assert!(!found.passed && found.value < 0.25, "{found:?}");
+    assert_ne!(v.verdict, Verdict::Ok);
+}
+
 #[test]
 fn a_track_that_never_turns_back_is_suspect() {
     // Found in every frame, smooth, and drifting slowly over 3 deg: no turning point

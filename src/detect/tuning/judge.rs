@@ -11,6 +11,23 @@ knobs! {
         what "least share of frames ok for a trusted detection",
         chosen_by "dcaed79: real clips (tests/real_verdicts.rs) and sweep seed 1, 56 scenes: none within 0.02 deg called suspect, 8 of 19 over 0.05 deg called suspect";
 
+    /// The swing's end, for `found`: the last found angle off the rest angle by more
+    /// than this share of the amplitude's scale ...
+    STOP_SHARE: f64 = 0.1, "share",
+        what "a swing over: every later found angle within this share of the amplitude of rest",
+        chosen_by "issue 50, seeds 1 and 2: 24 of 120 twins swing out halfway; their wire at rest fades into the still scene (seed 2 scene 51: 59 % of frames found, 86 % up to the swing's end, 0.014 deg RMS)";
+
+    /// ... when at least this many found angles follow it, all at rest ...
+    AT_REST_MIN: usize = 20, "frames",
+        what "fewest found frames at rest that show a swing over",
+        chosen_by "issue 50, seeds 1 and 2: the swung-out twins 64-1174 found frames at rest, a track that lost the wire mid-swing (seed 2 scene 11, 0.16 deg RMS) 4";
+
+    /// ... and the found angles of the period before it all lie within this share of the
+    /// scale of rest (the swing was seen dying out, not lost mid-swing).
+    DYING_SHARE_MAX: f64 = 0.5, "share",
+        what "largest swing in the period before a swing's end, as a share of the amplitude",
+        chosen_by "issue 50, seeds 1 and 2: the swung-out twins 0.24-0.31 of the scale in the 2 s before; a swing lost mid-way keeps its size";
+
     /// Fewest turning points of a detection trusted: the fit needs four, and the checks on
     /// the motion judge none without them.
     TURNS_MIN: usize = 4, "turning points",

@@ -5,9 +5,9 @@ use super::judge::SwingSpan;
 use super::steady::Steadied;
 use super::{unwrap_near, AngleRow, Flag, Pt, Status};
 use crate::detect::tuning::{
-    FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LEAP_RUN_PERIODS, LEAP_SPEED_TIMES,
-    LOSS_FRAMES, OFF_SWING_KEEP_SIGMAS, OFF_SWING_MIN_DEG, OFF_SWING_MIN_FIT, OFF_SWING_ROUNDS,
-    OFF_SWING_SIGMAS,
+    BEYOND_SWING_SHARE, FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LEAP_RUN_PERIODS,
+    LEAP_SPEED_TIMES, LOSS_FRAMES, OFF_SWING_KEEP_SIGMAS, OFF_SWING_MIN_DEG, OFF_SWING_MIN_FIT,
+    OFF_SWING_ROUNDS, OFF_SWING_SIGMAS,
 };
 use std::collections::BTreeMap;
 
@@ -73,6 +73,53 @@ pub(super) fn flag_isolated(rows: &mut [AngleRow]) {
         if i - start < ISOLATED_RUN && lost_before && lost_after {
             for r in &mut rows[start..i] {
                 r.flag = Some(Flag::Isolated);
+            }
+        }
+    }
+}
+
+/// Flag the good frames of a short run (under [`ISOLATED_RUN`] frames) whose angle lies
+/// beyond the range of the angles of the longer runs by more than
+/// [`BEYOND_SWING_SHARE`] of that range (`Flag::Beyond`): a swing never grows, so such
+/// a frame is not on the wire. Judged after [`flag_jumps`], which breaks up the runs a
+/// track on something else makes by leaving its path. A person walking past at a
+/// turning point hid the wire for
+/// 0.7 s, and the track, its gate wide open, took their edge in two frames 42 and 23
+/// deg off, each between short losses (no loss of three frames on both sides, so not
+/// `isolated`) and `ok`; the frames filled from them were up to 48 deg off, and the fit
+/// refused the series (seed 7's sweep scene 15).
+pub(super) fn flag_beyond_swing(rows: &mut [AngleRow]) {
+    let good = |r: &AngleRow| r.unflagged_angle().is_some();
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut i = 0;
+    while i < rows.len() {
+        if !good(&rows[i]) {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < rows.len() && good(&rows[i]) {
+            i += 1;
+        }
+        runs.push((start, i));
+    }
+    let long = runs
+        .iter()
+        .filter(|(s, e)| e - s >= ISOLATED_RUN)
+        .flat_map(|&(s, e)| rows[s..e].iter().filter_map(AngleRow::unflagged_angle));
+    let (lo, hi) = long.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), a| {
+        (lo.min(a), hi.max(a))
+    });
+    if lo > hi {
+        return;
+    }
+    let margin = BEYOND_SWING_SHARE * (hi - lo);
+    for &(s, e) in runs.iter().filter(|(s, e)| e - s < ISOLATED_RUN) {
+        for r in &mut rows[s..e] {
+            if r.angle_rad
+                .is_some_and(|a| a < lo - margin || a > hi + margin)
+            {
+                r.flag = Some(Flag::Beyond);
             }
         }
     }
@@ -389,6 +436,49 @@ mod tests {
         assert!((rows[7].angle_rad.unwrap() - (1.0 + 0.5 * t * t)).abs() < 1e-9);
         assert_eq!(rows[0].status, Status::Missing);
         assert_eq!(rows[0].angle_rad, None);
+    }
+
+    #[test]
+    fn a_short_run_beyond_the_swing_is_not_trusted() {
+        // A swing of +-10 deg (0.175 rad about 1) in long runs; frames 10 and 13 found
+        // alone, between losses of two frames, at 0.4 and 0.05 rad below the swing's
+        // least angle (20 % of its range is 0.07 rad).
+        let row = |i: u64| {
+            let t = i as f64 / 30.0;
+            AngleRow {
+                frame: i,
+                t_s: t,
+                angle_rad: Some(1.0 + 0.175 * (std::f64::consts::TAU * t / 1.5).cos()),
+                status: Status::Ok,
+                quality: 1.0,
+                flag: None,
+                moments: None,
+            }
+        };
+        let mut rows: Vec<AngleRow> = (0..90).map(row).collect();
+        for i in [8, 9, 11, 12, 14, 15] {
+            rows[i].angle_rad = None;
+            rows[i].status = Status::Missing;
+        }
+        let least = rows
+            .iter()
+            .filter_map(|r| r.angle_rad)
+            .fold(f64::INFINITY, f64::min);
+        rows[10].angle_rad = Some(least - 0.4);
+        rows[13].angle_rad = Some(least - 0.05);
+        flag_beyond_swing(&mut rows);
+        let flagged: Vec<u64> = rows
+            .iter()
+            .filter(|r| r.flag.is_some())
+            .map(|r| r.frame)
+            .collect();
+        assert_eq!(flagged, [10]);
+        assert_eq!(rows[10].flag, Some(Flag::Beyond));
+        // The same frame in a long run is a reference, not judged.
+        let mut rows: Vec<AngleRow> = (0..90).map(row).collect();
+        rows[10].angle_rad = Some(least - 0.4);
+        flag_beyond_swing(&mut rows);
+        assert!(rows.iter().all(|r| r.flag.is_none()));
     }
 
     #[test]

@@ -73,7 +73,8 @@ pub use row::{AngleRow, Detection, Flag, Status};
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
 use fill::{
-    apply_marks, fill_flagged, flag_against_swing, flag_isolated, flag_jumps, flag_unsteadied,
+    apply_marks, fill_flagged, flag_against_swing, flag_beyond_swing, flag_isolated, flag_jumps,
+    flag_unsteadied,
 };
 use first_look::*;
 use geometry::InitFrames;
@@ -590,6 +591,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     });
     flag_isolated(&mut rows);
     flag_jumps(&mut rows);
+    flag_beyond_swing(&mut rows);
     flag_against_swing(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(

@@ -36,6 +36,9 @@ pub enum Flag {
     /// The frame's run of found frames leaps from or to a longer run by more than a
     /// swing can turn (the track sat on something else for a while).
     Leapt,
+    /// A few frames found beyond every angle the longer runs reached: a swing never
+    /// grows (the track took up a person's edge as they passed).
+    Beyond,
 }
 
 impl Flag {
@@ -52,6 +55,7 @@ impl Flag {
             Flag::Unsteadied => "unsteadied",
             Flag::OffSwing => "off-swing",
             Flag::Leapt => "leapt",
+            Flag::Beyond => "beyond-swing",
         }
     }
 
@@ -68,6 +72,7 @@ impl Flag {
             Flag::Unsteadied,
             Flag::OffSwing,
             Flag::Leapt,
+            Flag::Beyond,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)

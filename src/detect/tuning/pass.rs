@@ -132,6 +132,13 @@ knobs! {
         chosen_by "27c1bbf: a walker twin's two frames 7.5 deg off, called ok, now missing; not swept";
 
     /// A loss of the wire: at least this many frames in a row flagged or without an angle.
+    /// A short run of found frames (under `ISOLATED_RUN`) whose angle lies beyond the
+    /// range of the longer runs' angles by more than this share of that range is flagged
+    /// `Flag::Beyond`: a swing never grows.
+    BEYOND_SWING_SHARE: f64 = 0.2, "share",
+        what "a short run this far beyond the longer runs' range (as a share of it) is flagged",
+        chosen_by "issue 49, seed 7 scene 15 (a walker at a turning point, two frames 42 and 23 deg off called ok, the fit refused): those two frames, and none of the 250 other kept detections of seeds 1, 2 and 7 nor the real clips; at 0.1, 8 frames of one suspect scene, under 0.8 deg off";
+
     LOSS_FRAMES: usize = 3, "frames",
         what "a loss of the wire: this many frames in a row flagged or without an angle",
         chosen_by "27c1bbf: the same walker twin; not swept";

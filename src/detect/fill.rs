@@ -58,24 +58,34 @@ pub(super) fn flag_unsteadied(rows: &mut [AngleRow], steadied: &[Steadied]) {
 /// called `ok`, and the frames filled from them up to 6 deg off.
 pub(super) fn flag_isolated(rows: &mut [AngleRow]) {
     let bad = |r: &AngleRow| r.flag.is_some() || r.angle_rad.is_none();
-    let mut i = 0;
-    while i < rows.len() {
-        if bad(&rows[i]) {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        while i < rows.len() && !bad(&rows[i]) {
-            i += 1;
-        }
+    for (start, end) in good_runs(rows) {
         let lost_before = start >= LOSS_FRAMES && rows[start - LOSS_FRAMES..start].iter().all(bad);
-        let lost_after = i + LOSS_FRAMES <= rows.len() && rows[i..i + LOSS_FRAMES].iter().all(bad);
-        if i - start < ISOLATED_RUN && lost_before && lost_after {
-            for r in &mut rows[start..i] {
+        let lost_after =
+            end + LOSS_FRAMES <= rows.len() && rows[end..end + LOSS_FRAMES].iter().all(bad);
+        if end - start < ISOLATED_RUN && lost_before && lost_after {
+            for r in &mut rows[start..end] {
                 r.flag = Some(Flag::Isolated);
             }
         }
     }
+}
+
+/// The runs of good frames (an angle, no flag), each as `start..end` row indices.
+fn good_runs(rows: &[AngleRow]) -> Vec<(usize, usize)> {
+    let mut runs = Vec::new();
+    let mut i = 0;
+    while i < rows.len() {
+        if rows[i].unflagged_angle().is_none() {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < rows.len() && rows[i].unflagged_angle().is_some() {
+            i += 1;
+        }
+        runs.push((start, i));
+    }
+    runs
 }
 
 /// Flag the good frames of a short run (under [`ISOLATED_RUN`] frames) whose angle lies
@@ -89,20 +99,7 @@ pub(super) fn flag_isolated(rows: &mut [AngleRow]) {
 /// `isolated`) and `ok`; the frames filled from them were up to 48 deg off, and the fit
 /// refused the series (seed 7's sweep scene 15).
 pub(super) fn flag_beyond_swing(rows: &mut [AngleRow]) {
-    let good = |r: &AngleRow| r.unflagged_angle().is_some();
-    let mut runs: Vec<(usize, usize)> = Vec::new();
-    let mut i = 0;
-    while i < rows.len() {
-        if !good(&rows[i]) {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        while i < rows.len() && good(&rows[i]) {
-            i += 1;
-        }
-        runs.push((start, i));
-    }
+    let runs = good_runs(rows);
     let long = runs
         .iter()
         .filter(|(s, e)| e - s >= ISOLATED_RUN)
@@ -408,294 +405,4 @@ pub(super) fn fill_flagged(rows: &mut [AngleRow]) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn flagged_frames_are_filled_from_neighbours_or_left_missing() {
-        let mut rows: Vec<AngleRow> = (0..20)
-            .map(|i| {
-                let t = i as f64 / 30.0;
-                AngleRow {
-                    frame: i,
-                    t_s: t,
-                    angle_rad: Some(1.0 + 0.5 * t * t),
-                    status: Status::Ok,
-                    quality: 1.0,
-                    flag: None,
-                    moments: None,
-                }
-            })
-            .collect();
-        rows[7].flag = Some(Flag::Gate);
-        rows[7].angle_rad = Some(9.0);
-        rows[0].flag = Some(Flag::Weak);
-        fill_flagged(&mut rows);
-        assert_eq!(rows[7].status, Status::Corrected);
-        let t = rows[7].t_s;
-        assert!((rows[7].angle_rad.unwrap() - (1.0 + 0.5 * t * t)).abs() < 1e-9);
-        assert_eq!(rows[0].status, Status::Missing);
-        assert_eq!(rows[0].angle_rad, None);
-    }
-
-    #[test]
-    fn a_short_run_beyond_the_swing_is_not_trusted() {
-        // A swing of +-10 deg (0.175 rad about 1) in long runs; frames 10 and 13 found
-        // alone, between losses of two frames, at 0.4 and 0.05 rad below the swing's
-        // least angle (20 % of its range is 0.07 rad).
-        let row = |i: u64| {
-            let t = i as f64 / 30.0;
-            AngleRow {
-                frame: i,
-                t_s: t,
-                angle_rad: Some(1.0 + 0.175 * (std::f64::consts::TAU * t / 1.5).cos()),
-                status: Status::Ok,
-                quality: 1.0,
-                flag: None,
-                moments: None,
-            }
-        };
-        let mut rows: Vec<AngleRow> = (0..90).map(row).collect();
-        for i in [8, 9, 11, 12, 14, 15] {
-            rows[i].angle_rad = None;
-            rows[i].status = Status::Missing;
-        }
-        let least = rows
-            .iter()
-            .filter_map(|r| r.angle_rad)
-            .fold(f64::INFINITY, f64::min);
-        rows[10].angle_rad = Some(least - 0.4);
-        rows[13].angle_rad = Some(least - 0.05);
-        flag_beyond_swing(&mut rows);
-        let flagged: Vec<u64> = rows
-            .iter()
-            .filter(|r| r.flag.is_some())
-            .map(|r| r.frame)
-            .collect();
-        assert_eq!(flagged, [10]);
-        assert_eq!(rows[10].flag, Some(Flag::Beyond));
-        // The same frame in a long run is a reference, not judged.
-        let mut rows: Vec<AngleRow> = (0..90).map(row).collect();
-        rows[10].angle_rad = Some(least - 0.4);
-        flag_beyond_swing(&mut rows);
-        assert!(rows.iter().all(|r| r.flag.is_none()));
-    }
-
-    #[test]
-    fn a_short_run_between_two_losses_is_not_trusted() {
-        let row = |i: u64, found: bool| AngleRow {
-            frame: i,
-            t_s: i as f64 / 30.0,
-            angle_rad: found.then_some(1.0),
-            status: if found { Status::Ok } else { Status::Missing },
-            quality: 1.0,
-            flag: (!found).then_some(Flag::Weak),
-            moments: None,
-        };
-        // Lost 10-14, found 15-16, lost 17-19, found again from 20.
-        let found = |i: u64| !(10..=14).contains(&i) && !(17..=19).contains(&i);
-        let mut rows: Vec<AngleRow> = (0..40).map(|i| row(i, found(i))).collect();
-        flag_isolated(&mut rows);
-        let isolated: Vec<u64> = rows
-            .iter()
-            .filter(|r| r.flag == Some(Flag::Isolated))
-            .map(|r| r.frame)
-            .collect();
-        assert_eq!(isolated, [15, 16]);
-        // A loss of two frames on one side is not a loss: the run is kept.
-        let found = |i: u64| !(10..=14).contains(&i) && !(17..=18).contains(&i);
-        let mut rows: Vec<AngleRow> = (0..40).map(|i| row(i, found(i))).collect();
-        flag_isolated(&mut rows);
-        assert!(rows.iter().all(|r| r.flag != Some(Flag::Isolated)));
-    }
-
-    #[test]
-    fn marks_give_the_angle_away_from_the_pivot() {
-        let mut rows = vec![AngleRow {
-            frame: 3,
-            t_s: 0.1,
-            angle_rad: None,
-            status: Status::Missing,
-            quality: 0.0,
-            flag: Some(Flag::Weak),
-            moments: None,
-        }];
-        let mut marks = BTreeMap::new();
-        marks.insert(3, [[100.0, 300.0], [100.0, 100.0]]);
-        apply_marks(&mut rows, &marks, Pt::new(100.0, 0.0), 1.5);
-        assert_eq!(rows[0].status, Status::Manual);
-        assert!((rows[0].angle_rad.unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
-    }
-
-    /// A swing of `amp_deg` with period `period_s` at 25 frames/s for 4 s, about 90 deg.
-    fn swing(amp_deg: f64, period_s: f64) -> Vec<AngleRow> {
-        (0..100)
-            .map(|i| {
-                let t = i as f64 / 25.0;
-                let a = 90.0 + amp_deg * (std::f64::consts::TAU * t / period_s).cos();
-                AngleRow::found(i, t, a.to_radians())
-            })
-            .collect()
-    }
-
-    fn jumps(rows: &mut [AngleRow]) -> Vec<u64> {
-        flag_jumps(rows);
-        rows.iter()
-            .filter(|r| r.flag == Some(Flag::Jump))
-            .map(|r| r.frame)
-            .collect()
-    }
-
-    #[test]
-    fn a_frame_off_its_neighbours_path_is_a_jump_and_is_filled() {
-        // A smooth swing has none.
-        assert!(jumps(&mut swing(10.0, 2.0)).is_empty());
-        // One frame on a shadow 5 deg off (seed 2's sweep scene 8: 5.3 deg).
-        let mut rows = swing(10.0, 2.0);
-        let true_30 = rows[30].angle_rad;
-        rows[30].angle_rad = rows[30].angle_rad.map(|a| a - 5f64.to_radians());
-        assert_eq!(jumps(&mut rows), [30]);
-        fill_flagged(&mut rows);
-        assert_eq!(rows[30].status, Status::Corrected);
-        let e = (rows[30].angle_rad.unwrap() - true_30.unwrap()).to_degrees();
-        assert!(e.abs() < 0.05, "filled {e} deg off");
-        // Two in a row: the worse first, then the other without it.
-        let mut rows = swing(10.0, 2.0);
-        rows[30].angle_rad = rows[30].angle_rad.map(|a| a - 5f64.to_radians());
-        rows[31].angle_rad = rows[31].angle_rad.map(|a| a - 4f64.to_radians());
-        assert_eq!(jumps(&mut rows), [30, 31]);
-    }
-
-    #[test]
-    fn a_frame_off_by_less_than_its_own_motion_is_no_jump() {
-        // 30 deg in 1.3 s at 25 frames/s: at the crossing (t = 0.325 s, frame 8) the wire
-        // moves 5.8 deg a frame, and a frame 1.5 deg off its path (a quarter of a frame's
-        // time) is no jump; at the turning point (frame 16, t = 0.65 s) it is.
-        let mut rows = swing(30.0, 1.3);
-        rows[8].angle_rad = rows[8].angle_rad.map(|a| a + 1.5f64.to_radians());
-        assert!(jumps(&mut rows).is_empty());
-        let mut rows = swing(30.0, 1.3);
-        rows[16].angle_rad = rows[16].angle_rad.map(|a| a + 1.5f64.to_radians());
-        assert_eq!(jumps(&mut rows), [16]);
-        // Under a degree is not judged.
-        let mut rows = swing(30.0, 1.3);
-        rows[16].angle_rad = rows[16].angle_rad.map(|a| a + 0.9f64.to_radians());
-        assert!(jumps(&mut rows).is_empty());
-    }
-
-    /// A ball held at 40 deg for `hold` s, then let go: a swing of period 2 s about 30
-    /// deg, 10 deg decaying by 0.1 deg a second, at 30 frames/s with 0.02 deg of noise
-    /// (a fixed pseudo-random sequence).
-    fn swinging(n: u64, hold: f64) -> Vec<AngleRow> {
-        (0..n)
-            .map(|i| {
-                let t = i as f64 / 30.0;
-                let noise = 0.02 * ((i * 7919 % 101) as f64 / 50.0 - 1.0);
-                let x = (t - hold).max(0.0);
-                let deg = 30.0 + (10.0 - 0.1 * x) * (std::f64::consts::PI * x).cos() + noise;
-                AngleRow {
-                    frame: i,
-                    t_s: t,
-                    angle_rad: Some(deg.to_radians()),
-                    status: Status::Ok,
-                    quality: 1.0,
-                    flag: None,
-                    moments: None,
-                }
-            })
-            .collect()
-    }
-
-    /// The swing of `rows`' found frames, and the frames `flag_off_swing` flags in it.
-    fn off_swing(rows: &mut [AngleRow]) -> Vec<usize> {
-        let (t, a): (Vec<f64>, Vec<f64>) = rows
-            .iter()
-            .filter_map(|r| Some((r.t_s, r.unflagged_angle()?)))
-            .unzip();
-        if let Some(span) = crate::detect::judge::swing_span(&t, &a) {
-            assert!((span.period_s - 2.0).abs() < 0.01, "{}", span.period_s);
-            flag_off_swing(rows, &span);
-        }
-        (0..rows.len())
-            .filter(|&i| rows[i].flag == Some(Flag::OffSwing))
-            .collect()
-    }
-
-    /// After a loss of ten frames, the track follows something else for six frames
-    /// (from 1.5 deg off to 9 deg off), and one frame far from the loss is 1.5 deg off:
-    /// those are flagged off the swing, and no other frame: not a frame 0.5 deg off,
-    /// nor the ball held for 1.5 s before its release.
-    #[test]
-    fn frames_off_the_swing_are_flagged() {
-        let mut rows = swinging(660, 1.5);
-        for r in &mut rows[300..310] {
-            r.flag = Some(Flag::Weak);
-        }
-        for (k, r) in rows[310..316].iter_mut().enumerate() {
-            *r.angle_rad.as_mut().unwrap() += (1.5 + 1.5 * k as f64).to_radians();
-        }
-        *rows[320].angle_rad.as_mut().unwrap() += 0.5f64.to_radians();
-        *rows[150].angle_rad.as_mut().unwrap() -= 1.5f64.to_radians();
-        let mut want: Vec<usize> = (310..316).collect();
-        want.insert(0, 150);
-        assert_eq!(off_swing(&mut rows), want);
-        // Fewer than two whole swings: not judged.
-        let mut rows = swinging(120, 0.0);
-        *rows[60].angle_rad.as_mut().unwrap() += 5f64.to_radians();
-        assert!(off_swing(&mut rows).is_empty());
-    }
-
-    /// A track that sits on a static line 30 deg off for its first 16 found frames, then
-    /// leaps onto the wire: those 16 are flagged, and no frame of the swing. A run as
-    /// short but lasting more than half a period (frames far apart) is kept.
-    #[test]
-    fn a_short_run_a_leap_parts_from_the_swing_is_flagged() {
-        let span = SwingSpan {
-            period_s: 2.0,
-            first_s: 1.0,
-            last_s: 19.0,
-            scale: 10f64.to_radians(),
-        };
-        let mut rows = swinging(600, 0.0);
-        for r in &mut rows[2..18] {
-            r.angle_rad = Some(0.0);
-        }
-        flag_leapt(&mut rows, &span);
-        let leapt: Vec<usize> = (0..rows.len())
-            .filter(|&i| rows[i].flag == Some(Flag::Leapt))
-            .collect();
-        // The first two frames, on the wire, are a run shorter than the static line's
-        // and leap to it: they go too.
-        assert_eq!(leapt, (0..18).collect::<Vec<_>>());
-        // Two frames on the line 1.2 s apart (the others between not found).
-        let mut rows = swinging(600, 0.0);
-        for r in &mut rows[2..40] {
-            r.angle_rad = Some(0.0);
-        }
-        for r in &mut rows[3..39] {
-            r.flag = Some(Flag::Weak);
-        }
-        flag_leapt(&mut rows, &span);
-        assert!(rows.iter().all(|r| r.flag != Some(Flag::Leapt)));
-    }
-
-    /// The found frames whose camera motion was held, not measured, are flagged.
-    #[test]
-    fn frames_whose_motion_was_not_measured_are_flagged() {
-        let mut rows = swinging(10, 0.0);
-        rows[4].flag = Some(Flag::Weak);
-        let steadied: Vec<Steadied> = (2..10)
-            .map(|i| Steadied {
-                index: i,
-                t_s: i as f64 / 30.0,
-                motion: crate::detect::steady::Motion::default(),
-                turn_held: false,
-                measured: !(4..7).contains(&i),
-            })
-            .collect();
-        flag_unsteadied(&mut rows, &steadied);
-        let flags: Vec<Option<Flag>> = rows.iter().map(|r| r.flag).collect();
-        let (w, u) = (Some(Flag::Weak), Some(Flag::Unsteadied));
-        assert_eq!(flags, [None, None, None, None, w, u, u, None, None, None]);
-    }
-}
+mod tests;

@@ -406,10 +406,14 @@ pub fn judge(
     let end = period.and_then(|p| swing_end(&t, &a, rest, scale, p));
     let (found_share, until) = match end {
         Some(end) => {
-            let judged: Vec<&AngleRow> = rows.iter().filter(|r| r.t_s <= end).collect();
-            let ok = judged.iter().filter(|r| r.status == Status::Ok).count();
+            let (judged, ok) = rows
+                .iter()
+                .filter(|r| r.t_s <= end)
+                .fold((0usize, 0usize), |(n, ok), r| {
+                    (n + 1, ok + usize::from(r.status == Status::Ok))
+                });
             (
-                ok as f64 / judged.len().max(1) as f64,
+                ok as f64 / judged.max(1) as f64,
                 format!(
                     " up to {end:.1} s, a period after the swing died out ({:.0} % of all)",
                     100.0 * ok_share

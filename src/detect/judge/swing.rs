@@ -2,7 +2,9 @@
 //! turning points between them, the periods, the noise, the stalls, the rest angle from
 //! turning points and the spans between them.
 
-use crate::detect::tuning::{AT_REST_MIN, DYING_SHARE_MAX, MAX_GAP_S, STALL_RANGE, STOP_SHARE};
+use crate::detect::tuning::{
+    AT_REST_MIN, DYING_SHARE_MAX, EVEN_TIMES, MAX_GAP_S, STALL_RANGE, STOP_SHARE,
+};
 use crate::detect::{AngleRow, Status};
 
 /// The swing's crossings of `rest` and its turning points.
@@ -125,7 +127,9 @@ pub(super) fn periods(s: &Swing) -> Vec<f64> {
 }
 
 /// Fourth differences of the angles over runs of five consecutive found frames, and the
-/// index of each run's middle frame.
+/// index of each run's middle frame. Each is taken at the frames' own times
+/// ([`fourth_difference_weights`]): a phone's variable frame rate, or a dropped frame,
+/// does not read as noise.
 pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
     rows.windows(5)
         .enumerate()
@@ -135,8 +139,13 @@ pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
                 .all(|r| r.status == Status::Ok && r.angle_rad.is_some())
                 && w.windows(2).all(|p| p[1].frame == p[0].frame + 1);
             ok.then(|| {
-                let a: Vec<f64> = w.iter().map(|r| r.angle_rad.unwrap_or(0.0)).collect();
-                (i + 2, fourth_difference(&a))
+                let c = fourth_difference_weights(w);
+                let d = w
+                    .iter()
+                    .zip(c)
+                    .map(|(r, c)| c * r.angle_rad.unwrap_or(0.0))
+                    .sum();
+                (i + 2, d)
             })
         })
         .collect()
@@ -153,10 +162,40 @@ pub(in crate::detect) fn paired_fourth_differences(
     fourth_differences(rows)
         .into_iter()
         .filter_map(|(mid, da)| {
+            let c = fourth_difference_weights(&rows[mid - 2..=mid + 2]);
             let v: Option<Vec<f64>> = x[mid - 2..=mid + 2].iter().copied().collect();
-            v.map(|v| (fourth_difference(&v), da))
+            v.map(|v| (v.iter().zip(c).map(|(v, c)| c * v).sum(), da))
         })
         .collect()
+}
+
+/// The weights of a fourth difference over five frames: `(1, -4, 6, -4, 1)` where their
+/// intervals are even (each within [`EVEN_TIMES`] of their mean), else the fourth
+/// divided difference's at the frames' times, `1 / prod_(j != i) (t_i - t_j)`, which is
+/// zero on any cubic, scaled to the same signs and sum of squares (70), so that one
+/// frame's noise reads the same either way (over [`D4_GAIN`]). On even times the two are
+/// the same weights.
+pub(super) fn fourth_difference_weights(w: &[AngleRow]) -> [f64; 5] {
+    const EVEN: [f64; 5] = [1.0, -4.0, 6.0, -4.0, 1.0];
+    let t: Vec<f64> = w.iter().map(|r| r.t_s).collect();
+    let mean = (t[4] - t[0]) / 4.0;
+    let even = mean > 0.0
+        && t.windows(2)
+            .all(|p| ((p[1] - p[0]) / mean - 1.0).abs() <= EVEN_TIMES);
+    if even {
+        return EVEN;
+    }
+    let mut c = [0.0; 5];
+    for (i, ci) in c.iter_mut().enumerate() {
+        let prod: f64 = (0..5).filter(|&j| j != i).map(|j| t[i] - t[j]).product();
+        *ci = 1.0 / prod;
+    }
+    let norm = c.iter().map(|c| c * c).sum::<f64>().sqrt();
+    if !norm.is_finite() || norm == 0.0 {
+        // Two frames at one time: no difference can be taken at their times.
+        return EVEN;
+    }
+    c.map(|c| c * D4_GAIN / norm)
 }
 
 /// The least-squares slope through the origin of `(x, y)` pairs, and the slope over its
@@ -170,11 +209,6 @@ pub(in crate::detect) fn slope_through_origin(pairs: &[(f64, f64)]) -> Option<(f
     let b = sxy / sxx;
     let s2 = pairs.iter().map(|p| (p.1 - b * p.0).powi(2)).sum::<f64>() / (pairs.len() - 1) as f64;
     Some((b, b / (s2 / sxx).sqrt().max(f64::MIN_POSITIVE)))
-}
-
-/// The fourth difference of five consecutive values.
-pub(super) fn fourth_difference(v: &[f64]) -> f64 {
-    v[0] - 4.0 * v[1] + 6.0 * v[2] - 4.0 * v[3] + v[4]
 }
 
 /// The noise of a series from its fourth differences `d4`: their robust standard

@@ -76,6 +76,67 @@ fn an_angle_whose_noise_is_a_large_share_of_its_swing_is_suspect() {
     assert_ne!(rough.verdict, Verdict::Ok);
 }
 
+/// A phone's variable frame rate: the same swing filmed at uneven times (each frame up
+/// to 0.4 of an interval early or late), and with every seventh frame dropped. The
+/// angle's noise is the one frame's noise either way: the swing's motion between
+/// unevenly timed frames is not read as noise (at even weights it reads over 0.05 deg).
+#[test]
+fn uneven_frame_times_do_not_read_as_noise() {
+    let even = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
+    let even_noise = even.seen.noise_deg.unwrap();
+    assert!((0.003..0.008).contains(&even_noise), "{even_noise}");
+    let mut rng = Rng::new(5);
+    let mut noise = Rng::new(7);
+    let shifted = |k: usize, rng: &mut Rng| (k as f64 + 0.8 * (rng.uniform() - 0.5)) / FPS;
+    let jittered: Vec<AngleRow> = (0..(20.0 * FPS) as usize)
+        .filter(|k| k % 7 != 3)
+        .enumerate()
+        .map(|(i, k)| {
+            let t = shifted(k, &mut rng);
+            let amp = 10.0 - 0.2 * (2.0 * t / PERIOD);
+            let a =
+                90.0 + amp * (std::f64::consts::TAU * t / PERIOD).cos() + 0.005 * noise.normal();
+            AngleRow::found(i as u64, t, a.to_radians())
+        })
+        .collect();
+    let v = judge(&jittered, [100.0, 20.0], Some(0.3), None);
+    let n = v.seen.noise_deg.unwrap();
+    assert!(
+        n < 1.5 * even_noise,
+        "noise {n} deg at uneven times, {even_noise} at even"
+    );
+    assert_eq!(v.verdict, Verdict::Ok, "{:?}", failed(&v));
+}
+
+/// On evenly timed frames the weights are the plain fourth difference's; on uneven
+/// ones they vanish on a cubic and keep the plain weights' sum of squares.
+#[test]
+fn fourth_difference_weights_are_plain_on_even_times_and_exact_on_a_cubic() {
+    let rows = |t: [f64; 5]| -> Vec<AngleRow> {
+        t.iter()
+            .enumerate()
+            .map(|(i, &t)| AngleRow::found(i as u64, t, 0.0))
+            .collect()
+    };
+    let even = swing::fourth_difference_weights(&rows([0.0, 0.02, 0.04, 0.06, 0.08]));
+    assert_eq!(even, [1.0, -4.0, 6.0, -4.0, 1.0]);
+    let t = [0.0, 0.013, 0.04, 0.071, 0.08];
+    let c = swing::fourth_difference_weights(&rows(t));
+    let sq: f64 = c.iter().map(|c| c * c).sum();
+    assert!((sq - 70.0).abs() < 1e-9, "{sq}");
+    let cubic: f64 = c
+        .iter()
+        .zip(t)
+        .map(|(c, t)| c * (2.0 - 3.0 * t + 40.0 * t * t - 500.0 * t * t * t))
+        .sum();
+    assert!(cubic.abs() < 1e-9, "{cubic}");
+    // Signs alternate, as the plain weights'.
+    assert!(
+        c[0] > 0.0 && c[1] < 0.0 && c[2] > 0.0 && c[3] < 0.0 && c[4] > 0.0,
+        "{c:?}"
+    );
+}
+
 /// A swing that dies out at 10 s (10 deg falling linearly to nothing, Eq. 33), then
 /// 15 s at rest, 50 frames/s: found in every frame up to `lost_s`, then only in every
 /// tenth frame within 0.5 deg of rest (a wire at rest fading into the still scene, or

@@ -10,7 +10,8 @@
 //! exponential for viscous damping), the earlier and the later turning points' `s_r`
 //! against each other, the width of the interval on `s_r`, the turning points the fit
 //! dropped as outliers, and, for angles measured in a video, the pivot
-//! against the wire's own direction. Each disagreement is a named [`Warning`]; a result
+//! against the wire's own direction and the swing's scale through a lens or a plate
+//! calibration. Each disagreement is a named [`Warning`]; a result
 //! with any is `suspect`.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -128,6 +129,9 @@ pub struct Limits {
     pub outliers: usize,
     /// Largest `|swing_scale - 1|`.
     pub pivot_rel: f64,
+    /// Largest relative standard uncertainty of `s_r` from the swing's scale (a lens, a
+    /// plate calibration).
+    pub scale_rel: f64,
 }
 
 /// The check names, in the order they are run.
@@ -136,7 +140,8 @@ pub use crate::config::CHECKS;
 /// One failed consistency check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Warning {
-    /// `period`, `residual`, `envelope`, `halves`, `interval`, `outliers` or `pivot`.
+    /// `period`, `residual`, `envelope`, `halves`, `interval`, `outliers`, `pivot`,
+    /// `scale` or `detection`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -269,6 +274,10 @@ pub struct Evidence<'a> {
     /// its angle about the pivot (the detector's `swing_scale`; 1 when the pivot lies
     /// on the wire's line).
     pub swing_scale: Option<f64>,
+    /// Of angles measured through a lens or a plate calibration: the relative standard
+    /// uncertainty the swing's scale puts on `s_r` (the budget's lens and calibration
+    /// components, combined).
+    pub scale_u_rel: Option<f64>,
 }
 
 /// Residual sum of squares of the best linear envelope `A0 - a t`.
@@ -531,9 +540,33 @@ pub fn assess(e: &Evidence, lim: &Limits) -> Verdict {
                 value: dev.abs(),
                 limit: lim.pivot_rel,
                 reason: format!(
-                    "the wire's own direction swings {:.1} % {} than its angle about the pivot:                      the pivot is off along the wire, which scales the measured swing, and s_r,                      by about as much; give `video.pivot`",
+                    "the wire's own direction swings {:.1} % {} than its angle about the pivot: \
+                     the pivot is off along the wire, which scales the measured swing, and s_r, \
+                     by about as much; give `video.pivot`",
                     100.0 * dev.abs(),
                     if dev > 0.0 { "more" } else { "less" }
+                ),
+                accepted: None,
+            });
+        }
+    }
+    // scale: the swing's scale through a lens (or a plate calibration) known so loosely
+    // that it alone spreads s_r beyond the limit. The interval says it too, but among
+    // every other share; a lens fitted from a sheet whose lines were too few or too
+    // faint is the cause to name (its s_r can be a percent off and `ok` otherwise).
+    if let Some(u) = e.scale_u_rel {
+        if !within(u, lim.scale_rel) {
+            w.push(Warning {
+                check: "scale".into(),
+                value: u,
+                limit: lim.scale_rel,
+                reason: format!(
+                    "the swing's scale through the lens or the plate's calibration is known to \
+                     +/- {:.2} % only, and s_r with it (limit {:.2} %): fit the lens from a \
+                     sheet with more, sharper lines (`rollfric lens`), or calibrate with more \
+                     points",
+                    100.0 * u,
+                    100.0 * lim.scale_rel
                 ),
                 accepted: None,
             });

@@ -63,7 +63,7 @@ fn is_default_air(a: &AirFile) -> bool {
 }
 
 /// The consistency checks' names, as `accept[].check` names them.
-pub const CHECKS: [&str; 8] = [
+pub const CHECKS: [&str; 9] = [
     "period",
     "residual",
     "envelope",
@@ -71,6 +71,7 @@ pub const CHECKS: [&str; 8] = [
     "interval",
     "outliers",
     "pivot",
+    "scale",
     "detection",
 ];
 
@@ -79,7 +80,7 @@ pub const CHECKS: [&str; 8] = [
 #[serde(deny_unknown_fields)]
 pub struct Accept {
     /// The check's name: `period`, `residual`, `envelope`, `halves`, `interval`,
-    /// `outliers`, `pivot` or `detection`.
+    /// `outliers`, `pivot`, `scale` or `detection`.
     pub check: String,
     /// Why the warning does not invalidate the result.
     pub reason: String,
@@ -314,6 +315,13 @@ pub struct Tolerances {
     /// 0.01).
     #[serde(default = "default_pivot_rel")]
     pub pivot_rel: f64,
+    /// `scale` check (angles measured through a lens or a plate calibration): largest
+    /// relative standard uncertainty the swing's scale puts on `s_r` (the lens's `u_k1`,
+    /// the calibration points' scatter). Default 0.005: beyond it, the scale alone
+    /// spreads the 95 % interval over 1 % either side, and a lens fitted from too few
+    /// lines (the twins' sweep: `u_k1` 0.06, `s_r` 1.4 % off) is said, not trusted.
+    #[serde(default = "default_scale_rel")]
+    pub scale_rel: f64,
     /// Why a tolerance is wider than its default: required when one is (a wider
     /// tolerance lets a result through that the default would stop, so it is said, on
     /// the page and in the summary, as an accepted warning is). Written out only when
@@ -336,6 +344,7 @@ impl Tolerances {
             ("interval_rel", self.interval_rel, d.interval_rel),
             ("outliers", self.outliers as f64, d.outliers as f64),
             ("pivot_rel", self.pivot_rel, d.pivot_rel),
+            ("scale_rel", self.scale_rel, d.scale_rel),
         ]
         .into_iter()
         .filter(|(_, v, d)| v > d)
@@ -359,6 +368,7 @@ impl Default for Tolerances {
             interval_rel: default_interval_rel(),
             outliers: 0,
             pivot_rel: default_pivot_rel(),
+            scale_rel: default_scale_rel(),
             reason: String::new(),
         }
     }
@@ -375,6 +385,9 @@ fn default_envelope_aicc() -> f64 {
 }
 fn default_halves_rel() -> f64 {
     0.02
+}
+fn default_scale_rel() -> f64 {
+    0.005
 }
 fn default_interval_rel() -> f64 {
     0.25

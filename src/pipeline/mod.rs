@@ -324,6 +324,45 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         };
         (times(true), times(false))
     };
+    // A plate calibration's share: the angles were measured through it.
+    let plane = match (
+        angles
+            .detection
+            .as_ref()
+            .filter(|d| d.calibration.is_some()),
+        &exp.calibration,
+    ) {
+        (Some(d), Some(c)) => {
+            let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
+            Some(uncertainty::PlaneScale::of(
+                c,
+                d.pivot_px,
+                m.equilibrium.envelope,
+                amp,
+            ))
+        }
+        _ => None,
+    };
+    // A lens's share: the angles were measured through it. Its swing is the image's
+    // (the rest angle taken back through the lens is near enough for a share).
+    let lens = angles.detection.as_ref().and_then(|d| {
+        let l = d.lens.as_ref()?;
+        let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
+        Some(uncertainty::LensScale::of(
+            &l.lens,
+            d.pivot_px,
+            l.band_px,
+            m.equilibrium.envelope,
+            amp,
+        ))
+    });
+    // The swing's scale's share of s_r's uncertainty, for the `scale` check.
+    let scale_u_rel = (plane.is_some() || lens.is_some()).then(|| {
+        plane
+            .as_ref()
+            .map_or(0.0, |p| p.u_rel)
+            .hypot(lens.as_ref().map_or(0.0, |l| l.u_rel))
+    });
     let mut verdict = verdict::assess(
         &Evidence {
             d_m: p.d,
@@ -340,6 +379,7 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             outliers_kept: &outliers_kept,
             outlier_cap: fit::outlier_cap(m.amplitudes.len() + outliers_dropped.len()),
             swing_scale,
+            scale_u_rel,
         },
         &Limits {
             period_rel: tol.period_rel,
@@ -349,6 +389,7 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
             interval_rel: tol.interval_rel,
             outliers: tol.outliers,
             pivot_rel: tol.pivot_rel,
+            scale_rel: tol.scale_rel,
         },
     );
     // A suspect detection makes a suspect result: what was measured may not be the wire.
@@ -414,38 +455,6 @@ pub fn analyze(exp: &Experiment, angles: &Angles, o: Overrides) -> Result<Analys
         )
     });
     let mu = exp.file.sliding.as_ref().map(|s| s.mu);
-    // A plate calibration's share: the angles were measured through it.
-    let plane = match (
-        angles
-            .detection
-            .as_ref()
-            .filter(|d| d.calibration.is_some()),
-        &exp.calibration,
-    ) {
-        (Some(d), Some(c)) => {
-            let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
-            Some(uncertainty::PlaneScale::of(
-                c,
-                d.pivot_px,
-                m.equilibrium.envelope,
-                amp,
-            ))
-        }
-        _ => None,
-    };
-    // A lens's share: the angles were measured through it. Its swing is the image's
-    // (the rest angle taken back through the lens is near enough for a share).
-    let lens = angles.detection.as_ref().and_then(|d| {
-        let l = d.lens.as_ref()?;
-        let amp = m.amplitudes.iter().copied().fold(0.0, f64::max);
-        Some(uncertainty::LensScale::of(
-            &l.lens,
-            d.pivot_px,
-            l.band_px,
-            m.equilibrium.envelope,
-            amp,
-        ))
-    });
     let budget = uncertainty::budget(exp, &m, &f, angle_u, plane.as_ref(), lens.as_ref())
         .context("the uncertainty budget")
         .with_context(what)?;

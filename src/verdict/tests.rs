@@ -10,6 +10,7 @@ const LIM: Limits = Limits {
     interval_rel: 0.25,
     outliers: 0,
     pivot_rel: 0.02,
+    scale_rel: 0.005,
 };
 
 fn evidence<'a>(t: &'a [f64], amps: &'a [f64], samples: &'a [usize]) -> Evidence<'a> {
@@ -28,6 +29,7 @@ fn evidence<'a>(t: &'a [f64], amps: &'a [f64], samples: &'a [usize]) -> Evidence
         outliers_kept: &[],
         outlier_cap: 4,
         swing_scale: Some(1.004),
+        scale_u_rel: Some(0.001),
     }
 }
 
@@ -56,12 +58,16 @@ fn each_disagreement_is_named() {
     e.s_r_ci95 = [-1e-6, 9e-6];
     e.swing_scale = Some(1.05);
     e.s_r_halves = Some([4.1e-6, 3.9e-6]);
+    e.scale_u_rel = Some(0.024);
     let mut v = assess(&e, &LIM);
     let names: Vec<&str> = v.warnings.iter().map(|w| w.check.as_str()).collect();
     assert_eq!(
         names,
-        ["period", "residual", "envelope", "halves", "interval", "pivot"]
+        ["period", "residual", "envelope", "halves", "interval", "pivot", "scale"]
     );
+    for w in &v.warnings {
+        assert!(!w.reason.contains("  "), "{}: {}", w.check, w.reason);
+    }
     // 0.2e-6 apart on an s_r of 4e-6: 5 %.
     let h = &v.warnings[3];
     assert!((h.value - 0.05).abs() < 1e-12 && h.limit == 0.02, "{h:?}");
@@ -95,6 +101,31 @@ fn a_pivot_off_along_the_wire_is_named_either_way() {
     for scale in [Some(1.019), Some(0.981), None] {
         e.swing_scale = scale;
         assert!(assess(&e, &LIM).warnings.is_empty(), "{scale:?}");
+    }
+}
+
+/// A lens fitted from too few lines (the sweep's `u_k1` 0.06 on a `k1` of -0.13: 2.4 %
+/// on the swing's scale) is named; a well-fitted one, or angles measured with no lens
+/// or calibration, say nothing.
+#[test]
+fn a_loosely_known_scale_is_named() {
+    let t: Vec<f64> = (0..40).map(|k| 0.7 * k as f64).collect();
+    let a: Vec<f64> = t.iter().map(|x| 0.17 - 3e-3 * x).collect();
+    let s = vec![60; 40];
+    let mut e = evidence(&t, &a, &s);
+    e.scale_u_rel = Some(0.024);
+    let v = assess(&e, &LIM);
+    assert_eq!(v.warnings.len(), 1, "{v:?}");
+    let w = &v.warnings[0];
+    assert_eq!(
+        (w.check.as_str(), w.value, w.limit),
+        ("scale", 0.024, 0.005)
+    );
+    assert!(w.reason.contains("+/- 2.40 % only"), "{}", w.reason);
+    assert_eq!(v.verdict, Status::Suspect);
+    for u in [Some(0.005), Some(0.0), None] {
+        e.scale_u_rel = u;
+        assert!(assess(&e, &LIM).warnings.is_empty(), "{u:?}");
     }
 }
 

@@ -184,6 +184,10 @@ pub(super) struct Steady {
     /// first frame once aligned (see [`Steady::tally`]).
     off: [Vec<u32>; 2],
     tallied: u32,
+    /// The same count over the frames of a run hidden from the steadying (see
+    /// [`Steady::tally_change`]).
+    changed: [Vec<u32>; 2],
+    changed_of: u32,
     /// Whether a turn the scene fixes poorly is held at none (see [`Steady::steadying`]).
     hold_turn: bool,
     /// Whether the turn of the frame last measured was so held.
@@ -233,6 +237,8 @@ impl Steady {
             loss: f64::INFINITY,
             off: Default::default(),
             tallied: 0,
+            changed: Default::default(),
+            changed_of: 0,
             hold_turn: false,
             turn_held: false,
             losses: None,
@@ -356,11 +362,21 @@ impl Steady {
     /// alike once aligned: what moves in the scene (the pendulum, a person walking by)
     /// differs in most frames, the static scene in few.
     pub(super) fn tally(&mut self) -> Result<()> {
+        let mut off = std::mem::take(&mut self.off);
+        self.count_off(&mut off)?;
+        self.off = off;
+        self.tallied += 1;
+        Ok(())
+    }
+
+    /// Adds 1 to `off`'s count of each point of the first frame the frame last measured
+    /// does not show alike once aligned (at its own motion).
+    fn count_off(&self, off: &mut [Vec<u32>; 2]) -> Result<()> {
         for (k, level) in self.levels.iter().enumerate() {
             let img = if k == 0 { &self.coarse } else { &self.smooth };
             let light = Light::at(level, img, self.recent)?;
             let at = Reader::new(level, img, self.recent)?;
-            let off = &mut self.off[k];
+            let off = &mut off[k];
             off.resize(level.points.len(), 0);
             for (p, n) in level.points.iter().zip(off.iter_mut()) {
                 let differs = at.grey(p).is_none_or(|g| {
@@ -370,8 +386,67 @@ impl Steady {
                 *n += u32::from(differs);
             }
         }
-        self.tallied += 1;
         Ok(())
+    }
+
+    /// Counts, for a frame of a run hidden from the steadying (before it is taken
+    /// back), the first frame's pixels it does not show alike: the count starts afresh
+    /// with each run (`first`).
+    pub(super) fn tally_change(&mut self, first: bool) -> Result<()> {
+        if first {
+            self.changed = Default::default();
+            self.changed_of = 0;
+        }
+        let mut changed = std::mem::take(&mut self.changed);
+        self.count_off(&mut changed)?;
+        self.changed = changed;
+        self.changed_of += 1;
+        Ok(())
+    }
+
+    /// Drops the first frame's pixels that differed in more than `share` of a hidden
+    /// run's frames (see [`Steady::tally_change`]): what the first frame showed and the
+    /// scene no longer does (a hand that held the ball and left). Where fewer than
+    /// [`PRUNE_MIN_KEPT`] percent would be kept, a level is left whole; whether any
+    /// level lost a pixel.
+    pub(super) fn prune_change(&mut self, share: f64) -> bool {
+        if self.changed_of < PRUNE_MIN_FRAMES {
+            return false;
+        }
+        let most = share * f64::from(self.changed_of);
+        let mut pruned = false;
+        for ((level, changed), off) in self
+            .levels
+            .iter_mut()
+            .zip(&self.changed)
+            .zip(self.off.iter_mut())
+        {
+            if changed.len() != level.points.len() {
+                continue;
+            }
+            let kept = changed.iter().filter(|&&n| f64::from(n) <= most).count();
+            if kept == level.points.len() || kept < PRUNE_MIN_KEPT * level.points.len() / 100 {
+                continue;
+            }
+            // The first frames' own count (`tally`) keeps to the points kept.
+            let keep: Vec<bool> = changed.iter().map(|&n| f64::from(n) <= most).collect();
+            if off.len() == keep.len() {
+                let mut i = 0;
+                off.retain(|_| {
+                    i += 1;
+                    keep[i - 1]
+                });
+            }
+            let mut i = 0;
+            level.points.retain(|_| {
+                i += 1;
+                keep[i - 1]
+            });
+            pruned = true;
+        }
+        self.changed = Default::default();
+        self.changed_of = 0;
+        pruned
     }
 
     /// Drops the first frame's pixels that differed in more than `share` of the frames

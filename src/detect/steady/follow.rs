@@ -4,7 +4,8 @@
 use super::{Motion, Steady, Sweep};
 use crate::detect::tuning::{
     HIDDEN_FOLLOW, HIDDEN_MIN_LOSS, HIDDEN_TIMES, LATE_AGREE, LATE_DRIFT_GLANCES, LATE_EVERY_S,
-    LATE_EXPLAINS, LATE_GLANCES, MOVING_PX, PASS_PRUNE_FRAMES, PRUNE_SHARE,
+    LATE_EXPLAINS, LATE_GLANCES, MOVING_PX, PASS_PRUNE_FRAMES, PRUNE_SHARE, SCENE_CHANGE_S,
+    SCENE_CHANGE_SHARE,
 };
 use crate::video::Frame;
 use anyhow::Result;
@@ -333,6 +334,8 @@ pub(in crate::detect) struct Followed {
     /// [`Followed::hidden`]).
     typical_loss: f64,
     typical_of: usize,
+    /// When the run of hidden frames now going on began, s (see [`Followed::hidden`]).
+    hidden_from: Option<f64>,
     /// Each frame followed.
     steadied: Vec<Steadied>,
 }
@@ -367,7 +370,10 @@ impl Followed {
     pub(in crate::detect) fn next(&mut self, st: &mut Steady, f: &Frame) -> Result<Motion> {
         st.steadying();
         let mut held = false;
-        let measured = st.measure(f)?.filter(|_| !self.hidden(st));
+        let measured = match st.measure(f)? {
+            Some(m) if !self.hidden(st, f.t_s)? => Some(m),
+            _ => None,
+        };
         let m = match measured {
             Some(m) => {
                 held = st.turn_held();
@@ -409,19 +415,37 @@ impl Followed {
     /// a 640x480 swaying twin left 0.87 of the pixels off (0.13 typical) and dragged the
     /// alignment after it, 8 px and 3 deg from the camera's 0.65 px and 0.06 deg: the
     /// wire's angles, corrected by that motion, were 3 deg off, 33 frames `ok`.
-    fn hidden(&mut self, st: &mut Steady) -> bool {
+    ///
+    /// A scene that stays hidden is one that changed: what the first frame showed is
+    /// gone (the hand that held the ball at the start and left). Over a run of hidden
+    /// frames (`t_s` the frame's time, s), the first frame's pixels each frame does not
+    /// show alike are counted; once the run lasts [`SCENE_CHANGE_S`], those off in
+    /// more than [`SCENE_CHANGE_SHARE`] of its frames are dropped from the static
+    /// scene, and the frames after are measured on what is left. A person passing hides
+    /// each pixel for less (the twin's walker, a third of the frame wide, crosses it in
+    /// 4 s: under a second a pixel). Kept whole, a hand-held twin whose releasing hand
+    /// was in its first frame had every frame after the release hidden (its pixels off
+    /// 0.35, 0.03 before): the wire found in 32 frames of 1201, refused.
+    fn hidden(&mut self, st: &mut Steady, t_s: f64) -> Result<bool> {
         let loss = st.loss();
         let hidden =
             self.typical_of > 0 && loss > (HIDDEN_TIMES * self.typical_loss).max(HIDDEN_MIN_LOSS);
         if hidden {
+            let first = self.hidden_from.is_none();
+            let since = *self.hidden_from.get_or_insert(t_s);
+            st.tally_change(first)?;
+            if t_s - since >= SCENE_CHANGE_S && st.prune_change(SCENE_CHANGE_SHARE) {
+                self.hidden_from = None;
+            }
             st.back_to(self.last, self.last_loss);
         } else {
+            self.hidden_from = None;
             self.typical_of += 1;
             let k = (1.0 / self.typical_of as f64).max(HIDDEN_FOLLOW);
             self.typical_loss += k * (loss - self.typical_loss);
             self.last_loss = loss;
         }
-        hidden
+        Ok(hidden)
     }
 
     /// Each frame followed so far (taken out).

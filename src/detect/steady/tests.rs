@@ -596,3 +596,87 @@ fn a_person_hiding_most_of_the_scene_does_not_lead_the_steadying() {
         }
     }
 }
+
+/// Bilinear sample of a `w` x `h` picture at `(x, y)`, clamped to its border.
+fn sample(data: &[u8], w: usize, h: usize, x: f64, y: f64) -> u8 {
+    let x = x.clamp(0.0, (w - 1) as f64);
+    let y = y.clamp(0.0, (h - 1) as f64);
+    let (x0, y0) = (x.floor() as usize, y.floor() as usize);
+    let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+    let (a, b) = (x - x0 as f64, y - y0 as f64);
+    let g = |x: usize, y: usize| f64::from(data[y * w + x]);
+    let v = g(x0, y0) * (1.0 - a) * (1.0 - b)
+        + g(x1, y0) * a * (1.0 - b)
+        + g(x0, y1) * (1.0 - a) * b
+        + g(x1, y1) * a * b;
+    v.round() as u8
+}
+
+/// A hand over half of a swaying camera's first frames (it held the ball, still in
+/// the scene as the camera sways) leaves at frame 30 and stays gone: each frame after
+/// differs from the first frame there for good. The frames after are hidden from the
+/// steadying for a while, then the pixels the hand covered are dropped from the static
+/// scene and the motion is measured again, on the rest. Kept whole, every frame after
+/// the hand left was hidden, its motion held at frame 29's.
+#[test]
+fn a_hand_in_the_first_frame_that_leaves_for_good_is_dropped_from_the_static_scene() {
+    let (w, h) = (320, 240);
+    let camera = |i: u64| Motion {
+        dx: 0.8 * (i as f64 / 10.0).sin(),
+        dy: 0.5 * (i as f64 / 7.0).cos(),
+        rot_rad: 0.05f64.to_radians() * (i as f64 / 9.0).sin(),
+    };
+    // The scene, and the scene with the hand over its lower left (in the scene's own
+    // place: it sways with it).
+    let scene = textured(w, h, Motion::default(), 0).data;
+    let hand = textured(
+        w,
+        h,
+        Motion {
+            dx: 37.0,
+            dy: 23.0,
+            rot_rad: 0.3,
+        },
+        0,
+    )
+    .data;
+    let mut held_ball = scene.clone();
+    for y in h / 4..h {
+        let r = y * w..y * w + 2 * w / 3;
+        held_ball[r.clone()].copy_from_slice(&hand[r]);
+    }
+    let mut followed = Followed::default();
+    let mut st: Option<Steady> = None;
+    for i in 0..200u64 {
+        let shown = if i < 30 { &held_ball } else { &scene };
+        let f = seen_under(w, h, camera(i), i, |x, y| sample(shown, w, h, x, y));
+        let st = st.get_or_insert_with(|| Steady::new(&f, None).unwrap());
+        followed.next(st, &f).unwrap();
+    }
+    let steadied = followed.take_steadied();
+    let held: Vec<u64> = steadied
+        .iter()
+        .filter(|s| !s.measured)
+        .map(|s| s.index)
+        .collect();
+    // Hidden from the hand's leaving for about the run it takes (2 s, 60 frames), and
+    // none after.
+    assert!(
+        held.len() >= 30 && held.iter().all(|&i| (30..100).contains(&i)),
+        "{held:?}"
+    );
+    let c = camera(0);
+    for s in steadied.iter().filter(|s| s.index >= 100) {
+        let m = camera(s.index);
+        let off_px = (s.motion.dx - (m.dx - c.dx)).hypot(s.motion.dy - (m.dy - c.dy));
+        let off_deg = (s.motion.rot_rad - (m.rot_rad - c.rot_rad))
+            .abs()
+            .to_degrees();
+        assert!(
+            off_px < 0.1 && off_deg < 0.01,
+            "frame {}: {:?} {off_px} {off_deg}",
+            s.index,
+            s.motion
+        );
+    }
+}

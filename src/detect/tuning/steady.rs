@@ -256,6 +256,18 @@ knobs! {
         what "... and more than this loss",
         chosen_by "issue 49: steadied frames of the moved real clips 0.04 to 0.07; hand-picked";
 
+    /// A run of hidden frames this long is a scene that changed (see `Followed::hidden`):
+    /// the first frame's pixels off in more than `SCENE_CHANGE_SHARE` of its frames
+    /// are dropped from the static scene.
+    SCENE_CHANGE_S: f64 = 2.0, "s",
+        what "a run of frames hidden from the steadying this long is a changed scene",
+        chosen_by "issue 49, seed 7 scene 52: a releasing hand in the first frame, every frame after hidden (pixels off 0.35 against 0.03); the twin's walker hides a pixel for under 1 s";
+
+    /// ... and the pixels off in more than this share of the run's frames are dropped.
+    SCENE_CHANGE_SHARE: f64 = 0.9, "share",
+        what "share of a hidden run's frames a pixel must be off in to leave the static scene",
+        chosen_by "issue 49: the walker (a third of the frame wide, 4 s to cross) covers a pixel for under half of a 2 s run; a hand gone, all of it";
+
     /// How much of each steadied frame not hidden the typical loss takes in (at first,
     /// the mean of those so far).
     HIDDEN_FOLLOW: f64 = 0.01, "share",

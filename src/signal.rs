@@ -187,6 +187,15 @@ fn stop_after(ex: &[Extreme], i: usize) -> Option<f64> {
         .then_some(t_zero)
 }
 
+/// A held start's departure is unseen when the samples after the hold begin more than
+/// this share of a half swing after its last: the release's own fit reads the samples
+/// within 0.3 of a half swing of it. (A hand that lets go hides the wire for a few
+/// frames: on a sweep twin 0.6 s, a third of its half swing, and its release was still
+/// fitted within a frame of the truth. A steadying lost for 2 s after the release of
+/// another, over a half swing: its release was then fitted at the gap's end, and s_r
+/// came out 3 % low.)
+pub const RELEASE_GAP: f64 = 0.5;
+
 /// A held start: the recording begins with the ball held at rest at its release angle
 /// (by hand or a stop) and shows it being let go.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -265,6 +274,12 @@ pub fn find_release(s: &AngleSeries) -> Option<(Release, Extreme)> {
         return None;
     }
     let half = median_gap(&t[run..], &coarse);
+    // The departure unseen (samples lost as the ball was let go: the hand in front, the
+    // steadying of a moving camera lost for a while): when and from where it left is
+    // not measured, and the first sample after the gap is no start from rest.
+    if t[run] - t[run - 1] > RELEASE_GAP * half {
+        return None;
+    }
     let within = half / std::f64::consts::PI * (1.0 - band / amp).max(-1.0).acos();
     if t[run - 1] - t[0] < HOLD_MARGIN * 2.0 * within {
         return None;

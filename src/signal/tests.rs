@@ -201,6 +201,40 @@ fn no_hold_where_the_series_begins_at_the_release_or_near_a_turning_point() {
     }
 }
 
+/// Samples lost for 1.5 s from just after the release (a half swing is about 0.8 s):
+/// the departure is not seen, so no release is found (fitted, it lay at the gap's
+/// end), and the motion's turning points are measured from the samples after it. A
+/// gap of a few frames after the release leaves it found.
+#[test]
+fn a_release_whose_departure_was_not_seen_is_not_taken_for_one() {
+    let (s, tr) = held(1.013, 0.0, 25.0, 30.0, 0.05);
+    let cut = |from: f64, to: f64| {
+        let keep: Vec<usize> = (0..s.t.len())
+            .filter(|&i| s.t[i] < from || s.t[i] > to)
+            .collect();
+        AngleSeries::new(
+            keep.iter().map(|&i| s.t[i]).collect(),
+            keep.iter().map(|&i| s.angle[i]).collect(),
+        )
+    };
+    let lost = cut(1.02, 2.5);
+    assert_eq!(find_release(&lost), None);
+    let m = crate::fit::measure(&lost).unwrap();
+    assert!(m.release.is_none() && m.extremes.iter().all(|e| !e.release));
+    // Every turning point measured is one of the model's, after the gap.
+    for e in &m.extremes {
+        let near = tr
+            .turns
+            .iter()
+            .map(|tp| (tp.t - e.t).abs())
+            .fold(f64::MAX, f64::min);
+        assert!(e.t > 2.5 && near < 0.1, "{e:?}");
+    }
+    // Four frames lost after the release: still found, near its time.
+    let (r, _) = find_release(&cut(1.02, 1.17)).expect("a held start");
+    assert!((r.t_s - 1.013).abs() < 0.05, "{r:?}");
+}
+
 #[test]
 fn a_hold_is_never_a_turning_point_of_the_motion() {
     // A 1 s hold, with noise, and with a hand's tremor of 0.3 deg at 3 Hz: the release

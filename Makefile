@@ -116,7 +116,7 @@ fuzz: deps
 # (`video.work_side_px`; default 640). A scene with a wide lens is detected with the
 # coefficient `rollfric lens` fits from a gridded sheet filmed by its camera
 # (ROBUSTNESS_LENS=sheet, the default; `none`: no lens given; `known`: the true one).
-ROBUSTNESS_SCENES ?= 60
+ROBUSTNESS_SCENES ?= 64
 ROBUSTNESS_SEED ?= 1
 ROBUSTNESS_SECONDS ?= 40
 ROBUSTNESS_WORK_SIDE ?= 640

@@ -424,24 +424,16 @@ impl Steady {
             if changed.len() != level.points.len() {
                 continue;
             }
-            let kept = changed.iter().filter(|&&n| f64::from(n) <= most).count();
+            let keep: Vec<bool> = changed.iter().map(|&n| f64::from(n) <= most).collect();
+            let kept = keep.iter().filter(|&&k| k).count();
             if kept == level.points.len() || kept < PRUNE_MIN_KEPT * level.points.len() / 100 {
                 continue;
             }
             // The first frames' own count (`tally`) keeps to the points kept.
-            let keep: Vec<bool> = changed.iter().map(|&n| f64::from(n) <= most).collect();
             if off.len() == keep.len() {
-                let mut i = 0;
-                off.retain(|_| {
-                    i += 1;
-                    keep[i - 1]
-                });
+                retain_by(off, &keep);
             }
-            let mut i = 0;
-            level.points.retain(|_| {
-                i += 1;
-                keep[i - 1]
-            });
+            retain_by(&mut level.points, &keep);
             pruned = true;
         }
         self.changed = Default::default();
@@ -458,15 +450,11 @@ impl Steady {
         }
         let most = share * f64::from(self.tallied);
         for (level, off) in self.levels.iter_mut().zip(&self.off) {
-            let kept = off.iter().filter(|&&n| f64::from(n) <= most).count();
-            if kept < PRUNE_MIN_KEPT * level.points.len() / 100 {
+            let keep: Vec<bool> = off.iter().map(|&n| f64::from(n) <= most).collect();
+            if keep.iter().filter(|&&k| k).count() < PRUNE_MIN_KEPT * level.points.len() / 100 {
                 continue;
             }
-            let mut i = 0;
-            level.points.retain(|_| {
-                i += 1;
-                f64::from(off[i - 1]) <= most
-            });
+            retain_by(&mut level.points, &keep);
         }
         self.off = Default::default();
         self.tallied = 0;
@@ -600,6 +588,15 @@ fn iterate(
         }
     }
     Ok(last.expect("at least one iteration"))
+}
+
+/// Keeps the items of `v` whose `keep` is true (one flag per item).
+fn retain_by<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut i = 0;
+    v.retain(|_| {
+        i += 1;
+        keep[i - 1]
+    });
 }
 
 /// The `size` part of `f` at `origin` (frame px), as the first frame would show it

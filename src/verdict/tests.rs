@@ -82,11 +82,17 @@ fn each_disagreement_is_named() {
     assert!((w.value - 0.75).abs() < 1e-12, "{w:?}");
 }
 
-#[test]
-fn a_pivot_off_along_the_wire_is_named_either_way() {
+/// Forty turning points 0.7 s apart decaying linearly from 0.17 rad, and the samples
+/// behind each.
+fn linear_decay() -> (Vec<f64>, Vec<f64>, Vec<usize>) {
     let t: Vec<f64> = (0..40).map(|k| 0.7 * k as f64).collect();
     let a: Vec<f64> = t.iter().map(|x| 0.17 - 3e-3 * x).collect();
-    let s = vec![60; 40];
+    (t, a, vec![60; 40])
+}
+
+#[test]
+fn a_pivot_off_along_the_wire_is_named_either_way() {
+    let (t, a, s) = linear_decay();
     let mut e = evidence(&t, &a, &s);
     for (scale, word) in [(0.97, "less"), (1.03, "more")] {
         e.swing_scale = Some(scale);
@@ -109,9 +115,7 @@ fn a_pivot_off_along_the_wire_is_named_either_way() {
 /// or calibration, say nothing.
 #[test]
 fn a_loosely_known_scale_is_named() {
-    let t: Vec<f64> = (0..40).map(|k| 0.7 * k as f64).collect();
-    let a: Vec<f64> = t.iter().map(|x| 0.17 - 3e-3 * x).collect();
-    let s = vec![60; 40];
+    let (t, a, s) = linear_decay();
     let mut e = evidence(&t, &a, &s);
     e.scale_u_rel = Some(0.024);
     let v = assess(&e, &LIM);

@@ -131,24 +131,30 @@ pub(super) fn periods(s: &Swing) -> Vec<f64> {
 /// ([`fourth_difference_weights`]): a phone's variable frame rate, or a dropped frame,
 /// does not read as noise.
 pub(super) fn fourth_differences(rows: &[AngleRow]) -> Vec<(usize, f64)> {
-    rows.windows(5)
-        .enumerate()
-        .filter_map(|(i, w)| {
-            let ok = w
-                .iter()
-                .all(|r| r.status == Status::Ok && r.angle_rad.is_some())
-                && w.windows(2).all(|p| p[1].frame == p[0].frame + 1);
-            ok.then(|| {
-                let c = fourth_difference_weights(w);
-                let d = w
-                    .iter()
-                    .zip(c)
-                    .map(|(r, c)| c * r.angle_rad.unwrap_or(0.0))
-                    .sum();
-                (i + 2, d)
-            })
-        })
+    weighted_fourth_differences(rows)
+        .map(|(mid, _, d)| (mid, d))
         .collect()
+}
+
+/// [`fourth_differences`] with the weights each was taken with.
+fn weighted_fourth_differences(
+    rows: &[AngleRow],
+) -> impl Iterator<Item = (usize, [f64; 5], f64)> + '_ {
+    rows.windows(5).enumerate().filter_map(|(i, w)| {
+        let ok = w
+            .iter()
+            .all(|r| r.status == Status::Ok && r.angle_rad.is_some())
+            && w.windows(2).all(|p| p[1].frame == p[0].frame + 1);
+        ok.then(|| {
+            let c = fourth_difference_weights(w);
+            let d = w
+                .iter()
+                .zip(c)
+                .map(|(r, c)| c * r.angle_rad.unwrap_or(0.0))
+                .sum();
+            (i + 2, c, d)
+        })
+    })
 }
 
 /// The fourth differences of a quantity `x` known by row (none where it is not) paired
@@ -159,10 +165,8 @@ pub(in crate::detect) fn paired_fourth_differences(
     rows: &[AngleRow],
     x: &[Option<f64>],
 ) -> Vec<(f64, f64)> {
-    fourth_differences(rows)
-        .into_iter()
-        .filter_map(|(mid, da)| {
-            let c = fourth_difference_weights(&rows[mid - 2..=mid + 2]);
+    weighted_fourth_differences(rows)
+        .filter_map(|(mid, c, da)| {
             let v: Option<Vec<f64>> = x[mid - 2..=mid + 2].iter().copied().collect();
             v.map(|v| (v.iter().zip(c).map(|(v, c)| c * v).sum(), da))
         })
@@ -177,7 +181,7 @@ pub(in crate::detect) fn paired_fourth_differences(
 /// the same weights.
 pub(super) fn fourth_difference_weights(w: &[AngleRow]) -> [f64; 5] {
     const EVEN: [f64; 5] = [1.0, -4.0, 6.0, -4.0, 1.0];
-    let t: Vec<f64> = w.iter().map(|r| r.t_s).collect();
+    let t: [f64; 5] = std::array::from_fn(|k| w[k].t_s);
     let mean = (t[4] - t[0]) / 4.0;
     let even = mean > 0.0
         && t.windows(2)

@@ -539,6 +539,24 @@ fn a_turn_the_coarser_scale_fixes_is_kept_where_the_measuring_scale_does_not() {
     assert!((got.dy - m.dy).abs() < 0.05, "{got:?}");
 }
 
+/// A swaying camera's motion at frame `i` (under a px and 0.05 deg).
+fn sway(i: u64) -> Motion {
+    Motion {
+        dx: 0.8 * (i as f64 / 10.0).sin(),
+        dy: 0.5 * (i as f64 / 7.0).cos(),
+        rot_rad: 0.05f64.to_radians() * (i as f64 / 9.0).sin(),
+    }
+}
+
+/// The frames whose motion was not measured (held at the last measured).
+fn held_frames(steadied: &[Steadied]) -> Vec<u64> {
+    steadied
+        .iter()
+        .filter(|s| !s.measured)
+        .map(|s| s.index)
+        .collect()
+}
+
 /// A person crossing in front of a swaying camera, covering most of the frame for half
 /// a second with a texture of their own: the frames they hide have no motion measured
 /// (held at the last measured, `measured` false), and the frames after are measured on
@@ -546,11 +564,7 @@ fn a_turn_the_coarser_scale_fixes_is_kept_where_the_measuring_scale_does_not() {
 #[test]
 fn a_person_hiding_most_of_the_scene_does_not_lead_the_steadying() {
     let (w, h) = (320, 240);
-    let camera = |i: u64| Motion {
-        dx: 0.8 * (i as f64 / 10.0).sin(),
-        dy: 0.5 * (i as f64 / 7.0).cos(),
-        rot_rad: 0.05f64.to_radians() * (i as f64 / 9.0).sin(),
-    };
+    let camera = sway;
     let person = |i: u64| {
         let k = i as f64 - 60.0;
         let m = Motion {
@@ -577,11 +591,7 @@ fn a_person_hiding_most_of_the_scene_does_not_lead_the_steadying() {
     let steadied = followed.take_steadied();
     let truth = |i: u64| camera(i).rot_rad - camera(0).rot_rad;
     let hidden = |i: u64| (60..75).contains(&i);
-    let held: Vec<u64> = steadied
-        .iter()
-        .filter(|s| !s.measured)
-        .map(|s| s.index)
-        .collect();
+    let held = held_frames(&steadied);
     assert!(
         held.len() >= 12 && held.iter().all(|&i| hidden(i)),
         "{held:?}"
@@ -621,11 +631,7 @@ fn sample(data: &[u8], w: usize, h: usize, x: f64, y: f64) -> u8 {
 #[test]
 fn a_hand_in_the_first_frame_that_leaves_for_good_is_dropped_from_the_static_scene() {
     let (w, h) = (320, 240);
-    let camera = |i: u64| Motion {
-        dx: 0.8 * (i as f64 / 10.0).sin(),
-        dy: 0.5 * (i as f64 / 7.0).cos(),
-        rot_rad: 0.05f64.to_radians() * (i as f64 / 9.0).sin(),
-    };
+    let camera = sway;
     // The scene, and the scene with the hand over its lower left (in the scene's own
     // place: it sways with it).
     let scene = textured(w, h, Motion::default(), 0).data;
@@ -654,11 +660,7 @@ fn a_hand_in_the_first_frame_that_leaves_for_good_is_dropped_from_the_static_sce
         followed.next(st, &f).unwrap();
     }
     let steadied = followed.take_steadied();
-    let held: Vec<u64> = steadied
-        .iter()
-        .filter(|s| !s.measured)
-        .map(|s| s.index)
-        .collect();
+    let held = held_frames(&steadied);
     // Hidden from the hand's leaving for about the run it takes (2 s, 60 frames), and
     // none after.
     assert!(

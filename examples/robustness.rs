@@ -423,7 +423,8 @@ fn error_parts(
 
 /// The lens `rollfric lens` fits from a gridded sheet filmed by the scene's camera: the
 /// scene's twin for a second, still and square to the plate, its room a grid over the
-/// plate (`None`, said, when the fit is refused).
+/// plate; when the fit is refused, the lens declared unknown (`k1` 0 +-
+/// [`rollfric::lens::UNKNOWN_U_K1`]), as the recording guide says.
 fn sheet_lens(
     scene: &Scene,
     root: &Path,
@@ -470,8 +471,11 @@ fn sheet_lens(
             })
         }
         Err(e) => {
-            eprintln!("    lens from the sheet refused: {e:#}");
-            None
+            // As the recording guide says: a wide lens that cannot be calibrated is
+            // declared unknown, and the `scale` checks weigh it.
+            let u_k1 = rollfric::lens::UNKNOWN_U_K1;
+            eprintln!("    lens from the sheet refused ({e:#}); declared unknown: k1 0 +- {u_k1}");
+            Some(rollfric::config::LensSpec { k1: 0.0, u_k1 })
         }
     })
 }

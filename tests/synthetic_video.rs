@@ -943,6 +943,28 @@ fn a_wide_lens_is_undone_when_its_coefficient_is_given_or_fitted_from_a_sheet() 
     let undone = scatter_with(Some("known.yaml"));
     assert!(seen > 0.3, "the lens uncorrected: {seen:.4} deg");
     assert!(undone < 0.05, "the lens undone: {undone:.4} deg");
+    // The plain scene shows no straight line: `rollfric lens` refuses it and says how
+    // to declare the lens unknown; so declared, the result says that its scale is not
+    // known well enough, with the figure (the swing near the frame's edge).
+    let out = common::rollfric(&["lens", "lens.mp4"], d);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && said.contains("`lens: {k1: 0, u_k1: 0.15}`"),
+        "{said}"
+    );
+    std::fs::write(
+        d.join("unknown.yaml"),
+        format!(
+            "{}video:\n  path: lens.mp4\n  lens: {{k1: 0, u_k1: 0.15}}\n",
+            with_synthetic("steel", synthetic)
+        ),
+    )
+    .unwrap();
+    let (text, _) = rollfric_ok(&["fit", "unknown.yaml", "--cache", "cache"], d);
+    assert!(
+        text.contains("suspect (") && text.contains("scale: the swing's scale through the lens"),
+        "{text}"
+    );
 
     // The sheet: the same camera and lens, a grid over the plate, one second.
     assert!(synthetic.contains("duration_s: 20"));

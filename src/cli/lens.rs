@@ -41,7 +41,15 @@ pub fn lens(a: LensArgs) -> Result<String> {
             a.every
         );
     }
-    let fit = plumb::fit_video(&a.video, a.frames, a.every)?;
+    let fit = plumb::fit_video(&a.video, a.frames, a.every).map_err(|e| {
+        anyhow::anyhow!(
+            "{e:#}\nA wide lens that cannot be calibrated can be declared unknown, under \
+             `video:`: `lens: {{k1: 0, u_k1: {}}}`: the angles are then taken as seen, its \
+             distortion enters s_r's budget, and the `scale` checks say whether it matters \
+             where the wire is",
+            crate::lens::UNKNOWN_U_K1
+        )
+    })?;
     let path = a.video.display();
     if a.json {
         let j = Json {

@@ -31,6 +31,12 @@ pub struct SeenThrough {
     pub band_px: [f64; 2],
 }
 
+/// The standard uncertainty of `k1` for a wide lens that could not be calibrated
+/// (`video.lens: {k1: 0, u_k1: 0.15}`): a phone's wide lens bends to about -0.3, two
+/// such uncertainties. The angles are then taken as seen, and the `scale` checks say
+/// whether the unknown distortion matters where the wire is.
+pub const UNKNOWN_U_K1: f64 = 0.15;
+
 /// Radii of a wire's visible band at which [`Lens::plate_angle`] reads the wire.
 const BAND_STEPS: usize = 16;
 

@@ -425,11 +425,7 @@ fn error_parts(
 /// scene's twin for a second, still and square to the plate, its room a grid over the
 /// plate; when the fit is refused, the lens declared unknown (`k1` 0 +-
 /// [`rollfric::lens::UNKNOWN_U_K1`]), as the recording guide says.
-fn sheet_lens(
-    scene: &Scene,
-    root: &Path,
-    dir: &Path,
-) -> Result<Option<rollfric::config::LensSpec>> {
+fn sheet_lens(scene: &Scene, root: &Path, dir: &Path) -> Result<rollfric::config::LensSpec> {
     // Still, square to the sheet (an oblique view's far lines crowd), no held start
     // (longer than the sheet's second).
     let drop = [
@@ -465,17 +461,17 @@ fn sheet_lens(
     Ok(match rollfric::lens::plumb::fit_video(&video, 5, 10) {
         Ok(f) => {
             eprintln!("    lens from the sheet: k1 {:.4} +- {:.4}", f.k1, f.u_k1);
-            Some(rollfric::config::LensSpec {
+            rollfric::config::LensSpec {
                 k1: f.k1,
                 u_k1: f.u_k1,
-            })
+            }
         }
         Err(e) => {
             // As the recording guide says: a wide lens that cannot be calibrated is
             // declared unknown, and the `scale` checks weigh it.
             let u_k1 = rollfric::lens::UNKNOWN_U_K1;
             eprintln!("    lens from the sheet refused ({e:#}); declared unknown: k1 0 +- {u_k1}");
-            Some(rollfric::config::LensSpec { k1: 0.0, u_k1 })
+            rollfric::config::LensSpec { k1: 0.0, u_k1 }
         }
     })
 }
@@ -505,7 +501,7 @@ fn run(
                     u_k1: 0.01,
                 })
             }
-            "sheet" => opts.lens = sheet_lens(scene, root, dir)?,
+            "sheet" => opts.lens = Some(sheet_lens(scene, root, dir)?),
             _ => {}
         }
     }

@@ -41,6 +41,8 @@ pub(super) struct Scratch {
     /// The pixels the line is fitted to, and the strip being walked.
     sel: Vec<(Pt, f64)>,
     strip: Vec<(Pt, f64)>,
+    /// The far strip's first pixels ([`Tracker::free_strip_moments`]).
+    far: Vec<(Pt, f64)>,
     /// The band's part of each of the strip's pixels ([`drop_stray_parts`]).
     parts: Vec<u8>,
 }
@@ -251,38 +253,96 @@ impl Tracker {
     /// the pivot ([`FREE_STRIP_FROM`] of the band's outer radius), where a shadow or a
     /// static edge merges with it. `b.sel` holds the first strip on entry.
     fn free_strip_moments(&self, about: &Line, b: &mut Scratch) -> Result<KeptMoments> {
-        let whole = self.recentred_moments(about, self.r_lo, b)?;
+        let fallback = moments(&b.sel);
+        let ends = [self.r_lo, self.r_hi].map(|r| about.point + about.dir * r);
         // A band that starts beyond the cut (a pivot beyond the frame's edge) keeps
         // the whole strip: the same moments, not measured twice.
         let from = FREE_STRIP_FROM * self.r_hi;
-        let far = if from > self.r_lo {
-            self.recentred_moments(about, from, b)?
+        let split = from > self.r_lo;
+        // Both strips' first pass walks about the same free line (that of the first
+        // strip's pixels): the far strip's pixels are the whole one's from `from` out,
+        // taken from the one walk ([`Self::strip_beyond`]).
+        let Some(free) = free_line_within(&fallback, &ends) else {
+            return Ok([fallback; 2]);
+        };
+        self.strip_pixels_from(&free, FREE_STRIP_HALF, self.r_lo, &mut b.strip)?;
+        let far_first = if split {
+            self.strip_beyond(&free, FREE_STRIP_HALF, from, &b.strip, &mut b.far);
+            (b.far.len() >= MIN_LINE_PIXELS).then(|| moments(&b.far))
         } else {
+            None
+        };
+        let whole_first = (b.strip.len() >= MIN_LINE_PIXELS).then(|| moments(&b.strip));
+        let whole = match whole_first {
+            Some(m) => self.recentred_moments(&ends, m, self.r_lo, b)?,
+            None => None,
+        }
+        .unwrap_or(fallback);
+        let far = if !split {
             whole
+        } else {
+            match far_first {
+                Some(m) => self.recentred_moments(&ends, m, from, b)?,
+                None => None,
+            }
+            .unwrap_or(fallback)
         };
         Ok([whole, far])
     }
 
-    /// The moments of the strip re-centred on the wire's free line, from the radius
-    /// `from` out ([`Self::free_strip_moments`]).
-    fn recentred_moments(&self, about: &Line, from: f64, b: &mut Scratch) -> Result<[f64; 6]> {
-        let fallback = moments(&b.sel);
-        let ends = [self.r_lo, self.r_hi].map(|r| about.point + about.dir * r);
-        let mut m = fallback;
-        for _ in 0..FREE_STRIP_PASSES {
-            let Some(free) = m.free_line() else {
-                return Ok(fallback);
+    /// The strip's moments from the radius `from` out, re-centred on the wire's free
+    /// line from the moments `m` of its first pass for the remaining
+    /// [`FREE_STRIP_PASSES`] ([`Self::free_strip_moments`]); `None` when a pass
+    /// cannot go on (the free line leaves the pivot's line at `ends`, or too few
+    /// pixels), which keeps the strip about the pivot's line.
+    fn recentred_moments(
+        &self,
+        ends: &[Pt; 2],
+        mut m: [f64; 6],
+        from: f64,
+        b: &mut Scratch,
+    ) -> Result<Option<[f64; 6]>> {
+        for _ in 1..FREE_STRIP_PASSES {
+            let Some(free) = free_line_within(&m, ends) else {
+                return Ok(None);
             };
-            if ends.iter().any(|e| free.distance(*e) > FREE_STRIP_DRIFT) {
-                return Ok(fallback);
-            }
             self.strip_pixels_from(&free, FREE_STRIP_HALF, from, &mut b.strip)?;
             if b.strip.len() < MIN_LINE_PIXELS {
-                return Ok(fallback);
+                return Ok(None);
             }
             m = moments(&b.strip);
         }
-        Ok(m)
+        Ok(Some(m))
+    }
+
+    /// Of the pixels `strip` that [`Self::strip_pixels_from`] found about `line`
+    /// within `half` px from a radius under `from`, into `out`: those it finds from
+    /// `from` out, in the same order with the same weights (its walk from `from`
+    /// visits the same pixels of its rows, fewer rows, and keeps those with their
+    /// squared radius from `from`'s, reckoned the same way).
+    fn strip_beyond(
+        &self,
+        line: &Line,
+        half: f64,
+        from: f64,
+        strip: &[(Pt, f64)],
+        out: &mut Vec<(Pt, f64)>,
+    ) {
+        let rows = self.strip_rows(line, half, from);
+        let (piv_u, piv_v) = if rows.steep {
+            (self.piv.y, self.piv.x)
+        } else {
+            (self.piv.x, self.piv.y)
+        };
+        let from2 = from * from;
+        out.clear();
+        out.extend(strip.iter().copied().filter(|(q, _)| {
+            let (u, v) = if rows.steep { (q.y, q.x) } else { (q.x, q.y) };
+            let off_u = u - piv_u;
+            let du2 = off_u * off_u;
+            let off_v = v - piv_v;
+            rows.u.contains(&(u as usize)) && off_v * off_v + du2 >= from2
+        }));
     }
 
     /// The evidence pixels within `half` px of `line` (a line through the pivot, or
@@ -308,36 +368,24 @@ impl Tracker {
         let (cols, rows) = (self.ev.cols() as usize, self.ev.rows() as usize);
         let ev = self.ev.data_bytes()?;
         let piv = self.piv;
-        // The direction away from the pivot (a line through the pivot has it already),
-        // and the line's point nearest the pivot (the pivot itself on such a line).
-        let d = if (line.point - piv).dot(&line.dir) >= 0.0 {
-            line.dir
-        } else {
-            -line.dir
-        };
-        let foot = line.point + d * (piv - line.point).dot(&d);
-        let (a, b) = (foot + d * r_lo, foot + d * self.r_hi);
+        let StripRows { d, foot, steep, u } = self.strip_rows(line, half, r_lo);
         // Along the major axis `u` (y when the line is steep), the strip at `u` spans
         // `v` within `(half + STRIP_EDGE) / |d_u|` of the line: a step of `v` is `|d_u|`
         // px across it.
-        let steep = d.y.abs() >= d.x.abs();
         // The line's foot, its direction and the pivot along `u` and `v`.
-        let (pu, pv, du, dv, piv_u, piv_v, nu, nv) = if steep {
-            (foot.y, foot.x, d.y, d.x, piv.y, piv.x, rows, cols)
+        let (pu, pv, du, dv, piv_u, piv_v, nv) = if steep {
+            (foot.y, foot.x, d.y, d.x, piv.y, piv.x, cols)
         } else {
-            (foot.x, foot.y, d.x, d.y, piv.x, piv.y, cols, rows)
+            (foot.x, foot.y, d.x, d.y, piv.x, piv.y, rows)
         };
-        let (au, bu) = if steep { (a.y, b.y) } else { (a.x, b.x) };
         let across = du.abs();
         let span = (half + STRIP_EDGE) / across;
-        let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
-        let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
         let walk = StripWalk {
             ev,
             bg: self.bg.data_bytes()?,
             contrast: &self.contrast,
             cols,
-            rows: u0..u1,
+            rows: u,
             line: (pu, pv, dv, du),
             span,
             nv,
@@ -354,6 +402,52 @@ impl Tracker {
         }
         Ok(())
     }
+
+    /// The rows (columns for a line closer to horizontal) a strip about `line`
+    /// within `half` px, from the radius `r_lo` out, walks.
+    fn strip_rows(&self, line: &Line, half: f64, r_lo: f64) -> StripRows {
+        let piv = self.piv;
+        // The direction away from the pivot (a line through the pivot has it already),
+        // and the line's point nearest the pivot (the pivot itself on such a line).
+        let d = if (line.point - piv).dot(&line.dir) >= 0.0 {
+            line.dir
+        } else {
+            -line.dir
+        };
+        let foot = line.point + d * (piv - line.point).dot(&d);
+        let (a, b) = (foot + d * r_lo, foot + d * self.r_hi);
+        let steep = d.y.abs() >= d.x.abs();
+        let (au, bu, nu) = if steep {
+            (a.y, b.y, self.ev.rows() as usize)
+        } else {
+            (a.x, b.x, self.ev.cols() as usize)
+        };
+        let u0 = (au.min(bu) - half).floor().max(0.0) as usize;
+        let u1 = ((au.max(bu) + half).ceil().max(0.0) as usize).min(nu);
+        StripRows {
+            d,
+            foot,
+            steep,
+            u: u0..u1,
+        }
+    }
+}
+
+/// The rows of a strip's walk ([`Tracker::strip_rows`]): the line's direction away
+/// from the pivot, its point nearest the pivot, whether `u` runs along y, and the
+/// range of `u` walked.
+struct StripRows {
+    d: Pt,
+    foot: Pt,
+    steep: bool,
+    u: std::ops::Range<usize>,
+}
+
+/// The free line of the moments `m`, unless it leaves the pivot's line by more than
+/// [`FREE_STRIP_DRIFT`] px at either of its band's `ends` (a neighbouring ridge).
+fn free_line_within(m: &[f64; 6], ends: &[Pt; 2]) -> Option<Line> {
+    let free = m.free_line()?;
+    (!ends.iter().any(|e| free.distance(*e) > FREE_STRIP_DRIFT)).then_some(free)
 }
 
 /// The block [`over_threshold`] passes over at once, bytes.

@@ -317,6 +317,74 @@ fn a_strip_holds_the_same_evidence_wherever_its_line_falls_between_pixels() {
 }
 
 #[test]
+fn a_far_strip_taken_from_the_whole_walk_is_the_walk_from_its_radius() {
+    // Random evidence with marks, and lines near the pivot's at every slope, steep
+    // and not, through the pivot and beside it: the pixels of the walk from a radius
+    // under the cut, from the cut out, are the walk's from the cut, in its order and
+    // with its weights, to the bit.
+    let mut rng = crate::rng::Rng::new(5);
+    // A wall with dark specks the background's marks hold (and leave out of strips).
+    let mut wall = vec![200u8; 240 * 320];
+    for _ in 0..400 {
+        let (x, y) = (
+            (318.0 * rng.uniform()) as usize,
+            (238.0 * rng.uniform()) as usize,
+        );
+        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            wall[(y + dy) * 320 + x + dx] = 100;
+        }
+    }
+    let wall = Mat::new_rows_cols_with_data(240, 320, &wall)
+        .unwrap()
+        .try_clone()
+        .unwrap();
+    let mut t = super::super::test_tracker_over(wall, (0.0, std::f64::consts::TAU));
+    assert!(
+        t.contrast.marked_share() > 0.01,
+        "{}",
+        t.contrast.marked_share()
+    );
+    let ev: Vec<u8> = (0..240 * 320)
+        .map(|_| {
+            if rng.uniform() < 0.3 {
+                0
+            } else {
+                (255.0 * rng.uniform()) as u8
+            }
+        })
+        .collect();
+    t.ev = Mat::new_rows_cols_with_data(240, 320, &ev)
+        .unwrap()
+        .try_clone()
+        .unwrap();
+    let (mut whole, mut far, mut walked) = (Vec::new(), Vec::new(), Vec::new());
+    let mut compared = 0;
+    for _ in 0..400 {
+        let th = std::f64::consts::TAU * rng.uniform();
+        let dir = Pt::new(th.cos(), th.sin());
+        let normal = Pt::new(-dir.y, dir.x);
+        let line = Line {
+            point: t.piv + normal * (4.0 * rng.uniform() - 2.0) + dir * (50.0 * rng.uniform()),
+            dir,
+        };
+        let from = t.r_lo + (t.r_hi - t.r_lo) * rng.uniform();
+        let half = 1.0 + 2.0 * rng.uniform();
+        t.strip_pixels_from(&line, half, t.r_lo, &mut whole)
+            .unwrap();
+        t.strip_beyond(&line, half, from, &whole, &mut far);
+        t.strip_pixels_from(&line, half, from, &mut walked).unwrap();
+        let bits = |v: &[(Pt, f64)]| -> Vec<[u64; 3]> {
+            v.iter()
+                .map(|(q, w)| [q.x.to_bits(), q.y.to_bits(), w.to_bits()])
+                .collect()
+        };
+        assert_eq!(bits(&far), bits(&walked), "line at {th} rad from {from} px");
+        compared += walked.len();
+    }
+    assert!(compared > 10_000, "{compared} pixels compared");
+}
+
+#[test]
 fn a_lost_track_starts_again_on_the_sharper_ridge_not_the_stronger() {
     let deg = |d: f64| d.to_radians();
     let mut t = super::super::test_tracker((deg(78.0), deg(102.0)));

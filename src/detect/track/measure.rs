@@ -273,19 +273,18 @@ impl Tracker {
             None
         };
         let whole_first = (b.strip.len() >= MIN_LINE_PIXELS).then(|| moments(&b.strip));
-        let whole = match whole_first {
-            Some(m) => self.recentred_moments(&ends, m, self.r_lo, b)?,
-            None => None,
-        }
-        .unwrap_or(fallback);
-        let far = if !split {
-            whole
+        let mut recentre = |first: Option<[f64; 6]>, from: f64| -> Result<[f64; 6]> {
+            Ok(first
+                .map(|m| self.recentred_moments(&ends, m, from, b))
+                .transpose()?
+                .flatten()
+                .unwrap_or(fallback))
+        };
+        let whole = recentre(whole_first, self.r_lo)?;
+        let far = if split {
+            recentre(far_first, from)?
         } else {
-            match far_first {
-                Some(m) => self.recentred_moments(&ends, m, from, b)?,
-                None => None,
-            }
-            .unwrap_or(fallback)
+            whole
         };
         Ok([whole, far])
     }
@@ -329,15 +328,11 @@ impl Tracker {
         out: &mut Vec<(Pt, f64)>,
     ) {
         let rows = self.strip_rows(line, half, from);
-        let (piv_u, piv_v) = if rows.steep {
-            (self.piv.y, self.piv.x)
-        } else {
-            (self.piv.x, self.piv.y)
-        };
+        let (piv_u, piv_v) = rows.along(self.piv);
         let from2 = from * from;
         out.clear();
         out.extend(strip.iter().copied().filter(|(q, _)| {
-            let (u, v) = if rows.steep { (q.y, q.x) } else { (q.x, q.y) };
+            let (u, v) = rows.along(*q);
             let off_u = u - piv_u;
             let du2 = off_u * off_u;
             let off_v = v - piv_v;
@@ -368,16 +363,16 @@ impl Tracker {
         let (cols, rows) = (self.ev.cols() as usize, self.ev.rows() as usize);
         let ev = self.ev.data_bytes()?;
         let piv = self.piv;
-        let StripRows { d, foot, steep, u } = self.strip_rows(line, half, r_lo);
+        let rows_of = self.strip_rows(line, half, r_lo);
+        let StripRows { d, foot, steep, .. } = rows_of;
         // Along the major axis `u` (y when the line is steep), the strip at `u` spans
         // `v` within `(half + STRIP_EDGE) / |d_u|` of the line: a step of `v` is `|d_u|`
         // px across it.
         // The line's foot, its direction and the pivot along `u` and `v`.
-        let (pu, pv, du, dv, piv_u, piv_v, nv) = if steep {
-            (foot.y, foot.x, d.y, d.x, piv.y, piv.x, cols)
-        } else {
-            (foot.x, foot.y, d.x, d.y, piv.x, piv.y, rows)
-        };
+        let (pu, pv) = rows_of.along(foot);
+        let (du, dv) = rows_of.along(d);
+        let (piv_u, piv_v) = rows_of.along(piv);
+        let nv = if steep { cols } else { rows };
         let across = du.abs();
         let span = (half + STRIP_EDGE) / across;
         let walk = StripWalk {
@@ -385,7 +380,7 @@ impl Tracker {
             bg: self.bg.data_bytes()?,
             contrast: &self.contrast,
             cols,
-            rows: u,
+            rows: rows_of.u.clone(),
             line: (pu, pv, dv, du),
             span,
             nv,
@@ -441,6 +436,17 @@ struct StripRows {
     foot: Pt,
     steep: bool,
     u: std::ops::Range<usize>,
+}
+
+impl StripRows {
+    /// A point's coordinates along `u` and `v`.
+    fn along(&self, p: Pt) -> (f64, f64) {
+        if self.steep {
+            (p.y, p.x)
+        } else {
+            (p.x, p.y)
+        }
+    }
 }
 
 /// The free line of the moments `m`, unless it leaves the pivot's line by more than

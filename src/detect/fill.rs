@@ -223,11 +223,40 @@ pub(super) fn flag_against_swing(rows: &mut [AngleRow]) {
 /// CRF 39 the track lost the wire at the swing's fastest and took what lay in its gate
 /// for a few frames at a time, 23 frames `ok` 1 to 7.6 deg off.
 fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
+    let (at, (t, a)): (Vec<usize>, (Vec<f64>, Vec<f64>)) = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(k, r)| Some((k, (r.t_s, r.unflagged_angle()?))))
+        .unzip();
+    let min = OFF_SWING_MIN_DEG.to_radians();
+    let mut off = Vec::new();
+    swing_fits(&t, &a, span, |step, window, res, scatter| {
+        let limit = (OFF_SWING_SIGMAS * scatter).max(min);
+        off.extend(
+            window
+                .zip(res)
+                .filter_map(|(k, r)| (step.contains(&t[k]) && r.abs() > limit).then_some(at[k])),
+        );
+    });
+    for k in off {
+        rows[k].flag = Some(Flag::OffSwing);
+    }
+}
+
+/// The swing's own path fitted about each step of half a period (see
+/// [`flag_off_swing`]), over the angles `a` at times `t` (in time order): for each step
+/// whose fit holds, `f(step, window, residuals, scatter)` with the step's times, the
+/// indices into `t` of the frames fitted, their residuals and the fit's robust scatter.
+fn swing_fits(
+    t: &[f64],
+    a: &[f64],
+    span: &SwingSpan,
+    mut f: impl FnMut(std::ops::Range<f64>, std::ops::Range<usize>, &[f64], f64),
+) {
     let p = span.period_s;
     let omega = std::f64::consts::TAU / p;
     let min = OFF_SWING_MIN_DEG.to_radians();
     let (from, to) = (span.first_s - 0.25 * p, span.last_s + 0.25 * p);
-    let mut off = Vec::new();
     let mut s = from;
     while s < to {
         let e = (s + 0.5 * p).min(to);
@@ -240,25 +269,27 @@ fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
             [1.0, x, c1, s1, x * c1, x * s1, c2, s2, c3, s3]
         };
         let (lo, hi) = ((s - p).max(from), (e + p).min(to));
-        let first = rows.partition_point(|r| r.t_s < lo);
-        let window: Vec<(usize, [f64; 10], f64)> = rows[first..]
-            .iter()
-            .enumerate()
-            .take_while(|(_, r)| r.t_s <= hi)
-            .filter_map(|(k, r)| Some((first + k, terms(r.t_s), r.unflagged_angle()?)))
-            .collect();
-        if let Some((res, scatter)) = robust_fit(&window, min) {
-            let limit = (OFF_SWING_SIGMAS * scatter).max(min);
-            off.extend(window.iter().zip(&res).filter_map(|((k, _, _), r)| {
-                let t = rows[*k].t_s;
-                (t >= s && t < e && r.abs() > limit).then_some(*k)
-            }));
+        let window = t.partition_point(|&v| v < lo)..t.partition_point(|&v| v <= hi);
+        let fitted: Vec<(usize, [f64; 10], f64)> =
+            window.clone().map(|k| (k, terms(t[k]), a[k])).collect();
+        if let Some((res, scatter)) = robust_fit(&fitted, min) {
+            f(s..e, window, &res, scatter);
         }
         s = e;
     }
-    for k in off {
-        rows[k].flag = Some(Flag::OffSwing);
-    }
+}
+
+/// How far the found angles `a` (at times `t`, in time order) stray from the swing's own
+/// path: the median, over the steps of half a period, of the robust scatter about it
+/// (see [`flag_off_swing`]), rad. `None` without two whole swings or a step fitted. A
+/// wire followed well strays by its noise from frame to frame; a track that the
+/// steadying of a moving camera or a codec moves slowly strays more (see
+/// `judge::judge`'s `wander`).
+pub(super) fn swing_scatter(t: &[f64], a: &[f64]) -> Option<f64> {
+    let span = super::judge::swing_span(t, a)?;
+    let mut scatters = Vec::new();
+    swing_fits(t, a, &span, |_, _, _, scatter| scatters.push(scatter));
+    (!scatters.is_empty()).then(|| crate::numerics::median(&mut scatters))
 }
 
 /// Flag the found frames of a run that a leap no swing makes parts from a longer run

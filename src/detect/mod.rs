@@ -632,6 +632,12 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     if let Some(c) = judge::turn_check(&rows, &turns) {
         verdict = verdict.with(c);
     }
+    if let Some(c) = (!turns.is_empty())
+        .then(|| judge::wander_check(&rows, verdict.seen.noise_deg))
+        .flatten()
+    {
+        verdict = verdict.with(c);
+    }
     if let Some(r) = &geo.rival {
         verdict = verdict.with(judge::polarity_check(r));
     }

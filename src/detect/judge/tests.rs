@@ -421,3 +421,46 @@ fn a_track_that_flicks_and_rests_between_has_no_pendulum_s_rhythm() {
     let c = v.checks.iter().find(|c| c.check == "rhythm").unwrap();
     assert!(c.passed && (c.value - 1.0).abs() < 0.01, "{:?}", c);
 }
+
+#[test]
+fn steadied_angles_that_stray_slowly_from_the_swing_are_suspect() {
+    // Fitted half a period at a time, the swing's own path holds `swinging()` (its
+    // amplitude falls linearly): the angles stray from it by their noise, 0.005 deg.
+    let rows = swinging();
+    let noise = |rows: &[AngleRow]| judge(rows, [100.0, 20.0], None, None).seen.noise_deg;
+    let c = wander_check(&rows, noise(&rows)).expect("judged");
+    assert!(c.passed && (0.7..1.3).contains(&c.value), "{c:?}");
+    // A slow error at 0.77 Hz (no harmonic of the 0.5 Hz swing), as a steadying read
+    // late gives: its fourth differences over 50 frames/s are 1/300 of it, so the
+    // noise hardly grows, but the angles stray from the path by most of the error's
+    // amplitude (0.069 deg of 0.08; the fit's linear terms take a little).
+    let wander = |rows: &[AngleRow], amp_deg: f64| -> Vec<AngleRow> {
+        rows.iter()
+            .map(|r| {
+                let e = amp_deg.to_radians() * (std::f64::consts::TAU * 0.77 * r.t_s).sin();
+                AngleRow::found(r.frame, r.t_s, r.angle_rad.unwrap() + e)
+            })
+            .collect()
+    };
+    let strays = wander(&rows, 0.08);
+    let c = wander_check(&strays, noise(&strays)).expect("judged");
+    assert!(!c.passed && c.value > 10.0, "{c:?}");
+    // Under `WANDER_MIN_DEG` it passes, however many times the noise (a quieter
+    // swing, 0.002 deg of noise: 0.015 deg strays about 6 times that).
+    let quiet: Vec<AngleRow> = rows
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let t = r.t_s;
+            let amp = 10.0 - 0.2 * (2.0 * t / PERIOD);
+            let clean = 90.0 + amp * (std::f64::consts::TAU * t / PERIOD).cos();
+            let a = clean + 0.4 * (r.angle_rad.unwrap().to_degrees() - clean);
+            AngleRow::found(k as u64, t, a.to_radians())
+        })
+        .collect();
+    let slight = wander(&quiet, 0.015);
+    let c = wander_check(&slight, noise(&slight)).expect("judged");
+    assert!(c.passed && c.value > WANDER_NOISE_FACTOR, "{c:?}");
+    // Without a noise (too few runs of found frames), nothing is judged.
+    assert!(wander_check(&rows, None).is_none());
+}

@@ -134,4 +134,14 @@ knobs! {
     TURN_FOLLOW_SIGNIFICANCE: f64 = 4.0, "standard errors",
         what "the turn's share is judged when this many standard errors from 0",
         chosen_by "hand-picked: a share that noise alone gives is not judged; not swept";
+
+    /// `wander`: the most the found angles may stray from the swing's own path (their
+    /// robust scatter about it, step by step), in times their noise from frame to frame ...
+    WANDER_NOISE_FACTOR: f64 = 3.5, "times",
+        what "most steadied angles may stray from the swing's own path, in times their frame-to-frame noise",
+        chosen_by "issue 50, seed 7's sweep (first 40 scenes): steadied scenes within 0.02 deg RMS 0.97-1.6 times, scene 2 (0.093 deg RMS, ok) 3.85, scene 18 (0.115, ok) 10.6; the splitscreen clip moved by ffmpeg (swing as still's) 2.94: little room";
+    /// ... and in degrees: a scatter under this passes whatever the noise.
+    WANDER_MIN_DEG: f64 = 0.02, "deg",
+        what "a scatter about the swing's own path under this passes",
+        chosen_by "issue 50's angle RMS that counts as good (0.02 deg); a still twin (seed 7 scene 14, 0.006 deg RMS) strayed 4.8 times its small noise, 0.013 deg";
 }

@@ -632,10 +632,13 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     if let Some(c) = judge::turn_check(&rows, &turns) {
         verdict = verdict.with(c);
     }
-    if let Some(c) = (!turns.is_empty())
-        .then(|| judge::wander_check(&rows, verdict.seen.noise_deg))
-        .flatten()
-    {
+    // Judged on steadied detections only (see `judge::wander_check`).
+    let wander = if turns.is_empty() {
+        None
+    } else {
+        judge::wander_check(&rows, verdict.seen.noise_deg)
+    };
+    if let Some(c) = wander {
         verdict = verdict.with(c);
     }
     if let Some(r) = &geo.rival {

@@ -210,13 +210,13 @@ pub fn refine(
     let mut steps: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
     let step = upper_median(&mut steps);
     let (first, last) = (t[0], t[t.len() - 1]);
+    let short = |n: usize, span: f64| (n as f64) < REFINE_MIN_SIDE_SHARE * span / step;
     let mut out = Vec::with_capacity(m.extremes.len());
     let mut amps = Vec::with_capacity(m.extremes.len());
     for (e, &a_first) in m.extremes.iter().zip(&m.amplitudes) {
         let lo = t.partition_point(|&v| v < e.t - w);
         let hi = t.partition_point(|&v| v <= e.t + w);
         let mid = t.partition_point(|&v| v <= e.t);
-        let short = |n: usize, span: f64| (n as f64) < REFINE_MIN_SIDE_SHARE * span / step;
         if hi - lo < 12
             || short(hi - mid, w.min(last - e.t))
             || (!e.release && short(mid - lo, w.min(e.t - first)))

@@ -644,13 +644,20 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     if let Some(r) = &geo.rival {
         verdict = verdict.with(judge::polarity_check(r));
     }
+    let band = [geo.r_lo, geo.r_hi];
+    if let Some(c) = lens
+        .as_ref()
+        .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, &verdict.seen))
+    {
+        verdict = verdict.with(c);
+    }
     Ok(Detection {
         verdict,
         rows,
         pivot_px: [pivot.x, pivot.y],
         roi: [geo.roi.x, geo.roi.y, geo.roi.w, geo.roi.h],
         dark_wire: geo.dark,
-        band_px: [geo.r_lo, geo.r_hi],
+        band_px: band,
         decoder: input.decoder(),
         decodings,
         diagnostics: tracker.diagnostics,

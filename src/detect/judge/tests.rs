@@ -464,3 +464,26 @@ fn steadied_angles_that_stray_slowly_from_the_swing_are_suspect() {
     // Without a noise (too few runs of found frames), nothing is judged.
     assert!(wander_check(&rows, None).is_none());
 }
+
+#[test]
+fn a_lens_known_loosely_makes_the_swing_s_scale_and_the_detection_suspect() {
+    // A swing of about 10 deg down from a pivot near the left edge of a 960x540 frame,
+    // seen over 100 to 400 px: through a lens declared unknown (`k1` 0 +- 0.15), its
+    // scale is a few percent uncertain; through one fitted to +- 0.002, a few
+    // hundredths of a percent.
+    let (pivot, band) = ([60.0, 60.0], [100.0, 400.0]);
+    let v = judge(&swinging(), pivot, Some(0.3), None);
+    let unknown = crate::lens::Lens::new(0.0, 0.15, 960, 540);
+    let c = lens_check(&unknown, pivot, band, &v.seen).expect("judged");
+    let u = unknown.scale_u_rel(pivot, 90f64.to_radians(), 9.7f64.to_radians(), band);
+    assert!((c.value - u).abs() < 1e-3 * u, "{} vs {u}", c.value);
+    assert!(c.value > 0.01 && !c.passed, "{c:?}");
+    assert!(c.reason.contains("k1 0.000 +- 0.150"), "{}", c.reason);
+    assert_eq!(failed(&v.clone().with(c)), ["lens"]);
+    let fitted = crate::lens::Lens::new(-0.2, 0.002, 960, 540);
+    let c = lens_check(&fitted, pivot, band, &v.seen).expect("judged");
+    assert!(c.passed && c.value < 0.001, "{c:?}");
+    // A lens given exactly (no uncertainty) is not judged.
+    let exact = crate::lens::Lens::new(-0.2, 0.0, 960, 540);
+    assert!(lens_check(&exact, pivot, band, &v.seen).is_none());
+}

@@ -163,10 +163,12 @@ pub fn wander_check(rows: &[AngleRow], noise_deg: Option<f64>) -> Option<Detecti
 /// `seen`, through `pivot` over the wire's visible `band`, px): over
 /// [`LENS_SCALE_MAX`], the angles may be that much too wide or too narrow, and nothing in
 /// them shows it (a scale error keeps the swing's own path, its period and its decay).
-/// A lens declared unknown (`{k1: 0, u_k1: 0.15}`, when no sheet could be fitted) leaves
-/// a swing near the frame's edge a few percent uncertain: the sweep's scenes so measured
-/// were 1.4 to 2.1 % wide, 0.066 to 0.076 deg RMS off. The fit's `scale` check judges
-/// `s_r` by the same limit. `None` without a lens's uncertainty or a seen swing.
+/// A lens declared unknown (`{k1: 0, u_k1: 0.15}`, when no sheet could be fitted) or
+/// fitted from too few lines leaves a swing a few percent uncertain: seed 2's sweep
+/// scene 40 (declared unknown) read 3.2 % and was 2.07 % wide, seed 7's scene 60 (the
+/// sheet's -0.131 +- 0.062 for -0.164) 3.0 % and 1.41 % wide, 0.066 and 0.076 deg RMS
+/// off and called `ok` before. The fit's `scale` check judges `s_r` by the same limit.
+/// `None` without a lens's uncertainty or a seen swing.
 pub fn lens_check(
     lens: &crate::lens::Lens,
     pivot: [f64; 2],
@@ -196,7 +198,8 @@ pub fn lens_check(
             100.0 * LENS_SCALE_MAX
         ),
         "the angles are the plate's only as well as the lens is known: fit it from a sheet \
-         with more, sharper lines (`rollfric lens`), or keep the wire near the frame's centre",
+         with more, sharper lines (`rollfric lens`), or film through a lens that does not \
+         bend",
     ))
 }
 

@@ -644,6 +644,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     if let Some(r) = &geo.rival {
         verdict = verdict.with(judge::polarity_check(r));
     }
+    if let Some(c) = judge::pivot_check(swing_scale) {
+        verdict = verdict.with(c);
+    }
     let band = [geo.r_lo, geo.r_hi];
     if let Some(c) = lens
         .as_ref()

@@ -487,3 +487,21 @@ fn a_lens_known_loosely_makes_the_swing_s_scale_and_the_detection_suspect() {
     let exact = crate::lens::Lens::new(-0.2, 0.0, 960, 540);
     assert!(lens_check(&exact, pivot, band, &v.seen).is_none());
 }
+
+#[test]
+fn a_pivot_off_along_the_wire_makes_the_detection_suspect() {
+    // On the wire the wire's own direction swings as its angle about the pivot.
+    let on = pivot_check(Some(0.9996)).expect("judged");
+    assert!(on.passed, "{on:?}");
+    // 40 px off along a wire seen at a mean radius of 300 px: R / (R + delta) = 0.882.
+    let off = pivot_check(Some(300.0 / 340.0)).expect("judged");
+    assert!(
+        !off.passed && (off.value - 40.0 / 340.0).abs() < 1e-12,
+        "{off:?}"
+    );
+    assert!(off.reason.contains("11.76 % less"), "{}", off.reason);
+    // Seed 7's scene 18: 0.9892, its swing 0.82 % wide.
+    assert!(!pivot_check(Some(0.9892)).unwrap().passed);
+    assert!(!pivot_check(Some(1.0108)).unwrap().passed);
+    assert!(pivot_check(None).is_none());
+}

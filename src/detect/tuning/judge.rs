@@ -151,4 +151,10 @@ knobs! {
     LENS_SCALE_MAX: f64 = 0.005, "share",
         what "largest share of the swing a lens's uncertainty may leave uncertain",
         chosen_by "the fit's scale_rel default; issue 50: seed 2 scene 40 (lens declared unknown) and seed 7 scene 60 (sheet fit -0.131 +- 0.062) read 3.21 and 2.97 %, their swings 2.07 and 1.41 % wide, called ok before";
+
+    /// `pivot`: the most the wire's own direction may swing more or less than its angle
+    /// about the pivot (`Tracker::swing_scale`, as a share off 1).
+    PIVOT_SCALE_MAX: f64 = 0.0075, "share",
+        what "largest share the wire's own direction may swing more or less than its angle about the pivot",
+        chosen_by "issue 50, seed 7's sweep: a steadied drift through a lens read 1.08 % (0.115 deg RMS, ok) and a hand-held view 0.91 % (0.44 deg); every other scene 0.49 % or less, those within 0.02 deg 0.08 % or less; the real clips 0.14-0.38 %, the report twins 0.04 % or less";
 }

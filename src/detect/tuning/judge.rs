@@ -156,5 +156,5 @@ knobs! {
     /// about the pivot (`Tracker::swing_scale`, as a share off 1).
     PIVOT_SCALE_MAX: f64 = 0.0075, "share",
         what "largest share the wire's own direction may swing more or less than its angle about the pivot",
-        chosen_by "issue 50, seed 7's sweep: a steadied drift through a lens read 1.08 % (0.115 deg RMS, ok) and a hand-held view 0.91 % (0.44 deg); every other scene 0.49 % or less, those within 0.02 deg 0.08 % or less; the real clips 0.14-0.38 %, the report twins 0.04 % or less";
+        chosen_by "issue 50, seed 7's sweep: a steadied drift through a lens read 1.08 % (0.115 deg RMS, ok) and a hand-held view 0.91 % (0.44 deg); every other scene 0.49 % or less, those within 0.02 deg 0.15 % or less; the real clips measured ok 0.12-0.41 %, the report twins 0.04 % or less; a twin following a light wire's dark shadow 0.78 %";
 }

@@ -626,32 +626,22 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
     let swing_scale = tracker.swing_scale(&rows, pivot, lens.as_ref());
     let figure11 = keeper.take(&rows);
     let mut verdict = judge::judge(&rows, [pivot.x, pivot.y], refined.u_px, refined.drift_deg);
-    if let Some(reach) = unfollowed {
-        verdict = verdict.with(judge::still_check(reach));
-    }
-    if let Some(c) = judge::turn_check(&rows, &turns) {
-        verdict = verdict.with(c);
-    }
-    // Judged on steadied detections only (see `judge::wander_check`).
-    let wander = if turns.is_empty() {
-        None
-    } else {
-        judge::wander_check(&rows, verdict.seen.noise_deg)
-    };
-    if let Some(c) = wander {
-        verdict = verdict.with(c);
-    }
-    if let Some(r) = &geo.rival {
-        verdict = verdict.with(judge::polarity_check(r));
-    }
-    if let Some(c) = judge::pivot_check(swing_scale) {
-        verdict = verdict.with(c);
-    }
+    // The checks beyond the angles', in this order. `wander` is judged on steadied
+    // detections only (see `judge::wander_check`).
     let band = [geo.r_lo, geo.r_hi];
-    if let Some(c) = lens
-        .as_ref()
-        .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, &verdict.seen))
-    {
+    let seen = &verdict.seen;
+    let checks = [
+        unfollowed.map(judge::still_check),
+        judge::turn_check(&rows, &turns),
+        (!turns.is_empty())
+            .then(|| judge::wander_check(&rows, seen.noise_deg))
+            .flatten(),
+        geo.rival.as_ref().map(judge::polarity_check),
+        judge::pivot_check(swing_scale),
+        lens.as_ref()
+            .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, seen)),
+    ];
+    for c in checks.into_iter().flatten() {
         verdict = verdict.with(c);
     }
     Ok(Detection {

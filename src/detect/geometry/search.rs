@@ -9,7 +9,8 @@ use crate::detect::tuning::{
     BAND_INNER_PCT, BAND_INNER_SLACK, BAND_OUTER_PCT, BAND_OUTER_SLACK, BASE_TOL_PX,
     BASE_TOL_SHARE, GEOMETRY_THREADS, LOOK_CLOSE_FRAMES, MAX_JUMPS, MAX_ROUGHNESS, MIN_LEN_SHARE,
     MIN_WIRE_LINES, RIVAL_OFFSET_MIN_DEG, RIVAL_OFFSET_STEADY, RIVAL_POLARITY_SHARE,
-    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS,
+    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS, STATIC_LINE_DEG,
+    STATIC_LINE_SHARE,
 };
 
 /// The second polarity's look against a share of the first's directions (`beat`, see
@@ -60,14 +61,49 @@ impl Race {
     }
 }
 
-/// Per frame of `lines`, its line passing within `tol` of `q` (the nearest), if any.
+/// Per frame of `lines`, its line passing within `tol` of `q`, if any: the nearest,
+/// unless it lies where lines through `q` lie in [`STATIC_LINE_SHARE`] of the frames
+/// or more (within [`STATIC_LINE_DEG`]) and another line passes that does not: a
+/// static edge through the pivot (a protractor's ruler) that a camera's sway the
+/// glances did not see leaves in the evidence stays put, while the wire turns.
 fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&FrameLine>> {
-    lines
+    let through: Vec<Vec<&FrameLine>> = lines
         .iter()
-        .map(|v| {
-            v.iter()
-                .filter(|f| Seen::of(f).points_at(q, tol))
-                .min_by(|a, b| a.line.distance(q).total_cmp(&b.line.distance(q)))
+        .map(|v| v.iter().filter(|f| Seen::of(f).points_at(q, tol)).collect())
+        .collect();
+    fn nearest<'a: 'b, 'b>(
+        c: impl Iterator<Item = &'b &'a FrameLine>,
+        q: Pt,
+    ) -> Option<&'a FrameLine> {
+        c.min_by(|a, b| a.line.distance(q).total_cmp(&b.line.distance(q)))
+            .copied()
+    }
+    // A line's direction, as a line (modulo half a turn), rad.
+    let direction = |f: &FrameLine| f.line.dir.y.atan2(f.line.dir.x);
+    let apart = |a: f64, b: f64| {
+        let d = (a - b).rem_euclid(std::f64::consts::PI);
+        d.min(std::f64::consts::PI - d)
+    };
+    let seen_in = through.iter().filter(|c| !c.is_empty()).count() as f64;
+    let fixed = |f: &FrameLine| {
+        let a = direction(f);
+        let recurs = through
+            .iter()
+            .filter(|c| {
+                c.iter()
+                    .any(|g| apart(direction(g), a) <= STATIC_LINE_DEG.to_radians())
+            })
+            .count();
+        recurs as f64 >= STATIC_LINE_SHARE * seen_in
+    };
+    through
+        .iter()
+        .map(|c| {
+            let n = nearest(c.iter(), q)?;
+            if c.len() < 2 || !fixed(n) {
+                return Some(n);
+            }
+            nearest(c.iter().filter(|f| !fixed(f)), q).or(Some(n))
         })
         .collect()
 }
@@ -505,4 +541,63 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
         lines_used: good.len(),
         stage: 0,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A line from `q` outward at `deg` (image angle), seen from `r0` to `r1` px, passing
+    /// `off` px beside `q`.
+    fn ray(q: Pt, deg: f64, r0: f64, r1: f64, off: f64) -> FrameLine {
+        let d = Pt::new(deg.to_radians().cos(), deg.to_radians().sin());
+        let n = Pt::new(-d.y, d.x) * off;
+        let (a, b) = (q + n + d * r0, q + n + d * r1);
+        FrameLine {
+            line: Line::through(a, b),
+            pts: vec![(a, 1.0), (b, 1.0)],
+        }
+    }
+
+    #[test]
+    fn a_static_edge_through_the_pivot_is_passed_over_for_the_wire_beside_it() {
+        let q = Pt::new(300.0, 100.0);
+        let wire = |k: usize| 90.0 + 10.0 * (k as f64 * 0.5).sin();
+        // The ruler's edge, nearer the pivot than the wire, in 3 frames of 5.
+        let frames = || -> Vec<Vec<FrameLine>> {
+            (0..40)
+                .map(|k| {
+                    let mut v = vec![ray(q, wire(k), 50.0, 300.0, 0.8)];
+                    if k % 5 < 3 {
+                        v.push(ray(q, -108.0 + 0.1 * (k % 3) as f64, 20.0, 200.0, 0.0));
+                    }
+                    v
+                })
+                .collect()
+        };
+        let lines = frames();
+        let taken = lines_through(&lines, q, 3.0);
+        for (k, f) in taken.iter().enumerate() {
+            let d = f.expect("a line through the pivot").line.dir;
+            let deg = d.y.atan2(d.x).to_degrees().rem_euclid(180.0);
+            assert!((deg - wire(k)).abs() < 0.5, "frame {k}: {deg} deg");
+        }
+        // Alone in a frame, the edge is still that frame's line; without a wire beside it
+        // in any frame (a wire at rest and its shadow, both still), the nearest is taken.
+        let mut alone = frames();
+        alone[0].remove(0);
+        assert!(lines_through(&alone, q, 3.0)[0].is_some());
+        let at_rest: Vec<Vec<FrameLine>> = (0..40)
+            .map(|_| {
+                vec![
+                    ray(q, 90.0, 50.0, 300.0, 0.8),
+                    ray(q, 93.0, 50.0, 300.0, 0.2),
+                ]
+            })
+            .collect();
+        for f in lines_through(&at_rest, q, 3.0) {
+            let d = f.expect("a line").line.dir;
+            assert!((d.y.atan2(d.x).to_degrees().rem_euclid(180.0) - 93.0).abs() < 1e-6);
+        }
+    }
 }

@@ -34,6 +34,18 @@ knobs! {
         what "lines through one pivot that make a wire",
         chosen_by "034348f: hand-picked; no figure in the history";
 
+    /// A line through the pivot in as many of the look's frames with such lines as this
+    /// share ...
+    STATIC_LINE_SHARE: f64 = 0.4, "share",
+        what "share of the look's frames a static edge through the pivot lies in",
+        chosen_by "a static ruler edge through the pivot, a 0.61 px sway unseen: seed 7 sweep scene 38";
+
+    /// ... within this many degrees of one direction is a static edge, not the wire,
+    /// when the wire is seen beside it.
+    STATIC_LINE_DEG: f64 = 0.5, "deg",
+        what "spread of a static edge's direction through the pivot",
+        chosen_by "with STATIC_LINE_SHARE: seed 7 sweep scene 38";
+
     /// Jumps a first look may show and still be a pendulum's wire (`jumps`).
     MAX_JUMPS: usize = 1, "jumps",
         what "jumps a first look may show and still be a wire",

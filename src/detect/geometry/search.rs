@@ -9,8 +9,8 @@ use crate::detect::tuning::{
     BAND_INNER_PCT, BAND_INNER_SLACK, BAND_OUTER_PCT, BAND_OUTER_SLACK, BASE_TOL_PX,
     BASE_TOL_SHARE, GEOMETRY_THREADS, LOOK_CLOSE_FRAMES, MAX_JUMPS, MAX_ROUGHNESS, MIN_LEN_SHARE,
     MIN_WIRE_LINES, RIVAL_OFFSET_MIN_DEG, RIVAL_OFFSET_STEADY, RIVAL_POLARITY_SHARE,
-    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS, STATIC_APART_DEG,
-    STATIC_APART_SHARE, STATIC_LINE_DEG, STATIC_LINE_SHARE,
+    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS, STATIC_LINE_DEG,
+    STATIC_LINE_SHARE,
 };
 
 /// The second polarity's look against a share of the first's directions (`beat`, see
@@ -85,9 +85,7 @@ fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&Frame
         d.min(std::f64::consts::PI - d)
     };
     let seen_in = through.iter().filter(|c| !c.is_empty()).count() as f64;
-    // The share of the frames with lines through `q` that have one within
-    // `STATIC_LINE_DEG` of `f`'s direction.
-    let share = |f: &FrameLine| {
+    let fixed = |f: &FrameLine| {
         let a = direction(f);
         let recurs = through
             .iter()
@@ -96,10 +94,9 @@ fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&Frame
                     .any(|g| apart(direction(g), a) <= STATIC_LINE_DEG.to_radians())
             })
             .count();
-        recurs as f64 / seen_in
+        recurs as f64 >= STATIC_LINE_SHARE * seen_in
     };
-    let fixed = |f: &FrameLine| share(f) >= STATIC_LINE_SHARE;
-    let taken: Vec<Option<&FrameLine>> = through
+    through
         .iter()
         .map(|c| {
             let n = nearest(c.iter(), q)?;
@@ -107,47 +104,6 @@ fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&Frame
                 return Some(n);
             }
             nearest(c.iter().filter(|f| !fixed(f)), q).or(Some(n))
-        })
-        .collect();
-    // A line taken alone that keeps one direction in `STATIC_APART_SHARE` of the frames
-    // or more, outside the fan the other lines sweep by `STATIC_APART_DEG`, is a static
-    // edge the wire's frames do not show beside it (a hand-held camera's, where the wire
-    // is lost at one side of its swing): none is taken in its frames.
-    let about = |f: &FrameLine| {
-        let c = f.line.point - q;
-        let d = if c.dot(&f.line.dir) >= 0.0 {
-            f.line.dir
-        } else {
-            -f.line.dir
-        };
-        d.y.atan2(d.x)
-    };
-    let still = |f: &FrameLine| share(f) >= STATIC_APART_SHARE;
-    let turning: Vec<f64> = taken
-        .iter()
-        .flatten()
-        .filter(|f| !still(f))
-        .map(|f| about(f))
-        .collect();
-    if turning.len() < MIN_WIRE_LINES {
-        return taken;
-    }
-    let (sin, cos) = turning
-        .iter()
-        .fold((0.0, 0.0), |(s, c), a| (s + a.sin(), c + a.cos()));
-    let mean = sin.atan2(cos);
-    let (lo, hi) = turning
-        .iter()
-        .map(|&a| unwrap_near(a, mean))
-        .fold((f64::MAX, f64::MIN), |(lo, hi), a| (lo.min(a), hi.max(a)));
-    let margin = STATIC_APART_DEG.to_radians();
-    taken
-        .into_iter()
-        .map(|f| {
-            f.filter(|f| {
-                let a = unwrap_near(about(f), mean);
-                !still(f) || (lo - margin..=hi + margin).contains(&a)
-            })
         })
         .collect()
 }
@@ -608,23 +564,29 @@ mod tests {
         let q = Pt::new(300.0, 100.0);
         let wire = |k: usize| 90.0 + 10.0 * (k as f64 * 0.5).sin();
         // The ruler's edge, nearer the pivot than the wire, in 3 frames of 5.
-        let lines: Vec<Vec<FrameLine>> = (0..40)
-            .map(|k| {
-                let mut v = vec![ray(q, wire(k), 50.0, 300.0, 0.8)];
-                if k % 5 < 3 {
-                    v.push(ray(q, -108.0 + 0.1 * (k % 3) as f64, 20.0, 200.0, 0.0));
-                }
-                v
-            })
-            .collect();
+        let frames = || -> Vec<Vec<FrameLine>> {
+            (0..40)
+                .map(|k| {
+                    let mut v = vec![ray(q, wire(k), 50.0, 300.0, 0.8)];
+                    if k % 5 < 3 {
+                        v.push(ray(q, -108.0 + 0.1 * (k % 3) as f64, 20.0, 200.0, 0.0));
+                    }
+                    v
+                })
+                .collect()
+        };
+        let lines = frames();
         let taken = lines_through(&lines, q, 3.0);
         for (k, f) in taken.iter().enumerate() {
             let d = f.expect("a line through the pivot").line.dir;
             let deg = d.y.atan2(d.x).to_degrees().rem_euclid(180.0);
             assert!((deg - wire(k)).abs() < 0.5, "frame {k}: {deg} deg");
         }
-        // Without a wire beside it in any frame (a wire at rest and its shadow, both
-        // still), the nearest is taken.
+        // Alone in a frame, the edge is still that frame's line; without a wire beside it
+        // in any frame (a wire at rest and its shadow, both still), the nearest is taken.
+        let mut alone = frames();
+        alone[0].remove(0);
+        assert!(lines_through(&alone, q, 3.0)[0].is_some());
         let at_rest: Vec<Vec<FrameLine>> = (0..40)
             .map(|_| {
                 vec![
@@ -637,31 +599,5 @@ mod tests {
             let d = f.expect("a line").line.dir;
             assert!((d.y.atan2(d.x).to_degrees().rem_euclid(180.0) - 93.0).abs() < 1e-6);
         }
-    }
-
-    #[test]
-    fn a_static_edge_taken_alone_outside_the_wire_s_fan_is_no_frame_s_line() {
-        let q = Pt::new(300.0, 100.0);
-        let wire = |k: usize| 90.0 + 10.0 * (k as f64 * 0.5).sin();
-        // Where the wire is lost (one frame of five), a static edge 70 deg off its fan is
-        // the only line through the pivot.
-        let lines: Vec<Vec<FrameLine>> = (0..40)
-            .map(|k| match k % 5 {
-                0 => vec![ray(q, 170.0 + 0.1 * (k % 3) as f64, 20.0, 200.0, 0.0)],
-                _ => vec![ray(q, wire(k), 50.0, 300.0, 0.8)],
-            })
-            .collect();
-        for (k, f) in lines_through(&lines, q, 3.0).iter().enumerate() {
-            assert_eq!(f.is_none(), k % 5 == 0, "frame {k}");
-        }
-        // A wire held at a turning point before it is released (a third of the frames) is
-        // within its fan: every frame keeps its line.
-        let held: Vec<Vec<FrameLine>> = (0..40)
-            .map(|k| match k {
-                0..=12 => vec![ray(q, 100.0, 50.0, 300.0, 0.0)],
-                _ => vec![ray(q, wire(k), 50.0, 300.0, 0.8)],
-            })
-            .collect();
-        assert!(lines_through(&held, q, 3.0).iter().all(Option::is_some));
     }
 }

@@ -46,18 +46,6 @@ knobs! {
         what "spread of a static edge's direction through the pivot",
         chosen_by "with STATIC_LINE_SHARE: seed 7 sweep scene 38";
 
-    /// A line through the pivot taken alone in its frames, within `STATIC_LINE_DEG` of
-    /// one direction in this share of the look's frames with such lines or more ...
-    STATIC_APART_SHARE: f64 = 0.15, "share",
-        what "share of the look's frames a static edge outside the wire's fan lies in",
-        chosen_by "a hand-held camera's static edge through the pivot, taken where the wire is lost: seed 7 sweep scene 49";
-
-    /// ... and outside the fan the other lines sweep by this much, is a static edge:
-    /// no line is taken in its frames.
-    STATIC_APART_DEG: f64 = 10.0, "deg",
-        what "how far outside the wire's fan a static edge lies",
-        chosen_by "with STATIC_APART_SHARE: seed 7 sweep scene 49";
-
     /// Jumps a first look may show and still be a pendulum's wire (`jumps`).
     MAX_JUMPS: usize = 1, "jumps",
         what "jumps a first look may show and still be a wire",

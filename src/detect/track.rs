@@ -428,7 +428,12 @@ impl Tracker {
             return Ok(row);
         }
         let gate = self.accept_gate();
-        let (angle, quality, moments) = match self.measure(pred, gate)? {
+        let full = (self.scale > 1.0).then_some(measure::Full {
+            data: &f.data,
+            w: f.width,
+            h: f.height,
+        });
+        let (angle, quality, moments) = match self.measure(pred, gate, full)? {
             Some((a, q, m)) => (a, q, Some(m)),
             None => (f64::NAN, 0.0, None),
         };
@@ -454,13 +459,15 @@ impl Tracker {
         }
         if self.debug.as_deref() == Some("frames") {
             eprintln!(
-                "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?}",
+                "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?} side {:?} undecided {}",
                 f.index,
                 f.t_s,
                 angle.to_degrees(),
                 pred.map(|p| (p.to_degrees() * 100.0).round() / 100.0),
                 quality,
-                flag
+                flag,
+                self.ridges.side(),
+                self.undecided.len()
             );
         }
         // A weak measurement (too little of the band covered) is no evidence of where

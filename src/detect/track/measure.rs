@@ -11,12 +11,13 @@ use crate::detect::line::{
 };
 use crate::detect::row::KeptMoments;
 use crate::detect::tuning::{
-    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_FROM, FREE_STRIP_HALF, FREE_STRIP_PASSES, HIST_BIN_PX,
-    HIST_MAX_BINS, HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX,
-    PAIR_MIN_VOTES, PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO,
-    PEAK_STEP_BINS, RIVAL_COVER, RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START,
-    RIVAL_WIDER_GATED, SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS,
-    UNDECIDED_MAX_FRAMES, WIDTH_STRIP,
+    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_FROM, FREE_STRIP_HALF, FREE_STRIP_PASSES,
+    FULL_WIDTH_HALF_PX, FULL_WIDTH_OFF_PX, FULL_WIDTH_PROFILES, HIST_BIN_PX, HIST_MAX_BINS,
+    HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX, PAIR_MIN_VOTES,
+    PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO, PEAK_STEP_BINS, RIVAL_COVER,
+    RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED,
+    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, UNDECIDED_MAX_FRAMES,
+    WIDTH_STRIP,
 };
 use crate::detect::Pt;
 use anyhow::Result;
@@ -51,13 +52,15 @@ impl Tracker {
     /// The wire's angle and coverage in the current evidence image, searching the
     /// wedge `evidence` prepared around `pred` (or every angle the wire was seen at,
     /// without a prediction). `gate` is how far from `pred` the angle will be accepted.
+    /// `full` is the frame at the full scale when the pass works shrunk.
     pub(super) fn measure(
         &mut self,
         pred: Option<f64>,
         gate: f64,
+        full: Option<Full>,
     ) -> Result<Option<(f64, f64, KeptMoments)>> {
         let mut b = std::mem::take(&mut self.scratch);
-        let found = self.measure_with(&mut b, pred, gate);
+        let found = self.measure_with(&mut b, pred, gate, full);
         self.scratch = b;
         found
     }
@@ -67,6 +70,7 @@ impl Tracker {
         b: &mut Scratch,
         pred: Option<f64>,
         gate: f64,
+        full: Option<Full>,
     ) -> Result<Option<(f64, f64, KeptMoments)>> {
         self.pair_other = None;
         // Only the wedge's rectangle holds evidence this frame (see `evidence`): its
@@ -151,7 +155,7 @@ impl Tracker {
             sm[i] - a.min(c)
         }));
         let (best_i, other) =
-            self.sharpest_ridge(&b.scores, best, &b.cand, (lo, bin_w), pred, gate)?;
+            self.sharpest_ridge(&b.scores, best, &b.cand, (lo, bin_w), pred, gate, full)?;
         let at = |i: usize| lo + (i as f64 + 0.5) * bin_w;
         let found = self.refine(b, at(best_i), mid)?;
         // The pair's other ridge measured too while the side the wire lies on is not
@@ -456,6 +460,100 @@ fn free_line_within(m: &[f64; 6], ends: &[Pt; 2]) -> Option<Line> {
     (!ends.iter().any(|e| free.distance(*e) > FREE_STRIP_DRIFT)).then_some(free)
 }
 
+/// A frame at the full scale, for the pass that works shrunk: its grey levels, `w` x `h`.
+#[derive(Clone, Copy)]
+pub(super) struct Full<'a> {
+    pub data: &'a [u8],
+    pub w: usize,
+    pub h: usize,
+}
+
+impl Full<'_> {
+    /// The grey level at `p` (px, pixel centres at whole numbers), bilinear; none
+    /// outside the frame.
+    fn at(&self, p: Pt) -> Option<f64> {
+        let (x0, y0) = (p.x.floor(), p.y.floor());
+        if x0 < 0.0 || y0 < 0.0 || x0 + 1.0 >= self.w as f64 || y0 + 1.0 >= self.h as f64 {
+            return None;
+        }
+        let (fx, fy) = (p.x - x0, p.y - y0);
+        let i = y0 as usize * self.w + x0 as usize;
+        let g = |k: usize| self.data[k] as f64;
+        let top = g(i) * (1.0 - fx) + g(i + 1) * fx;
+        let bottom = g(i + self.w) * (1.0 - fx) + g(i + self.w + 1) * fx;
+        Some(top * (1.0 - fy) + bottom * fy)
+    }
+}
+
+/// The width, px at the full scale, of the line through `piv` at angle `th` (radians)
+/// in `full`: the median, over [`FULL_WIDTH_PROFILES`] profiles across the line at radii
+/// spread over `band` (px from `piv`), of each profile's RMS spread about its own middle
+/// of its darkness (`dark`; else its brightness) against its ends, above a quarter of
+/// its peak, where that middle lies within [`FULL_WIDTH_OFF_PX`] of the line. Only
+/// radii where the nearest other line, `apart` radians away, lies beyond the profile by
+/// [`FULL_WIDTH_HALF_PX`] count (a wire and its shadow meet at the pivot); none when
+/// fewer than a third of the profiles can be measured.
+fn full_width(
+    full: &Full,
+    piv: Pt,
+    th: f64,
+    band: (f64, f64),
+    apart: f64,
+    dark: bool,
+) -> Option<f64> {
+    let half = FULL_WIDTH_HALF_PX;
+    let n = FULL_WIDTH_PROFILES;
+    let r_from = band.0.max(2.0 * half / apart.sin().max(1e-6));
+    if r_from >= band.1 {
+        return None;
+    }
+    let (dir, across) = (Pt::new(th.cos(), th.sin()), Pt::new(-th.sin(), th.cos()));
+    let steps = 2 * half as usize + 1;
+    let mut profile = vec![0.0; steps];
+    let mut widths = Vec::with_capacity(n);
+    for i in 0..n {
+        let r = r_from + (band.1 - r_from) * (i as f64 + 0.5) / n as f64;
+        let c = piv + dir * r;
+        let mut whole = true;
+        for (k, v) in profile.iter_mut().enumerate() {
+            match full.at(c + across * (k as f64 - half)) {
+                Some(g) => *v = g,
+                None => whole = false,
+            }
+        }
+        if !whole {
+            continue;
+        }
+        let base = 0.25 * (profile[0] + profile[1] + profile[steps - 2] + profile[steps - 1]);
+        let sign = if dark { -1.0 } else { 1.0 };
+        let peak = profile
+            .iter()
+            .map(|v| sign * (v - base))
+            .fold(f64::MIN, f64::max);
+        if peak <= 0.0 {
+            continue;
+        }
+        let (mut m0, mut m1, mut m2) = (0.0, 0.0, 0.0);
+        for (k, v) in profile.iter().enumerate() {
+            let u = (sign * (v - base) - 0.25 * peak).max(0.0);
+            let x = k as f64 - half;
+            m0 += u;
+            m1 += u * x;
+            m2 += u * x * x;
+        }
+        let mean = m1 / m0;
+        if mean.abs() > FULL_WIDTH_OFF_PX {
+            continue;
+        }
+        widths.push((m2 / m0 - mean * mean).max(0.0).sqrt());
+    }
+    if widths.len() * 3 < n {
+        return None;
+    }
+    widths.sort_by(f64::total_cmp);
+    Some(widths[widths.len() / 2])
+}
+
 /// The block [`over_threshold`] passes over at once, bytes.
 const SCAN_BLOCK: usize = 32;
 
@@ -531,7 +629,10 @@ impl Tracker {
     /// that runs the band is clearly sharper across, or, while tracking, lies within the
     /// gate of the prediction `pred` when the strongest does not and is no wider. A
     /// peak's width is the weighted RMS distance across its line of the evidence (below
-    /// the threshold too) nearer to it than to any other peak's.
+    /// the threshold too) nearer to it than to any other peak's; working shrunk, its
+    /// width across it in the full-scale frame `full` where that can be measured
+    /// ([`full_width`]).
+    #[allow(clippy::too_many_arguments)]
     fn sharpest_ridge(
         &mut self,
         scores: &[f64],
@@ -540,6 +641,7 @@ impl Tracker {
         (lo, bin_w): (f64, f64),
         pred: Option<f64>,
         gate: f64,
+        full: Option<Full>,
     ) -> Result<(usize, Option<usize>)> {
         let reach = RIVAL_REACH_BINS;
         let own = scores[best.1];
@@ -606,6 +708,29 @@ impl Tracker {
                 f64::INFINITY
             });
         }
+        // Working shrunk, a sharp wire and its shadow blurred a few px are both about a
+        // pixel wide (a 1920x1080 twin at a third of its scale: 1.07 to 1.11 px, either
+        // the narrower): measured at the full scale, the wire is the narrower by far.
+        if let Some(full) = full {
+            let s = self.scale;
+            let at_full = piv * s + Pt::repeat(0.5 * (s - 1.0));
+            let band = (r_lo * s, r_hi * s);
+            let at: Vec<f64> = (0..peaks.len()).map(angle_of).collect();
+            let found: Vec<Option<f64>> = (0..peaks.len())
+                .map(|j| {
+                    let apart = at
+                        .iter()
+                        .enumerate()
+                        .filter(|&(k, _)| k != j)
+                        .map(|(_, a)| (a - at[j]).abs())
+                        .fold(std::f64::consts::PI, f64::min);
+                    full_width(&full, at_full, at[j], band, apart, self.geo.dark)
+                })
+                .collect();
+            if found.iter().all(Option::is_some) {
+                width = found.into_iter().flatten().collect();
+            }
+        }
         let rivals = || (1..peaks.len()).filter(|&j| cover(j) >= RIVAL_COVER * cover(0));
         let mut pick = 0;
         let sharper = if self.starting() || pred.is_none() {
@@ -625,6 +750,17 @@ impl Tracker {
             .min_by(|&a, &b| sep(a).abs().total_cmp(&sep(b).abs()));
         let learnt = self.ridges.side();
         if let Some(j) = pair {
+            if self.debug.as_deref() == Some("frames") {
+                eprintln!(
+                    "pair {:.2} w {:.3} / {:.2} w {:.3} cover {} {}",
+                    angle_of(0).to_degrees(),
+                    width[0],
+                    angle_of(j).to_degrees(),
+                    width[j],
+                    cover(0),
+                    cover(j)
+                );
+            }
             self.ridges
                 .observe((angle_of(0), width[0]), (angle_of(j), width[j]));
         }

@@ -90,6 +90,24 @@ knobs! {
         what "evidence within this of a peak's line counts towards its width",
         chosen_by "324bfb2: hand-picked; not swept";
 
+    /// Working shrunk, peaks' widths are measured across each at the full scale too, on
+    /// profiles this many px either side of its line (see `full_width`).
+    FULL_WIDTH_HALF_PX: f64 = 6.0, "px",
+        what "half-length of a profile across a peak's line at the full scale",
+        chosen_by "a 1920x1080 hand-held twin (seed 2 sweep scene 56): a 2 px wire beside its shadow blurred 2.2 px, both 1.07-1.11 px wide at a third of the scale; hand-picked to hold the shadow's flanks";
+
+    /// ... on at most this many profiles, spread over the band.
+    FULL_WIDTH_PROFILES: usize = 48, "profiles",
+        what "profiles across a peak's line at the full scale",
+        chosen_by "the same twin; hand-picked for cost";
+
+    /// ... of which a profile counts only when its line's middle lies this near the
+    /// profile's own: one across a ridge placed beside its line (a shadow's flank)
+    /// catches the line's edge alone, and would measure it narrow.
+    FULL_WIDTH_OFF_PX: f64 = 1.5, "px",
+        what "how far a profile's middle may lie from the peak's line at the full scale",
+        chosen_by "seed 2 sweep scene 8 (1920x1080, a shadow blurred 3.3 px, 5.5 deg off): a ridge 1.5 deg inside the shadow measured 0.6 px wide, narrower than the wire, and the side was never learnt; hand-picked";
+
     /// A rival this close in angle to the strongest peak (rad, 10 deg) makes a pair with
     /// it: a wire and its shadow, diverging from the fulcrum a few degrees apart.
     PAIR_MAX: f64 = 0.1745, "rad",

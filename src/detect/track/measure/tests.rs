@@ -526,3 +526,47 @@ fn every_byte_over_its_threshold_is_found_in_order() {
         }
     }
 }
+
+/// A light frame with two dark lines from `piv`: a sharp one (Gaussian sigma 0.5 px) at
+/// `sharp` and a blurred one (sigma `blur` px) at `blurred`, radians.
+fn sharp_and_blurred(piv: Pt, sharp: f64, blurred: f64, blur: f64) -> (Vec<u8>, usize, usize) {
+    let (w, h) = (320, 240);
+    let mut data = vec![0u8; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let d = Pt::new(x as f64, y as f64) - piv;
+            let dist = |th: f64| (d.x * th.sin() - d.y * th.cos()).abs();
+            let ahead = |th: f64| d.x * th.cos() + d.y * th.sin() > 0.0;
+            let mut g = 200.0;
+            if ahead(sharp) {
+                g -= 90.0 * (-0.5 * (dist(sharp) / 0.5).powi(2)).exp();
+            }
+            if ahead(blurred) {
+                g -= 60.0 * (-0.5 * (dist(blurred) / blur).powi(2)).exp();
+            }
+            data[y * w + x] = g.round() as u8;
+        }
+    }
+    (data, w, h)
+}
+
+#[test]
+fn a_sharp_wire_measures_narrower_than_its_blurred_shadow_at_the_full_scale() {
+    let piv = Pt::new(160.0, 10.0);
+    let (wire, shadow) = (80f64.to_radians(), 86f64.to_radians());
+    let (data, w, h) = sharp_and_blurred(piv, wire, shadow, 2.5);
+    let full = Full { data: &data, w, h };
+    let apart = shadow - wire;
+    let band = (20.0, 220.0);
+    let a = full_width(&full, piv, wire, band, apart, true).expect("the wire's width");
+    let b = full_width(&full, piv, shadow, band, apart, true).expect("the shadow's width");
+    // A Gaussian's spread above a quarter of its peak is about 0.6 of its sigma.
+    assert!(a < 0.6, "the sharp line measures {a:.3} px");
+    assert!(b > 1.2, "the blurred line measures {b:.3} px");
+    // Looked for on the wrong polarity, or too near the other line to part them, none.
+    assert!(full_width(&full, piv, wire, band, apart, false).is_none_or(|x| x > a));
+    assert_eq!(
+        full_width(&full, piv, wire, (20.0, 60.0), apart, true),
+        None
+    );
+}

@@ -492,6 +492,8 @@ fn run(
     // recording guide would; `known` with the true coefficient given (to 0.01); by
     // default (or `none`) with no lens given.
     let mut opts = opts.clone();
+    // The experiment's pendulum, as the build gives it (the detection's `length` check).
+    opts.pendulum = pipeline::detect_options(&exp).pendulum;
     let lens_mode = std::env::var("ROBUSTNESS_LENS").unwrap_or_default();
     if let Some((_, k1)) = scene.keys.iter().find(|(k, _)| k == "lens_k1") {
         match lens_mode.as_str() {

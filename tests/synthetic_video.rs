@@ -808,6 +808,81 @@ fn a_light_wire_and_its_dark_shadow_alike_are_said_and_polarity_picks_the_wire()
     assert!(off.abs() < 0.05, "mean error {off:.3} deg");
 }
 
+/// Seed 31's sweep scene 1, cut to 12 s: the ball is held still for 1.5 s while a
+/// second string swings beside it, so the first look (2.5 s) sees only the string
+/// move, takes its pivot, and the pass follows it smoothly to the end, every check on
+/// the angles passing (`ok` before, 5.9 deg RMS off the pendulum over 40 s). Given the
+/// experiment, the detection judges the period it saw against the geometry's: 1.612 s
+/// implies d = 0.054 m, not 0.183 m, and the detection is `suspect (length)`. (Rendered
+/// without its heavy compression, `crf: 34`, the look sees both swing and the video is
+/// refused as two pendulums.)
+#[test]
+fn a_second_pendulum_followed_in_place_of_the_first_fails_the_length_check() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = with_synthetic(
+        "polycarbonate",
+        "  s_r_m: 18.986e-6\n  psi0_deg: 10\n  width: 640\n  height: 480\n  \
+         fps: 30\n  style: light-wire\n  seed: 31001\n  rest_angle_deg: 157.8\n  \
+         hold_s: 1.50\n  crf: 34\n  room: {edges: 3, second_string: true}\n  \
+         rolling_shutter: 0.67\n  dropped_share: 0.011\n  release_hand: true\n  \
+         duration_s: 12\n",
+    );
+    std::fs::write(d.join("twin.yaml"), text).unwrap();
+    rollfric_ok(
+        &[
+            "synth",
+            "twin.yaml",
+            "-o",
+            "twin.avi",
+            "--truth",
+            "truth.csv",
+        ],
+        d,
+    );
+    let said = rollfric_ok(
+        &[
+            "detect",
+            "twin.avi",
+            "-o",
+            "angles.csv",
+            "--experiment",
+            "twin.yaml",
+            "--json",
+            "summary.json",
+        ],
+        d,
+    )
+    .1;
+    assert!(said.contains("detection suspect (length)"), "{said}");
+    assert!(said.contains("implies d = 0.05"), "{said}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["verdict"], "suspect", "{summary}");
+    let checks = summary["checks"].as_array().expect("checks");
+    let length = checks
+        .iter()
+        .find(|c| c["check"] == "length")
+        .expect("a `length` check");
+    assert_eq!(length["passed"], false, "{length}");
+    assert!(length["value"].as_f64().unwrap() > 0.5, "{length}");
+    // The suspicion is borne out: the angles are not the pendulum's.
+    let t = read(&d.join("truth.csv"), "spoiled");
+    let a = read(&d.join("angles.csv"), "status");
+    let e: Vec<f64> = t
+        .iter()
+        .zip(&a)
+        .filter(|(tr, de)| de.tag == "ok" && tr.tag == "none")
+        .filter_map(|(tr, de)| Some((de.angle? - tr.angle?).to_degrees()))
+        .collect();
+    let mean = e.iter().sum::<f64>() / e.len() as f64;
+    let rms = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / e.len() as f64).sqrt();
+    assert!(rms > 1.0, "angle RMS {rms:.3} deg about the mean");
+}
+
 /// A room that is not empty: a gridded board behind the pendulum, two static edges near
 /// the fulcrum, a second pendulum swinging beside the first, and a person walking
 /// through who covers the wire for about a second. The two pendulums are told apart

@@ -271,13 +271,16 @@ impl DetectFiles {
         }
     }
 
-    /// The stage's key: the detector's source, the video's content id and the
-    /// experiment's `video:` settings.
+    /// The stage's key: the detector's source, the video's content id, the
+    /// experiment's `video:` settings, and its geometry and period tolerance (the
+    /// detection's `length` check judges the period seen against them).
     fn key(exp: &Experiment, video_id: &str) -> String {
         Key::new("detect")
             .part("source", sources::hash("detect").as_bytes())
             .part("video", video_id.as_bytes())
             .json("settings", &pipeline::detect_settings(exp))
+            .json("geometry", &exp.file.geometry)
+            .json("period_rel", &exp.file.tolerances.period_rel)
             .hex()
     }
 

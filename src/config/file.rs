@@ -279,6 +279,7 @@ pub struct Tolerances {
     /// `period` check: largest relative difference between the pendulum length the
     /// measured period implies (small-angle period, ERRATA §2) and the geometry's `d`.
     /// Default 0.10 (a length measured to a centimetre on a 0.2 m pendulum is 5 %).
+    /// The detection's `length` check judges the period it saw by the same limit.
     #[serde(default = "default_period_rel")]
     pub period_rel: f64,
     /// `residual` check: largest ratio of the fit's amplitude residual RMS to the

@@ -55,7 +55,7 @@ pub struct Seen {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
     /// `found`, `turns`, `crossed`, `period`, `rhythm`, `smooth`, `wander`, `stalls`,
-    /// `rest`, `envelope`, `still`, `turn`, `polarity`, `lens` or `pivot`.
+    /// `rest`, `envelope`, `still`, `turn`, `polarity`, `lens`, `pivot` or `length`.
     pub check: String,
     pub value: f64,
     pub limit: f64,

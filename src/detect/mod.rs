@@ -66,7 +66,7 @@ use crate::detect::tuning::{
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
-pub use options::{DetectOptions, FrameProgress};
+pub use options::{DetectOptions, FrameProgress, PendulumGiven};
 pub use review::{Review, ReviewFrame};
 pub use row::{AngleRow, Detection, Flag, Status};
 
@@ -640,6 +640,9 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         judge::pivot_check(swing_scale),
         lens.as_ref()
             .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, seen)),
+        opts.pendulum
+            .as_ref()
+            .and_then(|p| judge::length_check(seen, p)),
     ];
     for c in checks.into_iter().flatten() {
         verdict = verdict.with(c);

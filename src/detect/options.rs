@@ -38,6 +38,19 @@ pub struct DetectOptions {
     /// The side, px, a frame is shrunk towards by a whole factor before the wire is
     /// measured (`video.work_side_px`; see `FirstLook::at_best_scale`).
     pub work_side_px: f64,
+    /// The experiment's pendulum, for the `length` check: the length the period seen
+    /// implies against the geometry's `d` ([`crate::pipeline::detect_options`]; `None`,
+    /// as for a bare video, leaves it unjudged).
+    pub pendulum: Option<PendulumGiven>,
+}
+
+/// The pendulum an experiment's geometry describes, and how far (relative, on `d`) the
+/// length its period implies may stray from it (`tolerances.period_rel`, as the fit's
+/// `period` check).
+#[derive(Clone, Copy, Debug)]
+pub struct PendulumGiven {
+    pub pendulum: crate::physics::Pendulum,
+    pub d_rel: f64,
 }
 
 /// A progress callback: `(frames done, frames expected)`.
@@ -67,6 +80,7 @@ impl Default for DetectOptions {
             progress: None,
             decode_once: true,
             work_side_px: WORK_SIDE_PX,
+            pendulum: None,
         }
     }
 }

@@ -136,10 +136,14 @@ fn twin_files(exp: &Experiment, cache: &Path) -> Result<(PathBuf, String, PathBu
 }
 
 /// The detector's settings for `exp` (its `video:` block and plate calibration;
-/// defaults without them).
+/// defaults without them), with its pendulum for the `length` check.
 pub fn detect_options(exp: &Experiment) -> DetectOptions {
     DetectOptions {
         calibration: exp.calibration.clone(),
+        pendulum: Some(crate::detect::PendulumGiven {
+            pendulum: exp.pendulum,
+            d_rel: exp.file.tolerances.period_rel,
+        }),
         ..exp
             .file
             .video

@@ -269,3 +269,41 @@ pub fn polarity_check(r: &crate::detect::geometry::RivalPolarity) -> DetectionCh
         ),
     )
 }
+
+/// `length`: the period seen is the experiment's pendulum's. The period (corrected to
+/// small swings by `1 + A^2 / 16` at the mean amplitude `A` seen, as the fit's) implies
+/// a length `d` (ERRATA §2's small-angle period inverted, [`crate::physics::Pendulum::d_from_period`]),
+/// which must lie within the experiment's `tolerances.period_rel` of the geometry's, as
+/// the fit's `period` check judges its own period. A track that follows another
+/// pendulum swinging in the room fails it, whatever its other checks say: seed 31's
+/// sweep scene 1 (a ball held still for the first look's 1.5 s while a second string
+/// swung beside it) followed the second string, 1.612 s against the pendulum's 3.2 s,
+/// 5.9 deg RMS off and called `ok`. `None` without a period seen or a pendulum given.
+pub fn length_check(seen: &Seen, given: &crate::detect::PendulumGiven) -> Option<DetectionCheck> {
+    let period = seen.period_s?;
+    let amp = match (seen.amplitude_start_deg, seen.amplitude_end_deg) {
+        (Some(a), Some(b)) => 0.5 * (a + b),
+        (Some(a), None) | (None, Some(a)) => a,
+        (None, None) => 0.0,
+    }
+    .to_radians();
+    let p = &given.pendulum;
+    let d = p.d_from_period(period / (1.0 + amp * amp / 16.0));
+    let dev = d / p.d - 1.0;
+    Some(check(
+        "length",
+        dev.abs(),
+        given.d_rel,
+        dev.abs() <= given.d_rel,
+        format!(
+            "the period seen, {period:.3} s, implies d = {d:.4} m; the geometry says {:.4} m \
+             ({:+.1} %, at most {:.0} % either way)",
+            p.d,
+            100.0 * dev,
+            100.0 * given.d_rel
+        ),
+        "the track may follow something other than this pendulum's wire (a second pendulum, \
+         a line in the room), or the geometry's `d` is wrong: give `video.pivot` or \
+         `video.roi`, or check `geometry.pendulum.d_m`",
+    ))
+}

@@ -505,3 +505,36 @@ fn a_pivot_off_along_the_wire_makes_the_detection_suspect() {
     assert!(!pivot_check(Some(1.0108)).unwrap().passed);
     assert!(pivot_check(None).is_none());
 }
+
+#[test]
+fn a_period_that_is_not_the_pendulum_s_makes_the_detection_suspect() {
+    // The swing's period is 2 s at a mean amplitude of 8 deg (9.7 -> 6.3): the pendulum
+    // whose small-swing period is 2 s / (1 + A^2 / 16) is the one seen.
+    let v = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
+    let alpha = (0.142f64 / 1.5).asin();
+    let ball = |d: f64| crate::physics::Pendulum::solid_ball(0.03175, 1.0458, d, alpha, 9.81);
+    let a = 8f64.to_radians();
+    let d = ball(0.2)
+        .unwrap()
+        .d_from_period(PERIOD / (1.0 + a * a / 16.0));
+    let given = |d_m: f64| crate::detect::PendulumGiven {
+        pendulum: ball(d_m).unwrap(),
+        d_rel: 0.10,
+    };
+    let c = length_check(&v.seen, &given(d)).expect("judged");
+    assert!(c.passed && c.value < 0.005, "{c:?}");
+    // 8 % longer: within the 10 %; 12 % longer or shorter, not.
+    assert!(length_check(&v.seen, &given(1.08 * d)).unwrap().passed);
+    assert!(!length_check(&v.seen, &given(1.12 * d)).unwrap().passed);
+    assert!(!length_check(&v.seen, &given(d / 1.12)).unwrap().passed);
+    // A second pendulum twice as fast as the experiment's (seed 31's scene 1): the
+    // period implies about a quarter of the length.
+    let c = length_check(&v.seen, &given(4.0 * d)).unwrap();
+    assert!(!c.passed && (c.value - 0.75).abs() < 0.02, "{c:?}");
+    assert!(c.reason.contains("the period seen, "), "{}", c.reason);
+    assert_eq!(failed(&v.clone().with(c)), ["length"]);
+    // Without a period seen, nothing is judged.
+    let mut none = v.seen.clone();
+    none.period_s = None;
+    assert!(length_check(&none, &given(d)).is_none());
+}

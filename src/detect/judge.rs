@@ -55,8 +55,7 @@ pub struct Seen {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
     /// `found`, `turns`, `crossed`, `period`, `rhythm`, `smooth`, `wander`, `stalls`,
-    /// `rest`, `envelope`, `still`, `turn`, `polarity`, `lens`, `pivot`, `length` or
-    /// `timed`.
+    /// `rest`, `envelope`, `still`, `turn`, `polarity`, `lens`, `pivot` or `length`.
     pub check: String,
     pub value: f64,
     pub limit: f64,
@@ -368,31 +367,6 @@ pub fn judge(
                 RHYTHM_MAX
             ),
             "what was followed does not swing as a wire does (it jumps between things)",
-        ));
-    }
-    // timed: a swing that turned back often enough for the fit, but whose period was
-    // never seen (fewer than two whole swings, from crossing to crossing in the same
-    // sense, within runs of found frames), leaves the period, the rhythm, the path
-    // (`flag_off_swing`, `flag_leapt`) and the `length` unjudged. Seed 31's sweep scene 8
-    // (640x480 oblique, a hand's release, a shadow 4.5 deg off, a slow sway: the wire
-    // lost for 4 s after the release, then found in broken runs until the ball stopped)
-    // held 12 frames `ok` 4 to 13 deg off, on the shadow and, after the ball stopped, on
-    // something else: 0.77 deg RMS, and every other check passed. Of seeds 2 and 7's kept
-    // detections, each without a period was `suspect` already.
-    if turns >= TURNS_MIN {
-        checks.push(check(
-            "timed",
-            p.len() as f64,
-            1.0,
-            period.is_some(),
-            format!(
-                "{} swings were timed from crossing to crossing in the same sense within runs \
-                 of found frames, of {swings} whole swings (a period needs two whole swings \
-                 and one timed)",
-                p.len()
-            ),
-            "the motion could not be judged (its period, its rhythm, its path): the wire \
-             was lost often, or followed only in pieces",
         ));
     }
     // smooth: the frame-to-frame noise is small against the swing.

@@ -45,8 +45,7 @@ fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
     assert!((noise - 0.005).abs() < 0.001, "noise {noise}");
     assert_eq!(s.ok_share, 1.0);
     for c in [
-        "found", "turns", "crossed", "period", "rhythm", "timed", "smooth", "stalls", "rest",
-        "envelope",
+        "found", "turns", "crossed", "period", "rhythm", "smooth", "stalls", "rest", "envelope",
     ] {
         assert!(v.checks.iter().any(|x| x.check == c), "no `{c}` check");
     }
@@ -381,8 +380,7 @@ fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
         }
     }
     let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
-    // No crossing timed, no period: its motion cannot be judged either.
-    assert_eq!(failed(&v), ["crossed", "timed"], "{:?}", v.checks);
+    assert_eq!(failed(&v), ["crossed"], "{:?}", v.checks);
     assert_eq!(v.seen.period_s, None);
     let c = v.checks.iter().find(|c| c.check == "crossed").unwrap();
     assert_eq!(c.value, 0.0);
@@ -539,36 +537,4 @@ fn a_period_that_is_not_the_pendulum_s_makes_the_detection_suspect() {
     let mut none = v.seen.clone();
     none.period_s = None;
     assert!(length_check(&none, &given(d)).is_none());
-}
-
-#[test]
-fn a_swing_whose_period_was_never_seen_is_suspect() {
-    // The 2 s swing found in pieces: 0.2 s lost at each upper turning point (t = 0, 2,
-    // 4, ... s), so that every two crossings in the same sense have a gap between them
-    // (no period), while every crossing and every lower turning point is seen.
-    let mut short = swinging();
-    for r in &mut short {
-        let phase = r.t_s.rem_euclid(PERIOD);
-        if phase < 0.1 || phase > PERIOD - 0.1 {
-            r.status = Status::Missing;
-            r.angle_rad = None;
-        }
-    }
-    let v = judge(&short, [100.0, 20.0], Some(0.3), None);
-    assert!(v.seen.period_s.is_none(), "{:?}", v.seen);
-    let timed = v
-        .checks
-        .iter()
-        .find(|c| c.check == "timed")
-        .unwrap_or_else(|| panic!("judged: {:?}", v.checks));
-    assert!(!timed.passed && timed.value == 0.0, "{timed:?}");
-    assert!(failed(&v).contains(&"timed"), "{:?}", failed(&v));
-    // Found whole: nine whole swings, each timed, and the check passes.
-    let v = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
-    let timed = v
-        .checks
-        .iter()
-        .find(|c| c.check == "timed")
-        .expect("judged");
-    assert!(timed.passed && timed.value >= 9.0, "{timed:?}");
 }

@@ -738,23 +738,25 @@ fn a_sway_the_glances_never_confirmed_is_measured_again_with_every_frame_steadie
     assert!(rms <= 0.03, "angle RMS {rms:.4} deg");
 }
 
-/// The mean of the detected angle minus the true one over the frames of `csv` (in
-/// `d`, against `d/truth.csv`) both give, deg.
-fn mean_error_deg(d: &Path, csv: &str) -> f64 {
+/// The detected angle minus the true one, deg, of every `ok` frame of `d/csv` whose
+/// truth is unspoiled, and the number of frames.
+fn ok_errors_deg(d: &Path, csv: &str) -> (Vec<f64>, usize) {
     let t = read(&d.join("truth.csv"), "spoiled");
     let a = read(&d.join(csv), "status");
-    let e: Vec<f64> = t
+    let e = t
         .iter()
         .zip(&a)
         .filter(|(tr, de)| de.tag == "ok" && tr.tag == "none")
         .filter_map(|(tr, de)| Some((de.angle? - tr.angle?).to_degrees()))
         .collect();
-    assert!(
-        e.len() * 10 >= a.len() * 8,
-        "{} of {} frames",
-        e.len(),
-        a.len()
-    );
+    (e, a.len())
+}
+
+/// The mean of the detected angle minus the true one over the frames of `csv` (in
+/// `d`, against `d/truth.csv`) both give, deg.
+fn mean_error_deg(d: &Path, csv: &str) -> f64 {
+    let (e, frames) = ok_errors_deg(d, csv);
+    assert!(e.len() * 10 >= frames * 8, "{} of {frames} frames", e.len());
     e.iter().sum::<f64>() / e.len() as f64
 }
 
@@ -870,14 +872,7 @@ fn a_second_pendulum_followed_in_place_of_the_first_fails_the_length_check() {
     assert_eq!(length["passed"], false, "{length}");
     assert!(length["value"].as_f64().unwrap() > 0.5, "{length}");
     // The suspicion is borne out: the angles are not the pendulum's.
-    let t = read(&d.join("truth.csv"), "spoiled");
-    let a = read(&d.join("angles.csv"), "status");
-    let e: Vec<f64> = t
-        .iter()
-        .zip(&a)
-        .filter(|(tr, de)| de.tag == "ok" && tr.tag == "none")
-        .filter_map(|(tr, de)| Some((de.angle? - tr.angle?).to_degrees()))
-        .collect();
+    let (e, _) = ok_errors_deg(d, "angles.csv");
     let mean = e.iter().sum::<f64>() / e.len() as f64;
     let rms = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / e.len() as f64).sqrt();
     assert!(rms > 1.0, "angle RMS {rms:.3} deg about the mean");

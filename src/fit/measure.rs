@@ -173,7 +173,7 @@ pub fn refine(
 ) -> Result<Measurement> {
     let n = m.amplitudes.len() as f64;
     let mean_amp = m.amplitudes.iter().sum::<f64>() / n;
-    let d = p.d_from_period(m.period_s / (1.0 + mean_amp * mean_amp / 16.0));
+    let d = p.d_from_swing_period(m.period_s, mean_amp);
     let ps = Pendulum::new(p.r, p.m, p.j_z, d.max(1.001 * p.r), p.alpha, p.g)?;
     let s_r = (m.envelope.slope.abs() / ps.envelope_slope(&FrictionLaw::new(1.0, beta))).max(0.0);
     let (fwd_law, bwd_law) = (FrictionLaw::new(s_r, beta), FrictionLaw::new(-s_r, beta));

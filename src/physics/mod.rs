@@ -256,6 +256,13 @@ impl Pendulum {
             / ((self.j_z + self.m * self.r * self.r) * w * w);
         (l * l + self.r * self.r).sqrt()
     }
+
+    /// Pendulum length implied by a period measured at the swing amplitude `amp` (rad):
+    /// the period brought to small swings by the circular pendulum's `1 + A^2 / 16`,
+    /// then [`Self::d_from_period`], m.
+    pub fn d_from_swing_period(&self, period: f64, amp: f64) -> f64 {
+        self.d_from_period(period / (1.0 + amp * amp / 16.0))
+    }
 }
 
 /// `sgn(x)` with `sgn(0) = 0`, as in Eq. 27, 29 and 31.

@@ -272,7 +272,8 @@ pub fn polarity_check(r: &crate::detect::geometry::RivalPolarity) -> DetectionCh
 
 /// `length`: the period seen is the experiment's pendulum's. The period (corrected to
 /// small swings by `1 + A^2 / 16` at the mean amplitude `A` seen, as the fit's) implies
-/// a length `d` (ERRATA §2's small-angle period inverted, [`crate::physics::Pendulum::d_from_period`]),
+/// a length `d` (ERRATA §2's small-angle period inverted,
+/// [`crate::physics::Pendulum::d_from_swing_period`]),
 /// which must lie within the experiment's `tolerances.period_rel` of the geometry's, as
 /// the fit's `period` check judges its own period. A track that follows another
 /// pendulum swinging in the room fails it, whatever its other checks say: seed 31's
@@ -288,7 +289,7 @@ pub fn length_check(seen: &Seen, given: &crate::detect::PendulumGiven) -> Option
     }
     .to_radians();
     let p = &given.pendulum;
-    let d = p.d_from_period(period / (1.0 + amp * amp / 16.0));
+    let d = p.d_from_swing_period(period, amp);
     let dev = d / p.d - 1.0;
     Some(check(
         "length",

@@ -514,9 +514,7 @@ fn a_period_that_is_not_the_pendulum_s_makes_the_detection_suspect() {
     let alpha = (0.142f64 / 1.5).asin();
     let ball = |d: f64| crate::physics::Pendulum::solid_ball(0.03175, 1.0458, d, alpha, 9.81);
     let a = 8f64.to_radians();
-    let d = ball(0.2)
-        .unwrap()
-        .d_from_period(PERIOD / (1.0 + a * a / 16.0));
+    let d = ball(0.2).unwrap().d_from_swing_period(PERIOD, a);
     let given = |d_m: f64| crate::detect::PendulumGiven {
         pendulum: ball(d_m).unwrap(),
         d_rel: 0.10,

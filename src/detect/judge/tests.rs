@@ -45,7 +45,8 @@ fn a_pendulum_swinging_is_ok_and_its_period_and_amplitudes_are_seen() {
     assert!((noise - 0.005).abs() < 0.001, "noise {noise}");
     assert_eq!(s.ok_share, 1.0);
     for c in [
-        "found", "turns", "crossed", "period", "rhythm", "smooth", "stalls", "rest", "envelope",
+        "found", "turns", "decays", "crossed", "period", "rhythm", "smooth", "stalls", "rest",
+        "envelope",
     ] {
         assert!(v.checks.iter().any(|x| x.check == c), "no `{c}` check");
     }
@@ -535,4 +536,43 @@ fn a_period_that_is_not_the_pendulum_s_makes_the_detection_suspect() {
     let mut none = v.seen.clone();
     none.period_s = None;
     assert!(length_check(&none, &given(d)).is_none());
+}
+
+#[test]
+fn a_swing_that_grows_is_suspect() {
+    // `swinging` with its amplitude growing by `g` deg each half swing from 10 deg: the
+    // first two turning points (t = 1, 2 s) lie 10 + g and 10 + 2 g off rest, the last
+    // two (t = 18, 19 s) 10 + 18 g and 10 + 19 g.
+    let driven = |g: f64| -> Vec<AngleRow> {
+        swinging()
+            .into_iter()
+            .map(|r| {
+                let t = r.t_s;
+                let now = 10.0 - 0.2 * (2.0 * t / PERIOD);
+                let grown = 10.0 + g * (2.0 * t / PERIOD);
+                let a = 90.0 + (r.angle_rad.unwrap().to_degrees() - 90.0) * grown / now;
+                AngleRow::found(r.frame, t, a.to_radians())
+            })
+            .collect()
+    };
+    let growth = |v: &DetectionVerdict| {
+        let c = v
+            .checks
+            .iter()
+            .find(|c| c.check == "decays")
+            .expect("judged");
+        (c.value, c.passed)
+    };
+    // The plain decay: 9.7 -> 6.3 deg, -35.1 %.
+    let (g, passed) = growth(&judge(&swinging(), [100.0, 20.0], Some(0.3), None));
+    assert!((g + 0.351).abs() < 0.003 && passed, "{g}");
+    // 0.02 deg more each half swing: 10.03 -> 10.37 deg, +3.4 %, within 5 %.
+    let (g, passed) = growth(&judge(&driven(0.02), [100.0, 20.0], Some(0.3), None));
+    assert!((g - 0.0339).abs() < 0.003 && passed, "{g}");
+    // 0.04 deg more: 10.06 -> 10.74 deg, +6.8 %: suspect, and for that check alone.
+    let v = judge(&driven(0.04), [100.0, 20.0], Some(0.3), None);
+    let (g, passed) = growth(&v);
+    assert!((g - 0.0676).abs() < 0.003 && !passed, "{g}");
+    assert_eq!(failed(&v), ["decays"], "{:?}", v.checks);
+    assert_eq!(v.verdict, Verdict::Suspect);
 }

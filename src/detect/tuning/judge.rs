@@ -40,6 +40,12 @@ knobs! {
         what "fewest turning points of a trusted detection (the fit's least)",
         chosen_by "sweep seed 1 scene 32 (hand-held, 640x480): 11.7 deg RMS off, no turning point, called ok; the fit's own minimum";
 
+    /// Largest growth of the swing's amplitude from its first two turning points to its
+    /// last two, as a share of the first: a pendulum left to itself only loses amplitude.
+    GROWTH_MAX: f64 = 0.05, "share",
+        what "largest growth of the amplitude seen from start to end (a pendulum's only shrinks)",
+        chosen_by "issue 50: 175 kept sweep detections (seeds 2, 7, 31) shrink by 11 % to 32 % over 40 s, but seed 31 scene 8 (0.77 deg RMS, called ok) grows by 31 %; real clips shrink by 0.6-14 %, a 10 s carbon-fiber twin by 4.6 %";
+
     /// Least share of the swing's crossings of its rest angle seen (a found frame either
     /// side), once it has crossed `TURNS_MIN` times or more.
     CROSSED_MIN: f64 = 0.45, "share",

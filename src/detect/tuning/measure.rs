@@ -50,6 +50,7 @@ knobs! {
         what "farthest a free line may lie from the pivot's line at the band's ends",
         chosen_by "011a017: hand-picked; not swept";
 
+    // From track/measure/ridge.rs.
     /// A rival peak must score this share of the strongest to be weighed at all.
     RIVAL_SCORE: f64 = 0.15, "share",
         what "least score of a rival peak, as a share of the strongest",

@@ -47,7 +47,7 @@ const NOT_KNOBS: &[(&str, &str)] = &[
     ("track/evidence.rs", "TOPHAT_REACH"),
     // Memory-order runs and scan blocks: the same pixels at any size.
     ("geometry.rs", "RUN"),
-    ("track/measure.rs", "SCAN_BLOCK"),
+    ("track/measure/strip.rs", "SCAN_BLOCK"),
     // A rounding guard, and a pixel's half width.
     ("track/measure/strip.rs", "WEDGE_TEST_SLACK"),
     ("track/measure/strip.rs", "STRIP_EDGE"),

@@ -129,6 +129,9 @@ pub(super) fn edge_share(half: f64, dist: f64) -> f64 {
 pub(super) const STRIP_EDGE: f64 = 0.5;
 
 /// Calls `found` with the index of every byte of `e` over the same one of `t`, in order.
+/// The block [`over_threshold`] passes over at once, bytes.
+const SCAN_BLOCK: usize = 32;
+
 /// Most of the wedge lies under its threshold: blocks of [`SCAN_BLOCK`] bytes with none
 /// over it are passed over by one comparison of the whole block (vectorised).
 pub(super) fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {

@@ -1,5 +1,6 @@
 //! The unit tests of `detect/track/measure.rs`.
 
+use super::ridge::full_width;
 use super::*;
 use crate::detect::tuning::CELLS;
 

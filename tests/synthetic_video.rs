@@ -873,8 +873,7 @@ fn a_second_pendulum_followed_in_place_of_the_first_fails_the_length_check() {
     assert!(length["value"].as_f64().unwrap() > 0.5, "{length}");
     // The suspicion is borne out: the angles are not the pendulum's.
     let (e, _) = ok_errors_deg(d, "angles.csv");
-    let mean = e.iter().sum::<f64>() / e.len() as f64;
-    let rms = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / e.len() as f64).sqrt();
+    let rms = scatter_deg(&e.iter().map(|x| x.to_radians()).collect::<Vec<_>>());
     assert!(rms > 1.0, "angle RMS {rms:.3} deg about the mean");
 }
 

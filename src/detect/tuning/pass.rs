@@ -106,13 +106,14 @@ knobs! {
 
     // From mod.rs.
     /// A camera taken for still whose static scene two glances in a row find off (the `still`
-    /// check failed) is measured again steadied, and that measurement kept when `ok` and
-    /// when the steadying added at most this much noise from frame to frame, deg (in
-    /// quadrature: `sqrt(noise2^2 - noise1^2)`). Three plain 320x240 walls whose glances
+    /// check failed) is measured again steadied, and that measurement kept when `ok` and,
+    /// when `still` was the first's only failed check, when the steadying added at most
+    /// this much noise from frame to frame, deg (in quadrature: `sqrt(noise2^2 -
+    /// noise1^2)`). Three plain 320x240 walls whose glances
     /// misread 1.2 to 2.8 px of motion gained 0.038, 0.053 and 0.115 deg; three swaying
     /// sweep twins (seed 4 scene 4 at 40 and 12 s, scene 38) 0.005 to 0.007.
     STILL_AGAIN_NOISE_MAX_DEG: f64 = 0.01, "deg",
-        what "noise the steadying may add for a second measurement after a failed `still` to be kept",
+        what "noise the steadying may add for a second measurement after `still` alone failed to be kept",
         chosen_by "plain in-memory walls gained 0.038-0.115 deg (misread motions), swaying sweep twins 0.005-0.007";
 
     /// A swing scale (`Tracker::swing_scale`) further than this from 1 has the other

@@ -517,22 +517,21 @@ fn moving_twin(name: &str, synthetic: &str) -> Option<(String, f64)> {
     Some((detected, scatter_deg(&ok_errors_against_truth(dir.path()))))
 }
 
+/// `text`, an experiment with a twin, written to `d/twin.yaml` and rendered there to
+/// `video` (its truth `truth.csv`).
+fn twin_rendered(d: &Path, text: &str, video: &str) {
+    std::fs::write(d.join("twin.yaml"), text).unwrap();
+    rollfric_ok(
+        &["synth", "twin.yaml", "-o", video, "--truth", "truth.csv"],
+        d,
+    );
+}
+
 /// `text`, an experiment with a twin, rendered in `d` (`twin.mp4`, its truth
 /// `truth.csv`) and detected (`angles.csv`, its summary `summary.json`): what `detect`
 /// said.
 fn twin_detected(d: &Path, text: &str) -> String {
-    std::fs::write(d.join("twin.yaml"), text).unwrap();
-    rollfric_ok(
-        &[
-            "synth",
-            "twin.yaml",
-            "-o",
-            "twin.mp4",
-            "--truth",
-            "truth.csv",
-        ],
-        d,
-    );
+    twin_rendered(d, text, "twin.mp4");
     rollfric_ok(
         &[
             "detect",
@@ -775,18 +774,7 @@ fn a_drift_that_spoiled_the_angles_is_measured_steadied_though_steadying_adds_no
          room: {edges: 1}\n  rolling_shutter: 0.70\n  release_hand: true\n  \
          duration_s: 20\n",
     );
-    std::fs::write(d.join("twin.yaml"), text).unwrap();
-    rollfric_ok(
-        &[
-            "synth",
-            "twin.yaml",
-            "-o",
-            "twin.avi",
-            "--truth",
-            "truth.csv",
-        ],
-        d,
-    );
+    twin_rendered(d, &text, "twin.avi");
     let (_, detected) = rollfric_ok(&["detect", "twin.avi", "-o", "angles.csv"], d);
     assert!(
         detected.contains("measuring again with every frame steadied")
@@ -879,18 +867,7 @@ fn a_second_pendulum_followed_in_place_of_the_first_fails_the_length_check() {
          rolling_shutter: 0.67\n  dropped_share: 0.011\n  release_hand: true\n  \
          duration_s: 12\n",
     );
-    std::fs::write(d.join("twin.yaml"), text).unwrap();
-    rollfric_ok(
-        &[
-            "synth",
-            "twin.yaml",
-            "-o",
-            "twin.avi",
-            "--truth",
-            "truth.csv",
-        ],
-        d,
-    );
+    twin_rendered(d, &text, "twin.avi");
     let said = rollfric_ok(
         &[
             "detect",

@@ -3,6 +3,7 @@
 #   make test      the whole test suite (a missing tool fails it, never skips)
 #   make check     fmt + clippy + tests (what CI runs: .ci/run)
 #   make bench     timing figures (the twins, the reports, a sweep seed's scenes)
+#   make bench-baseline  the detector's CPU on the bench twins against an earlier commit's
 #   make fuzz      a long run of the property tests of the readers and the fit
 #   make robustness  the randomised sweep of twins (detected with no options, fitted)
 #   make coverage    the 95 % intervals' coverage on the sweep's twins
@@ -20,7 +21,7 @@ SNAKEMAKE_VERSION := 8.30.0
 SNAKEMAKE_PINS := snakemake==$(SNAKEMAKE_VERSION) snakemake-executor-plugin-cluster-generic==1.0.9 \
                   snakemake-executor-plugin-slurm==2.8.0
 
-.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench bench-sweep fuzz robustness coverage clean
+.PHONY: all deps rust-components snakemake build reports test check fmt clippy bench bench-sweep bench-baseline fuzz robustness coverage clean
 
 all: build
 
@@ -98,6 +99,23 @@ bench-sweep: build
 	$(CARGO) build --release --locked --example robustness
 	ROBUSTNESS_PACE=$(BENCH_SWEEP_ROUNDS) $(or $(CARGO_TARGET_DIR),target)/release/examples/robustness \
 	  $(BENCH_SWEEP_SCENES) $(BENCH_SWEEP_SEED) 40
+
+# The detector's CPU on the video benchmark's twins (still cameras) against the build of
+# an earlier commit, BASELINE_REV (default 4fe0d54: the last before the detector followed
+# a moving camera), in paired rounds (ROLLFRIC_BENCH_ROUNDS, default 3). That commit's
+# sources are taken with `git archive` into target/baseline/ and built there once.
+BASELINE_REV ?= 4fe0d54
+BASELINE_DIR = $(abspath $(or $(CARGO_TARGET_DIR),target))/baseline/$(BASELINE_REV)
+bench-baseline: build
+	@if [ ! -x $(BASELINE_DIR)/target/release/rollfric ]; then \
+	  rm -rf $(BASELINE_DIR)/src && mkdir -p $(BASELINE_DIR)/src && \
+	  git archive $(BASELINE_REV) | tar -x -C $(BASELINE_DIR)/src && \
+	  $(CARGO) build --release --locked --bin rollfric \
+	    --manifest-path $(BASELINE_DIR)/src/Cargo.toml --target-dir $(BASELINE_DIR)/target; \
+	fi
+	ROLLFRIC_BENCH_NO_REPORTS=1 ROLLFRIC_BENCH_NO_SCALE=1 \
+	  ROLLFRIC_BENCH_BASELINE=$(BASELINE_DIR)/target/release/rollfric \
+	  $(CARGO) bench --locked --bench pipeline
 
 # The property tests of tests/fuzz.rs (a short pass runs in `make test`) with many more
 # inputs: FUZZ_ITERS per target, from FUZZ_SEED.

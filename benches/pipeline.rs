@@ -389,8 +389,8 @@ fn video_bench(root: &Path) {
             .unwrap();
         assert!(st.success());
     };
-    let run_detect = |video: &Path| -> String {
-        let out = Command::new(env!("CARGO_BIN_EXE_rollfric"))
+    let run_detect_with = |bin: &Path, video: &Path| -> String {
+        let out = Command::new(bin)
             .arg("detect")
             .arg(video)
             .arg("-o")
@@ -404,6 +404,8 @@ fn video_bench(root: &Path) {
         );
         String::from_utf8_lossy(&out.stderr).to_string()
     };
+    let this_build = Path::new(env!("CARGO_BIN_EXE_rollfric"));
+    let run_detect = |video: &Path| run_detect_with(this_build, video);
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
@@ -475,4 +477,49 @@ fn video_bench(root: &Path) {
     let (m10, _) = detect_figures(&run_detect(&short));
     let (m60, _) = detect_figures(&run_detect(&long));
     println!("  detector peak memory at 1920x1080: 10 s video {m10:.0} MiB, 60 s video {m60:.0} MiB (goal <= 150 MiB, flat)");
+    // Against an earlier build (`make bench-baseline`): the same twins (still cameras),
+    // each build's CPU besides the decoder as its summary line gives it.
+    if let Some(base) = std::env::var_os("ROLLFRIC_BENCH_BASELINE") {
+        let base = Path::new(&base);
+        println!(
+            "still cameras against {}: the detector's CPU besides the decoder, {rounds} paired \
+             rounds per video (which build first alternating), medians; ratio = this build / \
+             baseline (goal <= 1.10)",
+            base.display()
+        );
+        println!(
+            "  {:<34} {:>6}  {:>10}  {:>10}  {:>6}",
+            "video", "frames", "baseline s", "this s", "ratio"
+        );
+        for v in &VIDEOS {
+            let path = dir.join(v.file());
+            let (mut b, mut t) = (Vec::new(), Vec::new());
+            let mut frames = f64::NAN;
+            for r in 0..rounds {
+                let mut cpu = |bin: &Path| {
+                    let said = run_detect_with(bin, &path);
+                    frames = said
+                        .rsplit(" frames in ")
+                        .nth(1)
+                        .and_then(|s| s.rsplit(": ").next())
+                        .and_then(|s| s.parse().ok())
+                        .unwrap_or(f64::NAN);
+                    detect_figures(&said).1
+                };
+                if r % 2 == 0 {
+                    b.push(cpu(base));
+                    t.push(cpu(this_build));
+                } else {
+                    t.push(cpu(this_build));
+                    b.push(cpu(base));
+                }
+            }
+            let (b, t) = (median(b), median(t));
+            println!(
+                "  {:<34} {frames:>6.0}  {b:>10.2}  {t:>10.2}  {:>6.2}",
+                v.label(),
+                t / b
+            );
+        }
+    }
 }

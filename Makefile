@@ -3,7 +3,7 @@
 #   make test      the whole test suite (a missing tool fails it, never skips)
 #   make check     fmt + clippy + tests (what CI runs: .ci/run)
 #   make bench     timing figures (the twins, the reports, a sweep seed's scenes)
-#   make bench-baseline  the detector's CPU on the bench twins against an earlier commit's
+#   make bench-baseline  the detector's CPU on the bench twins against an earlier build
 #   make fuzz      a long run of the property tests of the readers and the fit
 #   make robustness  the randomised sweep of twins (detected with no options, fitted)
 #   make coverage    the 95 % intervals' coverage on the sweep's twins

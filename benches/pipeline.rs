@@ -366,6 +366,16 @@ fn detect_figures(stderr: &str) -> (f64, f64) {
     (after("peak memory "), after("CPU besides the decoder "))
 }
 
+/// How many frames `rollfric detect` says it read, from its summary line.
+fn frames_of(stderr: &str) -> f64 {
+    stderr
+        .rsplit(" frames in ")
+        .nth(1)
+        .and_then(|s| s.rsplit(": ").next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(f64::NAN)
+}
+
 /// Video figures: per twin, rounds of decode only (`ffmpeg -f null`, the floor) and the
 /// detector back to back, alternating which goes first; the walls (median), the ratio
 /// decode-only / detector of each round (median and range: 1 means the detector keeps
@@ -441,12 +451,7 @@ fn video_bench(root: &Path) {
                 (time_decode(), t)
             });
         }
-        let frames: f64 = last
-            .rsplit(" frames in ")
-            .nth(1)
-            .and_then(|s| s.rsplit(": ").next())
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(f64::NAN);
+        let frames = frames_of(&last);
         let (peak, cpu) = detect_figures(&last);
         let ratios: Vec<f64> = walls.iter().map(|(d, t)| d / t).collect();
         let lo = ratios.iter().copied().fold(f64::MAX, f64::min);
@@ -498,12 +503,7 @@ fn video_bench(root: &Path) {
             for r in 0..rounds {
                 let mut cpu = |bin: &Path| {
                     let said = run_detect_with(bin, &path);
-                    frames = said
-                        .rsplit(" frames in ")
-                        .nth(1)
-                        .and_then(|s| s.rsplit(": ").next())
-                        .and_then(|s| s.parse().ok())
-                        .unwrap_or(f64::NAN);
+                    frames = frames_of(&said);
                     detect_figures(&said).1
                 };
                 if r % 2 == 0 {

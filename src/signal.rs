@@ -18,7 +18,7 @@
 //!   by [`find_release`]: the release is the motion's first turning point, a start from
 //!   rest with the hold on one side, not a cusp between two half swings.
 
-use crate::numerics::{golden_section_min, linear_fit, median, LineFit};
+use crate::numerics::{golden_section_min, linear_fit, median, upper_median, LineFit};
 use crate::series::AngleSeries;
 use anyhow::{bail, Result};
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
@@ -135,19 +135,40 @@ pub const STOP_GAP: f64 = 1.5;
 /// points of a swing that goes on lie on both sides, nearly as far out as the last.
 pub const STOP_REST_BAND: f64 = 0.25;
 
-/// Drop the extremes after the motion's end ([`Stop`]): after a gap longer than
-/// [`STOP_GAP`] half swings, when the linear envelope of the (at least four) extremes
-/// before it reaches zero within [`STOP_GAP`] half swings after the last of them (and
-/// no more than half a half swing before it), and every later extreme lies at the ball's
-/// rest ([`STOP_REST_BAND`]). A turning point lost mid-motion leaves the envelope above
-/// zero; a convex decay (air, a string) fitted with a line may reach zero there, but its
-/// later turning points swing on both sides: both are left whole.
+/// Drop the extremes after the motion's end ([`Stop`]): after the last turning point
+/// of at least four whose linear envelope reaches zero within [`STOP_GAP`] half swings
+/// after it (and no more than half a half swing before it), when what follows is the
+/// ball at rest. That is told in one of two ways:
+///
+/// * **After a gap**: the next extreme comes more than [`STOP_GAP`] half swings later,
+///   and every later one lies at the ball's rest ([`STOP_REST_BAND`]).
+/// * **Out of rhythm**: only when the extremes as a whole are not one half swing apart
+///   (the fit would refuse them, [`half_swings`]) and no gap told the stop. The extremes
+///   after the last turning point are not one half swing apart either, and each lies
+///   nearer the equilibrium than the last turning point did (the ball cannot swing
+///   wider after it). A camera that sways slowly makes the angle of a ball at rest
+///   wander as far as the last turning points swung, every half to one and a half half
+///   swings: a copper sweep twin (a tripod's sway of 0.8 px at 0.46 Hz) stopped at
+///   22.7 s, 0.48 deg from its equilibrium, then wandered 0.24 deg either side of its
+///   rest for 18 s, and the fit was refused.
+///
+/// A turning point lost mid-motion leaves the envelope above zero; a convex decay (air,
+/// a string) fitted with a line may reach zero there, but its later turning points
+/// swing on both sides, one half swing apart: both are left whole.
 pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     let n = extremes.len();
     if n < 5 {
         return None;
     }
-    let (i, t_zero) = (3..n - 1).find_map(|i| stop_after(extremes, i).map(|t| (i, t)))?;
+    let stop_by =
+        |rule: Rest| (3..n - 1).find_map(|i| stop_after(extremes, i, rule).map(|t| (i, t)));
+    let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| {
+        let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
+        half_swings(extremes, upper_median(&mut gaps))
+            .is_none()
+            .then(|| stop_by(Rest::OutOfRhythm))
+            .flatten()
+    })?;
     extremes.truncate(i + 1);
     Some(Stop {
         t_s: t_zero,
@@ -155,8 +176,28 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     })
 }
 
-/// The time the motion stopped, when it stopped after extreme `i` ([`drop_after_stop`]).
-fn stop_after(ex: &[Extreme], i: usize) -> Option<f64> {
+/// How [`drop_after_stop`] tells the ball at rest after a turning point.
+#[derive(Clone, Copy, PartialEq)]
+enum Rest {
+    AfterGap,
+    OutOfRhythm,
+}
+
+/// Each extreme's count of half swings from the first, `(t - t_0) / half` rounded,
+/// when they follow one another one half swing apart (the counts rise); `None` when two
+/// extremes fall on the same count or out of order.
+pub fn half_swings(extremes: &[Extreme], half: f64) -> Option<Vec<usize>> {
+    let t0 = extremes.first()?.t;
+    let index: Vec<usize> = extremes
+        .iter()
+        .map(|e| ((e.t - t0) / half).round() as usize)
+        .collect();
+    index.windows(2).all(|w| w[1] > w[0]).then_some(index)
+}
+
+/// The time the motion stopped, when it stopped after extreme `i` as `rule` tells it
+/// ([`drop_after_stop`]).
+fn stop_after(ex: &[Extreme], i: usize, rule: Rest) -> Option<f64> {
     let before = &ex[..=i];
     let mut gaps: Vec<f64> = before.windows(2).map(|w| w[1].t - w[0].t).collect();
     let half = median(&mut gaps);
@@ -164,7 +205,14 @@ fn stop_after(ex: &[Extreme], i: usize) -> Option<f64> {
         return None;
     }
     let last = ex[i].t;
-    if ex[i + 1].t - last <= STOP_GAP * half {
+    let after = &ex[i + 1..];
+    let parted = match rule {
+        Rest::AfterGap => ex[i + 1].t - last > STOP_GAP * half,
+        Rest::OutOfRhythm => {
+            half_swings(before, half).is_some() && half_swings(&ex[i..], half).is_none()
+        }
+    };
+    if !parted {
         return None;
     }
     let eq = equilibrium(before).ok()?.envelope;
@@ -179,11 +227,13 @@ fn stop_after(ex: &[Extreme], i: usize) -> Option<f64> {
         return None;
     }
     let a_last = amp[i];
-    let after = &ex[i + 1..];
     let rest = median(&mut after.iter().map(|e| e.angle).collect::<Vec<_>>());
     after
         .iter()
-        .all(|e| (e.angle - eq).abs() < a_last && (e.angle - rest).abs() < STOP_REST_BAND * a_last)
+        .all(|e| {
+            (e.angle - eq).abs() < a_last
+                && (rule == Rest::OutOfRhythm || (e.angle - rest).abs() < STOP_REST_BAND * a_last)
+        })
         .then_some(t_zero)
 }
 

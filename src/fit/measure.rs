@@ -94,14 +94,9 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
     let (amplitudes, envelope) = envelope_line(&extremes, equilibrium.envelope);
     let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
     let half = upper_median(&mut gaps);
-    let t0 = extremes[0].t;
-    let index: Vec<usize> = extremes
-        .iter()
-        .map(|e| ((e.t - t0) / half).round() as usize)
-        .collect();
-    if index.windows(2).any(|w| w[1] <= w[0]) {
+    let Some(index) = signal::half_swings(&extremes, half) else {
         bail!("turning points are not one half swing apart; the series is too irregular to fit");
-    }
+    };
     let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();
     let ts: Vec<f64> = extremes.iter().map(|e| e.t).collect();
     let period_s = 2.0 * linear_fit(&idx, &ts).slope;

@@ -41,6 +41,68 @@ fn extremes_of_a_ball_at_rest_after_the_stop_are_dropped() {
 }
 
 #[test]
+fn a_ball_at_rest_that_wanders_out_of_rhythm_after_the_stop_is_dropped() {
+    // Amplitude 0.2 - 0.02 t, turning points every 1.5 s from t = 1 to 8.5 (six; the
+    // last 0.03 rad; the envelope reaches zero at t = 10 s), then the ball at rest at
+    // 0.295 rad, wandering 0.02 rad either side (two thirds of the last amplitude, as a
+    // swaying camera makes it) every 0.9 to 1.4 s: no gap of 1.5 half swings, and a
+    // quarter of the last amplitude (the rest band after a gap) does not hold them.
+    let base = decaying(6, 0.3, 0.2, 0.02, 1.5, 1.0);
+    let side = |k: usize| if k.is_multiple_of(2) { 1.0 } else { -1.0 };
+    let after = |wander: &[(f64, f64)], dt: f64| -> Vec<Extreme> {
+        let rest = 0.295;
+        wander
+            .iter()
+            .enumerate()
+            .map(|(k, (t, d))| ex(t - dt, rest + d, side(k)))
+            .collect()
+    };
+    let wander = [
+        (9.7, 0.02),
+        (10.6, -0.02),
+        (11.9, 0.015),
+        (12.8, -0.02),
+        (14.2, 0.02),
+    ];
+    let mut e = base.clone();
+    e.extend(after(&wander, 0.0));
+    let mut gaps: Vec<f64> = e.windows(2).map(|w| w[1].t - w[0].t).collect();
+    assert_eq!(
+        half_swings(&e, upper_median(&mut gaps)),
+        None,
+        "the fit refuses them whole"
+    );
+    let stop = drop_after_stop(&mut e).expect("a stop");
+    assert_eq!(stop.dropped, wander.len());
+    assert_eq!(e, base);
+    assert!((stop.t_s - 10.0).abs() < 1e-9, "{}", stop.t_s);
+    assert_eq!(half_swings(&e, 1.5), Some(vec![0, 1, 2, 3, 4, 5]));
+
+    // The same wander after three turning points, the envelope still 0.12 rad above
+    // zero at the last (the track lost mid-motion): not a stop, left whole.
+    let mut e = decaying(3, 0.3, 0.2, 0.02, 1.5, 1.0);
+    e.extend(after(&wander, 4.5));
+    let kept = e.clone();
+    assert_eq!(drop_after_stop(&mut e), None);
+    assert_eq!(e, kept);
+
+    // Out of rhythm but swinging wider and wider after the last turning point (0.04 to
+    // 0.08 rad): not a ball at rest, left whole.
+    let growing = [
+        (9.7, 0.04),
+        (10.6, -0.05),
+        (11.9, 0.06),
+        (12.8, -0.07),
+        (14.2, 0.08),
+    ];
+    let mut e = base.clone();
+    e.extend(after(&growing, 0.0));
+    let kept = e.clone();
+    assert_eq!(drop_after_stop(&mut e), None);
+    assert_eq!(e, kept);
+}
+
+#[test]
 fn a_turning_point_lost_mid_motion_is_not_a_stop() {
     // Amplitude 0.2 - 0.02 t, turning points every second from t = 1 to 8, the one
     // at 6 s lost (missing frames): a gap of two half swings after five turning

@@ -163,8 +163,7 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     let stop_by =
         |rule: Rest| (3..n - 1).find_map(|i| stop_after(extremes, i, rule).map(|t| (i, t)));
     let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| {
-        let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
-        half_swings(extremes, upper_median(&mut gaps))
+        in_rhythm(extremes)
             .is_none()
             .then(|| stop_by(Rest::OutOfRhythm))
             .flatten()
@@ -193,6 +192,17 @@ pub fn half_swings(extremes: &[Extreme], half: f64) -> Option<Vec<usize>> {
         .map(|e| ((e.t - t0) / half).round() as usize)
         .collect();
     index.windows(2).all(|w| w[1] > w[0]).then_some(index)
+}
+
+/// [`half_swings`] with the extremes' own half swing, the upper median of their gaps: the
+/// counts the fit uses ([`crate::fit::from_extremes`]), `None` when it would refuse them.
+pub fn in_rhythm(extremes: &[Extreme]) -> Option<Vec<usize>> {
+    let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
+    if gaps.is_empty() {
+        // One extreme or none: nothing to be out of rhythm with.
+        return Some(vec![0; extremes.len()]);
+    }
+    half_swings(extremes, upper_median(&mut gaps))
 }
 
 /// The time the motion stopped, when it stopped after extreme `i` as `rule` tells it

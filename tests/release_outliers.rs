@@ -26,9 +26,16 @@ const FPS: f64 = 25.0;
 
 /// The glass twin's angles, `(t_s, angle_rad)`.
 fn twin(dir: &Path) -> Vec<(f64, f64)> {
-    std::fs::write(dir.join("twin.yaml"), common::GLASS_TWIN_YAML).unwrap();
-    rollfric_ok(&["simulate", "twin.yaml", "-o", "twin.csv"], dir);
-    std::fs::read_to_string(dir.join("twin.csv"))
+    simulated(dir, "twin", common::GLASS_TWIN_YAML).0
+}
+
+/// `rollfric simulate` of the experiment `yaml`, written as `name.yaml`: its angles,
+/// `(t_s, angle_rad)`, and what it said.
+fn simulated(dir: &Path, name: &str, yaml: &str) -> (Vec<(f64, f64)>, String) {
+    std::fs::write(dir.join(format!("{name}.yaml")), yaml).unwrap();
+    let csv = format!("{name}.csv");
+    let (_, said) = rollfric_ok(&["simulate", &format!("{name}.yaml"), "-o", &csv], dir);
+    let rows = std::fs::read_to_string(dir.join(&csv))
         .unwrap()
         .lines()
         .skip(1)
@@ -36,7 +43,8 @@ fn twin(dir: &Path) -> Vec<(f64, f64)> {
             let mut f = l.split(',').map(|v| v.parse::<f64>().unwrap());
             (f.next().unwrap(), f.next().unwrap())
         })
-        .collect()
+        .collect();
+    (rows, said)
 }
 
 /// `rows` after a hold of `secs` at their first angle, with 0.05 deg of noise and a
@@ -414,26 +422,21 @@ fn a_ball_at_rest_that_a_swaying_camera_makes_wander_is_not_fitted_after_its_sto
     let d = tempfile::tempdir().unwrap();
     // Glass's geometry, five times its friction: the ball stops at 22.58 s of 40.
     let s_r = 1.8e-5;
-    std::fs::write(
-        d.path().join("stops.yaml"),
-        format!(
+    let (rows, said) = simulated(
+        d.path(),
+        "stops",
+        &format!(
             "{GLASS_GEOMETRY}synthetic: {{ s_r_m: {s_r:e}, psi0_deg: 10, duration_s: 40, fps: 25, \
              angle_noise_deg: 0.005 }}\n"
         ),
-    )
-    .unwrap();
-    let (_, said) = rollfric_ok(&["simulate", "stops.yaml", "-o", "stops.csv"], d.path());
+    );
     assert!(said.contains("ball stops at 22.58 s"), "{said}");
     // A tripod swaying at 0.46 Hz tilts every frame by up to 0.24 deg: at rest, the
     // angle turns every 1.09 s, about two thirds of a half swing (1.62 s). Before the
     // rule, "turning points are not one half swing apart" refused the series.
-    let swayed: Vec<(f64, f64)> = std::fs::read_to_string(d.path().join("stops.csv"))
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let mut f = l.split(',').map(|v| v.parse::<f64>().unwrap());
-            let (t, a) = (f.next().unwrap(), f.next().unwrap());
+    let swayed: Vec<(f64, f64)> = rows
+        .into_iter()
+        .map(|(t, a)| {
             let sway = 0.24 * (std::f64::consts::TAU * 0.46 * t).sin();
             (t, a + sway.to_radians())
         })

@@ -92,9 +92,7 @@ pub fn from_extremes(extremes: Vec<Extreme>) -> Result<Measurement> {
     }
     let equilibrium = signal::equilibrium(&extremes)?;
     let (amplitudes, envelope) = envelope_line(&extremes, equilibrium.envelope);
-    let mut gaps: Vec<f64> = extremes.windows(2).map(|w| w[1].t - w[0].t).collect();
-    let half = upper_median(&mut gaps);
-    let Some(index) = signal::half_swings(&extremes, half) else {
+    let Some(index) = signal::in_rhythm(&extremes) else {
         bail!("turning points are not one half swing apart; the series is too irregular to fit");
     };
     let idx: Vec<f64> = index.iter().map(|&i| i as f64).collect();

@@ -66,12 +66,7 @@ fn a_ball_at_rest_that_wanders_out_of_rhythm_after_the_stop_is_dropped() {
     ];
     let mut e = base.clone();
     e.extend(after(&wander, 0.0));
-    let mut gaps: Vec<f64> = e.windows(2).map(|w| w[1].t - w[0].t).collect();
-    assert_eq!(
-        half_swings(&e, upper_median(&mut gaps)),
-        None,
-        "the fit refuses them whole"
-    );
+    assert_eq!(in_rhythm(&e), None, "the fit refuses them whole");
     let stop = drop_after_stop(&mut e).expect("a stop");
     assert_eq!(stop.dropped, wander.len());
     assert_eq!(e, base);

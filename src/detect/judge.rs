@@ -88,6 +88,15 @@ impl DetectionVerdict {
             format!("suspect ({})", names.join(", "))
         }
     }
+
+    /// Whether this verdict fails fewer checks than `other`, and none that `other`
+    /// passed: a second measurement that fixed some of the first's failures and broke
+    /// nothing the first got right.
+    pub fn fails_a_part_of(&self, other: &DetectionVerdict) -> bool {
+        let theirs: Vec<&str> = other.failed().map(|c| c.check.as_str()).collect();
+        self.failed().count() < theirs.len()
+            && self.failed().all(|c| theirs.contains(&c.check.as_str()))
+    }
 }
 
 impl DetectionVerdict {

@@ -576,3 +576,27 @@ fn a_swing_that_grows_is_suspect() {
     assert_eq!(failed(&v), ["decays"], "{:?}", v.checks);
     assert_eq!(v.verdict, Verdict::Suspect);
 }
+
+#[test]
+fn a_second_measurement_fails_a_part_of_the_first_only_when_it_breaks_nothing_new() {
+    let passing = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
+    assert!(failed(&passing).is_empty(), "{:?}", passing.checks);
+    // The same checks, those named failed.
+    let failing = |names: &[&str]| {
+        let mut v = passing.clone();
+        for c in &mut v.checks {
+            c.passed = !names.contains(&c.check.as_str());
+        }
+        assert_eq!(failed(&v), names, "every named check is judged");
+        v
+    };
+    let first = failing(&["rhythm", "stalls", "rest"]);
+    // Fixed two, broke none: kept.
+    assert!(failing(&["rest"]).fails_a_part_of(&first));
+    // Fixed nothing, or broke one the first passed: not.
+    assert!(!failing(&["rhythm", "stalls", "rest"]).fails_a_part_of(&first));
+    assert!(!failing(&["rest", "envelope"]).fails_a_part_of(&first));
+    // Against a first that failed nothing, nothing fails less.
+    assert!(!passing.fails_a_part_of(&passing));
+    assert!(passing.fails_a_part_of(&first));
+}

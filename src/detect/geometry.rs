@@ -22,9 +22,10 @@ mod pivot;
 mod search;
 
 use crate::detect::tuning::{
-    FAINT_MIN_DIRECTIONS, HOUGH_MAX_GAP_PX, HOUGH_MIN_VOTES, HOUGH_VOTE_SHARE, LINE_APART_DEG,
-    LINE_PIXELS_PX, LOOK_DIRECTIONS, LOOK_FLOOR, LOOK_SIGMAS, LOW_DIRECTIONS, LOW_FLOOR,
-    LOW_SIGMAS, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG, THRESHOLD_MAX_LEVELS,
+    EDGE_MARGIN_SHARE, EDGE_MIN_PX, FAINT_MIN_DIRECTIONS, HOUGH_MAX_GAP_PX, HOUGH_MIN_VOTES,
+    HOUGH_VOTE_SHARE, LINE_APART_DEG, LINE_PIXELS_PX, LOOK_DIRECTIONS, LOOK_FLOOR, LOOK_SIGMAS,
+    LOW_DIRECTIONS, LOW_FLOOR, LOW_SIGMAS, MAX_JUMPS, MAX_ROUGHNESS, MAX_SWEEP_DEG,
+    THRESHOLD_MAX_LEVELS,
 };
 use faint::faint_threshold_map;
 pub use faint::FAINT_STAGE;
@@ -114,10 +115,62 @@ struct FrameLine {
     pts: Vec<(Pt, f64)>,
 }
 
+/// The edges of the video's frame that a look's frame shares, and how near one a line's
+/// two ends must lie to run along it ([`EDGE_MARGIN_SHARE`]): an empty border that a
+/// stabilised or software-turned picture shows moves with the picture, and its edge is
+/// a moving line of the frame's own direction (the real off-screen pivot clip, turned
+/// and shifted by ffmpeg: the look's pivot on the frame's corner, its lines at 0 and 90
+/// deg).
+#[derive(Clone, Copy, Debug)]
+struct FrameEdges {
+    /// The look frame's size, px.
+    w: f64,
+    h: f64,
+    /// Left, top, right, bottom: whether the look frame's edge is the video's.
+    shared: [bool; 4],
+    margin: f64,
+}
+
+impl FrameEdges {
+    fn of(init: &InitFrames, full_w: u32, full_h: u32) -> Self {
+        let (w, h, s) = (init.w as f64, init.h as f64, init.shrink);
+        let (fw, fh) = (f64::from(full_w), f64::from(full_h));
+        FrameEdges {
+            w,
+            h,
+            shared: [
+                init.x0 < s,
+                init.y0 < s,
+                init.x0 + w * s > fw - 2.0 * s,
+                init.y0 + h * s > fh - 2.0 * s,
+            ],
+            margin: (EDGE_MARGIN_SHARE * fw.min(fh) / s).max(EDGE_MIN_PX),
+        }
+    }
+
+    /// Whether the segment from `a` to `b` (look px) runs along a shared edge.
+    fn along(&self, a: Pt, b: Pt) -> bool {
+        let m = self.margin;
+        let near = [
+            a.x.max(b.x) <= m,
+            a.y.max(b.y) <= m,
+            a.x.min(b.x) >= self.w - 1.0 - m,
+            a.y.min(b.y) >= self.h - 1.0 - m,
+        ];
+        self.shared.iter().zip(near).any(|(s, n)| *s && n)
+    }
+}
+
 /// The longest straight segments of the pixels `bin` keeps (non-zero) of one evidence
 /// image (up to three, in different directions), each refined by an orthogonal fit of
-/// the kept pixels along it, weighted by their evidence.
-fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result<Vec<FrameLine>> {
+/// the kept pixels along it, weighted by their evidence. A segment along an edge of the
+/// frame (`edges`) is not one.
+fn frame_lines(
+    evidence: &impl MatTraitConst,
+    bin: &Mat,
+    min_len: f64,
+    edges: &FrameEdges,
+) -> Result<Vec<FrameLine>> {
     let mut segs = Vector::<core::Vec4i>::new();
     imgproc::hough_lines_p(
         bin,
@@ -136,6 +189,7 @@ fn frame_lines(evidence: &impl MatTraitConst, bin: &Mat, min_len: f64) -> Result
                 Pt::new(v[2] as f64, v[3] as f64),
             )
         })
+        .filter(|(a, b)| !edges.along(*a, *b))
         .collect();
     segs.sort_by(|a, b| (b.1 - b.0).norm().total_cmp(&(a.1 - a.0).norm()));
     let mut chosen: Vec<(Pt, Pt)> = Vec::new();

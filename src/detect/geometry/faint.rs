@@ -28,11 +28,13 @@ pub(super) fn faint_threshold_map(init: &InitFrames, noise: &[u8]) -> Result<Mat
 /// a whole line of the image however broken; on each (up to three, in distinct
 /// directions), the longest run of those pixels within 1.5 px of it with no gap over
 /// [`FAINT_GAP`], kept when at least `min_len` long and fitted (orthogonal least
-/// squares, weighted by the evidence `ev`) as [`frame_lines`] fits a segment.
+/// squares, weighted by the evidence `ev`) as [`frame_lines`] fits a segment; a run
+/// along an edge of the frame (`edges`) is not one.
 pub(super) fn faint_frame_lines(
     ev: &impl MatTraitConst,
     bin: &Mat,
     min_len: f64,
+    edges: &FrameEdges,
 ) -> Result<Vec<FrameLine>> {
     let mut found = Vector::<core::Vec2f>::new();
     imgproc::hough_lines_def(
@@ -89,7 +91,10 @@ pub(super) fn faint_frame_lines(
             }
         }
         let (a, b) = best;
-        if b <= a || along[b - 1].0 - along[a].0 < min_len {
+        if b <= a
+            || along[b - 1].0 - along[a].0 < min_len
+            || edges.along(along[a].1, along[b - 1].1)
+        {
             continue;
         }
         dirs.push(dir);

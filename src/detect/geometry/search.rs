@@ -128,6 +128,7 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
     };
     // The wire is long; the bob's edges and a hand's fingers are short.
     let min_len = MIN_LEN_SHARE * (w.min(h) as f64);
+    let edges = FrameEdges::of(init, full_w, full_h);
     let candidates: Vec<bool> = match polarity {
         Polarity::Dark => vec![true],
         Polarity::Light => vec![false],
@@ -152,9 +153,9 @@ pub(super) fn find_against(look: &Look, kind: Background) -> Result<WireGeometry
             // Keep what exceeds each pixel's own noise threshold (at least one grey level).
             core::compare(&th, tmap, &mut sc.keep, core::CMP_GT)?;
             if faint {
-                faint_frame_lines(&th, &sc.keep, min_len)
+                faint_frame_lines(&th, &sc.keep, min_len, &edges)
             } else {
-                frame_lines(&th, &sc.keep, min_len)
+                frame_lines(&th, &sc.keep, min_len, &edges)
             }
         };
     // The frames' lines, each frame alone: shared among up to [`GEOMETRY_THREADS`]

@@ -145,6 +145,20 @@ knobs! {
         what "pixels within this of a segment's line are fitted to it",
         chosen_by "297050c: the first detector's value; not measured";
 
+    /// A frame's line whose two ends both lie within this share of the video's smaller
+    /// side (at least `EDGE_MIN_PX` of the look's px) of one edge of the video's frame
+    /// runs along that edge: a stabilised or software-turned picture's empty border,
+    /// which moves with the picture, not a wire (a wire meets the frame's edge only by
+    /// crossing it).
+    EDGE_MARGIN_SHARE: f64 = 0.01, "share",
+        what "a line with both ends this near one edge of the frame runs along it, not a wire",
+        chosen_by "the real off-screen pivot clip moved by ffmpeg (turned 0.3-0.4 deg, cropped 4 px): empty borders up to 8 px of 1072; hand-picked";
+
+    /// See `EDGE_MARGIN_SHARE`.
+    EDGE_MIN_PX: f64 = 2.0, "px",
+        what "least margin along the frame's edges, px of the look",
+        chosen_by "hand-picked: a border a pixel or two wide after shrinking";
+
     THRESHOLD_MAX_LEVELS: f64 = 250.0, "grey levels",
         what "highest a pixel's threshold may be",
         chosen_by "034348f: hand-picked; not measured";

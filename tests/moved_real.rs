@@ -5,10 +5,13 @@
 //! within 0.2 deg, and the camera's motion reported. Unsteadied, the green-screen clip
 //! lost its wire to a static edge after 4 s (56.16 deg against 58.00), and the split
 //! screen's exposure drift led the alignment astray (the other panel taken).
+//!
+//! The off-screen pivot clip, shrunk to a phone's 960x540 export and moved too, is not
+//! yet measured: whatever the detector makes of it must then not be called `ok`.
 
 mod common;
 
-use common::{fixture, need_ffmpeg, rollfric_ok, root};
+use common::{fixture, need_ffmpeg, rollfric, rollfric_ok, root};
 use std::path::Path;
 use std::process::Command;
 
@@ -99,4 +102,77 @@ fn a_hand_held_splitscreen_clip_swings_as_the_still_one() {
         "sborquez_video2_splitscreen.mp4",
         &["--roi", "236,0,236,352"],
     );
+}
+
+/// The off-screen pivot clip (`bartekpacia_film1_fhd.mp4`, README: period about 1.02 s,
+/// about +-11.75 deg at the start, +-10.2 at 25 s) shrunk to 960x540 (its first 12 s):
+/// its wire is a line 1 px wide, about 150 px of it visible above a ball 95 px across.
+/// Still, the first look finds no pivot the wire's lines bear out and takes the ball's
+/// edges (a pivot at (587, 168) px, amplitudes of 1.3 to 9.1 deg); hand-held too, the
+/// track loses the wire in half the frames (24.72 deg peak to peak over 4 s against
+/// 24.34 with the pivot given). Both are `suspect`. A detection called `ok` must have
+/// measured the wire: the README's period within 2 % and its amplitudes within 1.5 deg
+/// (at the start; at 12 s, 11.0 deg by the README's linear decay); one not `ok` is
+/// `suspect` with its angles written (exit 0), or refused (exit 1), as a CI job reads it.
+#[test]
+fn the_off_screen_pivot_clip_shrunk_is_never_called_ok_unless_measured() {
+    if !need_ffmpeg() {
+        return;
+    }
+    let Some(src) = fixture("bartekpacia_film1_fhd.mp4") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let first = "trim=end_frame=720,scale=960:540";
+    for (name, filter) in [
+        ("still", first.to_string()),
+        ("hand-held", format!("{first},{MOVED}")),
+    ] {
+        let video = dir.path().join(format!("{name}.mp4"));
+        encode(&src, &filter, &video);
+        let (csv, json) = (video.with_extension("csv"), video.with_extension("json"));
+        let out = rollfric(
+            &[
+                "detect".as_ref(),
+                video.as_os_str(),
+                "-o".as_ref(),
+                csv.as_os_str(),
+                "--json".as_ref(),
+                json.as_os_str(),
+            ],
+            dir.path(),
+        );
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let verdict = v["verdict"].as_str().unwrap();
+        let seen = |k: &str| v["seen"][k].as_f64().unwrap_or(f64::NAN);
+        eprintln!(
+            "{name}: {verdict}, period {:.3} s, amplitude {:.2} -> {:.2} deg",
+            seen("period_s"),
+            seen("amplitude_start_deg"),
+            seen("amplitude_end_deg")
+        );
+        match verdict {
+            "ok" => {
+                assert!(
+                    (seen("period_s") / 1.02 - 1.0).abs() < 0.02,
+                    "{name}: `ok`, period {} s",
+                    seen("period_s")
+                );
+                assert!(
+                    (seen("amplitude_start_deg") - 11.75).abs() <= 1.5
+                        && (seen("amplitude_end_deg") - 11.0).abs() <= 1.5,
+                    "{name}: `ok`, amplitude {} -> {} deg",
+                    seen("amplitude_start_deg"),
+                    seen("amplitude_end_deg")
+                );
+            }
+            "suspect" => assert!(out.status.success() && csv.exists(), "{name}: {out:?}"),
+            _ => assert!(
+                verdict == "refused" && !out.status.success(),
+                "{name}: {verdict}, {}",
+                out.status
+            ),
+        }
+    }
 }

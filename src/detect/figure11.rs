@@ -303,6 +303,7 @@ mod tests {
             figure11,
             review: Default::default(),
             swing_scale: None,
+            look_sweep_deg: 0.0,
             calibration: None,
             lens: None,
             camera: None,

@@ -60,8 +60,8 @@ mod track;
 pub mod tuning;
 
 use crate::detect::tuning::{
-    INIT_SECONDS, LOOK_MAX_FRAMES, PER_SIDE, STILL_AGAIN_NOISE_MAX_DEG, SWING_SCALE_RETRY,
-    WORK_MAX_PIXELS, WORK_SIDE_PX,
+    INIT_SECONDS, LOOK_MAX_FRAMES, LOOK_SWING_AGREE, LOOK_SWING_APART, PER_SIDE,
+    STILL_AGAIN_NOISE_MAX_DEG, SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
@@ -372,18 +372,10 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         Other::Unlooked(k) => looks.at(k),
     }
     .and_then(|l| streaming_pass(looks, l));
-    // Measured again for its motion, the other scale's pass is kept when its lines turn
-    // nearer its angle about its pivot and it fails fewer of the detection's checks: its
-    // lines may turn nearer and be something else still. Film 1 moved by hand (the real
-    // off-screen pivot clip) was measured first on its wire, `suspect (smooth, rest,
-    // envelope)`, its lines turning 0.998 times; at the other scale on the ball's beads,
-    // 1.002 times, `suspect (found, period, rhythm, smooth, stalls, wander)`. Shrunk to
-    // 960x540 and moved, first on its wire, `suspect (found, smooth, rest)`; at the
-    // other scale on the ball, 1.0005 times, `suspect (found, crossed, smooth)`.
-    let fails = |d: &Detection| d.verdict.failed().count();
-    let better = |a: &Detection| off(a) < off(&d) && (by_scale || fails(a) < fails(&d));
+    // See `Pass::replaced_by`.
+    let better = |a: &Detection| Pass::of(&d).replaced_by(Pass::of(a), by_scale);
     let kept = match again {
-        Ok(a) if a.swing_scale.is_some() && better(&a) => Detection {
+        Ok(a) if better(&a) => Detection {
             decodings: a.decodings + d.decodings,
             ..a
         },
@@ -423,6 +415,65 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         }
     };
     Ok(kept)
+}
+
+/// What chooses between a pass and the other working scale's ([`detect_from`]).
+#[derive(Clone, Copy, Debug)]
+struct Pass {
+    /// How far its swing scale lies from 1 (`None`: not measured).
+    off: Option<f64>,
+    /// The detection's checks it fails.
+    fails: usize,
+    /// Its look's sweep and its track's first amplitude, deg.
+    look_sweep_deg: f64,
+    amplitude_deg: Option<f64>,
+}
+
+impl Pass {
+    fn of(d: &Detection) -> Self {
+        Pass {
+            off: d.swing_scale.map(|s| (s - 1.0).abs()),
+            fails: d.verdict.failed().count(),
+            look_sweep_deg: d.look_sweep_deg,
+            amplitude_deg: d.verdict.seen.amplitude_start_deg,
+        }
+    }
+
+    /// How far its look's sweep lies from its track's swing (twice its first amplitude),
+    /// as the log of their ratio, either way.
+    fn apart(self) -> Option<f64> {
+        let a = self.amplitude_deg.filter(|a| *a > 0.0)?;
+        Some((self.look_sweep_deg / (2.0 * a)).ln().abs())
+    }
+
+    /// Whether the other scale's pass `other` replaces this one, measured again because
+    /// its swing scale lay more than `SWING_SCALE_RETRY` from 1 (`by_scale`: the nearer is
+    /// kept), or because its motion is not a pendulum's. Then `other` is kept when its
+    /// look agrees with its own swing and this one's does not: a sweep within
+    /// `LOOK_SWING_AGREE` of twice the first amplitude, against one beyond
+    /// `LOOK_SWING_APART` (a look whose lines swept far more or less than its track swings
+    /// saw something else than the pass followed). Else when its swing scale is nearer 1
+    /// and it fails fewer of the detection's checks. Film 1 (the real off-screen pivot
+    /// clip) moved by hand was measured first on its wire, its look sweeping 24.3 deg and
+    /// its track 24.4, its lines turning 0.998 times as much; at the other scale on the
+    /// ball's beads, their look 88 deg and their track 7, their lines 1.002 times, failing
+    /// four checks to the wire's five in its first 12 s.
+    fn replaced_by(self, other: Pass, by_scale: bool) -> bool {
+        let Some(off) = other.off else {
+            return false;
+        };
+        let nearer = off < self.off.unwrap_or(0.0);
+        if by_scale {
+            return nearer;
+        }
+        let agrees = |x: f64| x <= LOOK_SWING_AGREE.ln();
+        let apart = |x: f64| x > LOOK_SWING_APART.ln();
+        match (other.apart(), self.apart()) {
+            (Some(x), Some(y)) if agrees(x) && apart(y) => true,
+            (Some(x), Some(y)) if agrees(y) && apart(x) => false,
+            _ => nearer && other.fails < self.fails,
+        }
+    }
 }
 
 /// The working scale [`FirstLook::at_best_scale`] did not keep: its look (when it found a
@@ -700,6 +751,7 @@ fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) -> Result<Det
         figure11,
         review: review.take(),
         swing_scale,
+        look_sweep_deg: geometry::sweep_deg(geo),
         calibration: opts.calibration.clone(),
         lens,
         camera,

@@ -159,6 +159,10 @@ pub struct Detection {
     /// How much more the wire's own direction turns than its angle about the pivot
     /// (1 when the pivot lies on the wire's line; see the `pivot` check).
     pub swing_scale: Option<f64>,
+    /// The range of directions the first look's lines took, deg (`geometry::sweep_deg`):
+    /// about the swing's own peak to peak when the look saw what the pass followed.
+    #[serde(skip)]
+    pub look_sweep_deg: f64,
     /// The plate calibration the angles CSV is measured through (the rows keep image
     /// angles).
     #[serde(skip)]

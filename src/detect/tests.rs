@@ -89,3 +89,38 @@ fn shrunk_pixel_centres_map_to_the_centres_of_the_pixels_they_average() {
     let p = Pt::new(123.25, -640.5);
     assert!((shrunk_to_full(full_to_shrunk(p, origin, 3.0), origin, 3.0) - p).norm() < 1e-12);
 }
+
+#[test]
+fn the_other_scales_pass_replaces_the_first_by_its_look_then_by_its_lines_and_checks() {
+    let pass = |off: f64, fails: usize, look_sweep_deg: f64, amplitude: f64| Pass {
+        off: Some(off),
+        fails,
+        look_sweep_deg,
+        amplitude_deg: Some(amplitude),
+    };
+    // Film 1's first 12 s moved by hand: the wire (its look 24.3 deg, its track 24.4,
+    // five checks failed, lines turning 0.997 times) against the ball's beads (88 deg,
+    // 7, four failed, 1.0017): nearer and failing fewer, the beads are not kept, their
+    // look far from their swing; the other way round, the wire replaces the beads.
+    let wire = pass(0.003, 5, 24.3, 12.2);
+    let beads = pass(0.0017, 4, 88.4, 3.4);
+    assert!(!wire.replaced_by(beads, false));
+    assert!(beads.replaced_by(wire, false));
+    // Two looks that agree with their swings (or two that do not): the nearer swing
+    // scale that fails fewer checks, and only that.
+    let near = pass(0.001, 2, 24.0, 12.0);
+    let far = pass(0.004, 3, 25.0, 12.0);
+    assert!(far.replaced_by(near, false));
+    assert!(!near.replaced_by(far, false));
+    assert!(!pass(0.004, 2, 25.0, 12.0).replaced_by(pass(0.001, 2, 24.0, 12.0), false));
+    assert!(!beads.replaced_by(pass(0.001, 5, 60.0, 3.0), false));
+    // Between the two limits (a look 1.7 times the swing): not decided by the look.
+    assert!(!wire.replaced_by(pass(0.001, 6, 41.0, 12.0), false));
+    // Measured again for a swing scale far from 1: the nearer is kept, whatever else.
+    let off_scale = pass(0.05, 1, 24.0, 12.0);
+    assert!(off_scale.replaced_by(pass(0.001, 4, 88.0, 3.0), true));
+    assert!(!off_scale.replaced_by(pass(0.06, 0, 24.0, 12.0), true));
+    // A pass whose swing scale was not measured replaces nothing.
+    let unmeasured = Pass { off: None, ..near };
+    assert!(!far.replaced_by(unmeasured, false));
+}

@@ -125,6 +125,18 @@ knobs! {
         what "a swing scale this far from 1 has the other working scale measured too",
         chosen_by "8e7bd01; the comment beside it: sweep both seeds, 126 twins within 0.002; seed 2 scene 16: 1.058 -> 1.0001, 2.1 -> 0.019 deg RMS";
 
+    /// Of two passes measured at the two working scales for their motion, one whose
+    /// look swept within this ratio of its track's swing (twice its first amplitude) ...
+    LOOK_SWING_AGREE: f64 = 1.5, "ratio",
+        what "a look's sweep within this ratio of its pass's swing agrees with it",
+        chosen_by "film 1 (real) moved by hand: the wire's look 24.3 deg, its swing 24.4; hand-picked";
+
+    /// ... is kept over one whose look swept beyond this ratio of its swing, or under its
+    /// inverse.
+    LOOK_SWING_APART: f64 = 2.0, "ratio",
+        what "a look's sweep beyond this ratio of its pass's swing saw something else",
+        chosen_by "film 1 (real) moved by hand: the ball's beads' look 88 deg, their swing 7; hand-picked";
+
     // From fill.rs.
     /// Good frames in a run shorter than this, between two losses of the wire, are
     /// flagged `Flag::Isolated`.

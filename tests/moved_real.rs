@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::{fixture, need_ffmpeg, rollfric, rollfric_ok, root};
+use common::{detect_json, fixture, need_ffmpeg, rollfric_ok, root};
 use std::path::Path;
 use std::process::Command;
 
@@ -130,20 +130,7 @@ fn the_off_screen_pivot_clip_shrunk_is_never_called_ok_unless_measured() {
     ] {
         let video = dir.path().join(format!("{name}.mp4"));
         encode(&src, &filter, &video);
-        let (csv, json) = (video.with_extension("csv"), video.with_extension("json"));
-        let out = rollfric(
-            &[
-                "detect".as_ref(),
-                video.as_os_str(),
-                "-o".as_ref(),
-                csv.as_os_str(),
-                "--json".as_ref(),
-                json.as_os_str(),
-            ],
-            dir.path(),
-        );
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let (v, out, csv) = detect_json(&video, &[], dir.path());
         let verdict = v["verdict"].as_str().unwrap();
         let seen = |k: &str| v["seen"][k].as_f64().unwrap_or(f64::NAN);
         eprintln!(

@@ -5,27 +5,14 @@
 
 mod common;
 
-use common::{fixture, rollfric};
-use std::ffi::OsStr;
+use common::fixture;
 
-/// `detect VIDEO --json` with `extra` flags: the summary's JSON, and whether the
-/// command succeeded.
+/// `detect VIDEO --json` of a real fixture with `extra` flags: the summary's JSON, and
+/// whether the command succeeded.
 fn detect_json(video: &str, extra: &[&str]) -> Option<(serde_json::Value, bool)> {
     let v = fixture(video)?;
     let dir = tempfile::tempdir().unwrap();
-    let (csv, json) = (dir.path().join("a.csv"), dir.path().join("a.json"));
-    let mut args = vec![
-        OsStr::new("detect"),
-        v.as_os_str(),
-        OsStr::new("-o"),
-        csv.as_os_str(),
-        OsStr::new("--json"),
-        json.as_os_str(),
-    ];
-    args.extend(extra.iter().map(OsStr::new));
-    let out = rollfric(&args, dir.path());
-    let text = std::fs::read_to_string(&json).expect("the JSON summary is written");
-    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let (value, out, _) = common::detect_json(&v, extra, dir.path());
     assert_eq!(value["kind"], "rollfric detect");
     Some((value, out.status.success()))
 }

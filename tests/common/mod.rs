@@ -111,6 +111,33 @@ pub fn rollfric<S: AsRef<OsStr>>(args: &[S], dir: &Path) -> Output {
         .unwrap_or_else(|e| panic!("run rollfric {}: {e}", shown(args)))
 }
 
+/// `rollfric detect VIDEO -o CSV --json JSON` with `extra` flags, its outputs in `dir`
+/// named after the video: the summary's JSON (written on a refusal too), the command's
+/// output and the CSV's path.
+pub fn detect_json(
+    video: &Path,
+    extra: &[&str],
+    dir: &Path,
+) -> (serde_json::Value, Output, PathBuf) {
+    let stem = video.file_stem().expect("a video file").to_string_lossy();
+    let (csv, json) = (
+        dir.join(format!("{stem}.csv")),
+        dir.join(format!("{stem}.json")),
+    );
+    let mut args = vec![
+        OsStr::new("detect"),
+        video.as_os_str(),
+        OsStr::new("-o"),
+        csv.as_os_str(),
+        OsStr::new("--json"),
+        json.as_os_str(),
+    ];
+    args.extend(extra.iter().map(OsStr::new));
+    let out = rollfric(&args, dir);
+    let text = std::fs::read_to_string(&json).expect("the JSON summary is written");
+    (serde_json::from_str(&text).unwrap(), out, csv)
+}
+
 /// Runs `rollfric args` in `dir`, asserts it succeeds (its standard error in the
 /// message), and returns its standard output and standard error.
 pub fn rollfric_ok<S: AsRef<OsStr>>(args: &[S], dir: &Path) -> (String, String) {

@@ -80,11 +80,27 @@ impl Flag {
 }
 
 /// The moments a found frame keeps of its wire's strip, re-centred on its own free
-/// line: `[whole, far]`, the whole band's strip (the swing scale's check) and the strip
-/// beyond [`crate::detect::tuning::FREE_STRIP_FROM`] of the band's outer radius (the
-/// pivot's refinement and the angles' refit), where no shadow or static edge merges
-/// with the wire near the pivot.
-pub type KeptMoments = [[f64; 6]; 2];
+/// line: `[whole, far]` (indexed 0 and 1), the whole band's strip (the swing scale's
+/// check) and the strip beyond [`crate::detect::tuning::FREE_STRIP_FROM`] of the band's
+/// outer radius (the pivot's refinement and the angles' refit), where no shadow or
+/// static edge merges with the wire near the pivot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KeptMoments {
+    pub moments: [[f64; 6]; 2],
+    /// Whether each strip was re-centred on the wire's free line. One that was not
+    /// (its free line left the pivot's line, or too few pixels) keeps the strip about
+    /// the line through the current pivot: its free line leans towards that pivot and
+    /// says little about where the wire's lines meet (see `Tracker::refine_pivot`).
+    pub free: [bool; 2],
+}
+
+impl std::ops::Index<usize> for KeptMoments {
+    type Output = [f64; 6];
+
+    fn index(&self, i: usize) -> &[f64; 6] {
+        &self.moments[i]
+    }
+}
 
 /// One frame's result.
 #[derive(Clone, Debug, Serialize)]

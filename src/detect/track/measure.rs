@@ -269,7 +269,10 @@ impl Tracker {
         // strip's pixels): the far strip's pixels are the whole one's from `from` out,
         // taken from the one walk ([`Self::strip_beyond`]).
         let Some(free) = free_line_within(&fallback, &ends) else {
-            return Ok([fallback; 2]);
+            return Ok(KeptMoments {
+                moments: [fallback; 2],
+                free: [false; 2],
+            });
         };
         self.strip_pixels_from(&free, FREE_STRIP_HALF, self.r_lo, &mut b.strip)?;
         let far_first = if split {
@@ -279,12 +282,12 @@ impl Tracker {
             None
         };
         let whole_first = (b.strip.len() >= MIN_LINE_PIXELS).then(|| moments(&b.strip));
-        let mut recentre = |first: Option<[f64; 6]>, from: f64| -> Result<[f64; 6]> {
+        let mut recentre = |first: Option<[f64; 6]>, from: f64| -> Result<([f64; 6], bool)> {
             Ok(first
                 .map(|m| self.recentred_moments(&ends, m, from, b))
                 .transpose()?
                 .flatten()
-                .unwrap_or(fallback))
+                .map_or((fallback, false), |m| (m, true)))
         };
         let whole = recentre(whole_first, self.r_lo)?;
         let far = if split {
@@ -292,7 +295,10 @@ impl Tracker {
         } else {
             whole
         };
-        Ok([whole, far])
+        Ok(KeptMoments {
+            moments: [whole.0, far.0],
+            free: [whole.1, far.1],
+        })
     }
 
     /// The strip's moments from the radius `from` out, re-centred on the wire's free

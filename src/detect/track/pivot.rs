@@ -5,8 +5,8 @@ use super::Tracker;
 use crate::detect::geometry;
 use crate::detect::line::{Line, Moments};
 use crate::detect::tuning::{
-    DRIFT_WINDOW_S, REFINE_CENTRAL, REFINE_LINES, REFINE_SPREAD_DEG, SWING_SCALE_FRAMES,
-    SWING_SCALE_SPREAD_DEG,
+    DRIFT_WINDOW_S, REFINE_CENTRAL, REFINE_HELD_SHARE, REFINE_LINES, REFINE_SLOW_SHARE,
+    REFINE_SPREAD_DEG, SWING_SCALE_FRAMES, SWING_SCALE_SPREAD_DEG,
 };
 use crate::detect::{full_to_shrunk, shrunk_to_full, unwrap_near, AngleRow, Pt, Status};
 use crate::lens::Lens;
@@ -28,12 +28,17 @@ impl Tracker {
     /// over the pass. 1 when the pivot is on the wire's line; a pivot off along the wire
     /// by `delta` at a mean radius `R` gives about `(R + delta) / R`, and scales the
     /// angles' swing, and `s_r` with it, by the inverse. The free fits' noise is in the
-    /// regressand, so it does not bias the slope. `None` with fewer than
+    /// regressand, so it does not bias the slope. Frames whose whole strip was not
+    /// re-centred ([`KeptMoments::free`]) are left out: their free lines lean towards
+    /// the line through the pass's pivot, and pull the slope towards 1 there and away
+    /// from it elsewhere. `None` with fewer than
     /// [`SWING_SCALE_FRAMES`] accepted frames or a swing under
     /// [`SWING_SCALE_SPREAD_DEG`].
     ///
     /// Through a lens, both are the undistorted view's: the free line taken into it by
     /// two of its points, the angle about the pivot by [`Lens::plate_angle`].
+    ///
+    /// [`KeptMoments::free`]: crate::detect::row::KeptMoments::free
     pub(in crate::detect) fn swing_scale(
         &self,
         rows: &[AngleRow],
@@ -49,7 +54,9 @@ impl Tracker {
             .iter()
             .filter(|r| r.flag.is_none() && r.status == Status::Ok)
             .filter_map(|r| {
-                let m = &r.moments.as_ref()?[0];
+                // A strip not re-centred leans towards the pass's own pivot's line.
+                let m = r.moments.as_ref().filter(|m| m.free[0])?;
+                let m = &m[0];
                 let (about, _) = m.line_about(p)?;
                 let free = m.free_line()?;
                 let (about, free) = match lens {
@@ -117,30 +124,49 @@ impl Tracker {
             full_to_shrunk(Pt::new(u[0], u[1]), origin, self.scale)
         };
         let half = 0.25 * (self.r_hi - self.r_lo);
-        let timed: Vec<(f64, Line)> = rows
+        let speeds = angular_speeds(rows);
+        let found: Vec<FreeLine> = rows
             .iter()
-            .filter(|r| r.flag.is_none())
-            .filter_map(|r| Some((r.t_s, r.moments.as_ref().and_then(|m| m[1].free_line())?)))
-            .map(|(t, ln)| match lens {
-                Some(l) => (
-                    t,
-                    Line::through(
+            .zip(speeds)
+            .filter(|(r, _)| r.flag.is_none())
+            .filter_map(|(r, speed)| {
+                let m = r.moments.as_ref()?;
+                Some((r.t_s, m[1].free_line()?, m.free[1], speed))
+            })
+            .map(|(t_s, ln, free, speed)| FreeLine {
+                t_s,
+                line: match lens {
+                    Some(l) => Line::through(
                         undistort(l, ln.point - ln.dir * half),
                         undistort(l, ln.point + ln.dir * half),
                     ),
-                ),
-                None => (t, ln),
+                    None => ln,
+                },
+                free,
+                speed,
             })
             .collect();
-        let lines: Vec<Line> = timed.iter().map(|l| l.1).collect();
         let start = lens.map_or(self.piv, |l| undistort(l, self.piv));
-        let Some(p) = refined_pivot(&lines, start, 0.05 * (self.r_lo + self.r_hi)) else {
+        let bound = 0.05 * (self.r_lo + self.r_hi);
+        // The slow frames' free lines when many were held (and they locate the pivot),
+        // else all of them.
+        let refined = refinement_lines(&found)
+            .into_iter()
+            .chain(std::iter::once(found.iter().collect()))
+            .find_map(|set: Vec<&FreeLine>| {
+                let lines: Vec<Line> = set.iter().map(|f| f.line).collect();
+                let p = refined_pivot(&lines, start, bound)?;
+                Some((lines, p))
+            });
+        let Some((lines, p)) = refined else {
             return RefinedPivot {
                 pivot: to_full(self.piv),
                 u_px: None,
                 drift_deg: None,
             };
         };
+        // The drift is the camera's: judged on every frame's line.
+        let timed: Vec<(f64, Line)> = found.iter().map(|f| (f.t_s, f.line)).collect();
         let u = pivot_uncertainty(&lines, p).map(|u| u * self.scale);
         let drift_deg = pivot_drift(&timed, p, 0.5 * (self.r_lo + self.r_hi));
         let p = match lens {
@@ -164,6 +190,63 @@ impl Tracker {
             drift_deg,
         }
     }
+}
+
+/// A frame's free line for the pivot's refinement ([`Tracker::refine_pivot`]).
+pub(super) struct FreeLine {
+    pub(super) t_s: f64,
+    /// The free line of its far strip (undistorted through a lens).
+    pub(super) line: Line,
+    /// Whether that strip was re-centred on it ([`KeptMoments::free`]).
+    ///
+    /// [`KeptMoments::free`]: crate::detect::row::KeptMoments::free
+    pub(super) free: bool,
+    /// The wire's angular speed there, rad/s ([`angular_speeds`]).
+    pub(super) speed: Option<f64>,
+}
+
+/// Each row's angular speed, rad/s: the central difference of its neighbours' angles
+/// (found and not flagged), `None` where either is missing.
+pub(super) fn angular_speeds(rows: &[AngleRow]) -> Vec<Option<f64>> {
+    (0..rows.len())
+        .map(|i| {
+            let (a, b) = (rows.get(i.checked_sub(1)?)?, rows.get(i + 1)?);
+            let (aa, ab) = (a.unflagged_angle()?, b.unflagged_angle()?);
+            let dt = b.t_s - a.t_s;
+            (dt > 0.0).then(|| (unwrap_near(ab, aa) - aa).abs() / dt)
+        })
+        .collect()
+}
+
+/// The lines to refine the pivot from before all of `found`: when more than
+/// [`REFINE_HELD_SHARE`] of them were not re-centred (their strips held about the
+/// current pivot's line, towards which they lean), the re-centred lines of the frames
+/// turning slower than [`REFINE_SLOW_SHARE`] of the fast speed (the 95th percentile of
+/// theirs); none otherwise. A wire blurred by its speed (a real clip at 25 fps) loses
+/// its free line mid-swing in one direction of swing more than the other, and the
+/// fast frames' lines pass beside the pivot on the side the wire moves to: the rest of
+/// the lines then meet near the pivot they started from, not the wire's.
+pub(super) fn refinement_lines(found: &[FreeLine]) -> Option<Vec<&FreeLine>> {
+    let held = found.iter().filter(|f| !f.free).count();
+    if (held as f64) <= REFINE_HELD_SHARE * found.len() as f64 {
+        return None;
+    }
+    let mut speeds: Vec<f64> = found
+        .iter()
+        .filter(|f| f.free)
+        .filter_map(|f| f.speed)
+        .collect();
+    if speeds.is_empty() {
+        return None;
+    }
+    speeds.sort_by(f64::total_cmp);
+    let fast = speeds[(0.95 * (speeds.len() - 1) as f64).round() as usize];
+    Some(
+        found
+            .iter()
+            .filter(|f| f.free && f.speed.is_some_and(|w| w < REFINE_SLOW_SHARE * fast))
+            .collect(),
+    )
 }
 
 /// How far the wire's free lines pass from the pivot `p` for a while, as an angle seen

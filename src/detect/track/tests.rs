@@ -1,6 +1,6 @@
 //! The unit tests of `detect/track.rs`.
 
-use super::pivot::{central_spread, refined_pivot};
+use super::pivot::{angular_speeds, central_spread, refined_pivot, refinement_lines, FreeLine};
 use super::*;
 use crate::detect::line::Line;
 
@@ -68,6 +68,76 @@ fn a_fan_of_lines_refines_the_pivot_and_a_far_one_is_refused() {
     assert_eq!(refined_pivot(&fan(truth)[..19], piv, 12.0), None);
 }
 
+/// A pendulum's frames about `truth` (90 +- 20 deg, period 1.33 s, 25 frames/s, 4 s):
+/// each frame's free line passes `blur` px beside the pivot per unit of its speed's
+/// share of the fastest, on the side it turns to; the frames turning one way faster
+/// than half the fastest were held about the pass's pivot `held_at` (not re-centred),
+/// when given.
+fn blurred_swing(truth: Pt, blur: f64, held_at: Option<Pt>) -> Vec<FreeLine> {
+    let w = std::f64::consts::TAU / 1.33;
+    (0..100)
+        .map(|k| {
+            let t = k as f64 / 25.0;
+            let deg = 90.0 + 20.0 * (w * t).sin();
+            let speed = 20f64.to_radians() * w * (w * t).cos();
+            let share = speed / (20f64.to_radians() * w);
+            let held = held_at.filter(|_| share > 0.5);
+            FreeLine {
+                t_s: t,
+                line: match held {
+                    Some(p) => line(p, deg, 0.1 * noise(k)),
+                    None => line(truth, deg, blur * share + 0.1 * noise(k)),
+                },
+                free: held.is_none(),
+                speed: Some(speed.abs()),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_blurred_swing_refines_the_pivot_from_its_slow_free_lines() {
+    let truth = Pt::new(100.0, 50.0);
+    let pass_pivot = Pt::new(97.0, 48.0);
+    let lines = |f: &[&FreeLine]| f.iter().map(|f| f.line).collect::<Vec<Line>>();
+    // Every frame's line re-centred, the blur's offsets cancel between the two ways
+    // of the swing: all of them refine the pivot as before.
+    let even = blurred_swing(truth, 2.0, None);
+    assert!(refinement_lines(&even).is_none());
+    let all: Vec<&FreeLine> = even.iter().collect();
+    let p = refined_pivot(&lines(&all), pass_pivot, 12.0).expect("a refinement");
+    assert!((p - truth).norm() < 0.2, "{p:?}");
+    // A third of the frames held about the pass's pivot, all from one way of the
+    // swing: all the lines meet off the wire's pivot ...
+    let held = blurred_swing(truth, 2.0, Some(pass_pivot));
+    let n_held = held.iter().filter(|f| !f.free).count();
+    assert!((30..=40).contains(&n_held), "{n_held} held");
+    let all: Vec<&FreeLine> = held.iter().collect();
+    let off = refined_pivot(&lines(&all), pass_pivot, 12.0).expect("a refinement");
+    assert!((off - truth).norm() > 0.5, "{off:?}");
+    // ... the slow free lines near it.
+    let slow = refinement_lines(&held).expect("the slow free lines");
+    assert!(slow.iter().all(|f| f.free && f.speed.unwrap() < 0.3 * 1.65));
+    assert!(slow.len() >= 20, "{} slow lines", slow.len());
+    let p = refined_pivot(&lines(&slow), pass_pivot, 12.0).expect("a refinement");
+    assert!((p - truth).norm() < 0.2, "{p:?}");
+}
+
+#[test]
+fn the_angular_speed_is_its_neighbours_difference() {
+    let mut rows: Vec<AngleRow> = (0..5)
+        .map(|k| AngleRow::found(k, k as f64 * 0.04, 1.0 + 0.02 * k as f64))
+        .collect();
+    rows[3].flag = Some(Flag::Gate);
+    let w = angular_speeds(&rows);
+    assert_eq!(w[0], None);
+    assert!((w[1].unwrap() - 0.5).abs() < 1e-12, "{:?}", w[1]);
+    // A flagged neighbour has no angle to take.
+    assert_eq!(w[2], None);
+    assert_eq!(w[4], None);
+    assert!((w[3].unwrap() - 0.5).abs() < 1e-12);
+}
+
 #[test]
 fn after_a_refused_frame_the_prediction_is_the_longer_fit_not_three_noisy_angles() {
     let mut t = test_tracker((1.3, 1.9));
@@ -117,7 +187,13 @@ fn a_frame_beside_one_restated_on_its_shadow_s_ridge_is_refused_with_it() {
             frame,
             t_s,
             taken,
-            other: other.map(|o| (o, 1.0, [[0.0; 6]; 2])),
+            other: other.map(|o| {
+                let moments = crate::detect::row::KeptMoments {
+                    moments: [[0.0; 6]; 2],
+                    free: [true; 2],
+                };
+                (o, 1.0, moments)
+            }),
         });
     }
     tr.restate_undecided();

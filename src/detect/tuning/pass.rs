@@ -104,6 +104,22 @@ knobs! {
         what "spread of those directions the refinement needs",
         chosen_by "09b4502 (issue 10): hand-picked; no figure";
 
+    /// When more than this share of the frames' far strips were not re-centred on the
+    /// wire's free line (see `KeptMoments::free`: a wire blurred by its own speed), the
+    /// pivot is refined from the re-centred lines of the slow frames alone
+    /// (`REFINE_SLOW_SHARE`, see `refinement_lines`) ...
+    REFINE_HELD_SHARE: f64 = 0.2, "share",
+        what "share of lines kept about the pivot's line above which the slow frames' free lines refine the pivot",
+        chosen_by "the green-screen real clip (25 fps, blurred mid-swing) held about half of its lines; a 640x480 twin and the film 1 and red apple clips none";
+
+    /// ... those turning slower than this share of the pass's fast angular speed (its
+    /// 95th percentile). The wire's lines in fast frames pass 1 to 5 px beside the
+    /// pivot, on the side the wire moves to (the blur and the shutter), and those a
+    /// pivot's line held come from one direction of swing more than the other.
+    REFINE_SLOW_SHARE: f64 = 0.3, "share",
+        what "slowest frames' share of the fast angular speed whose lines refine the pivot when many were held",
+        chosen_by "the green-screen real clip from three starting pivots up to 4.4 px apart: refined 3.0 px apart with all lines, 1.1 px with the slow free lines (0.2 to 0.7 px from where the wire's lines at its turning points meet, by hand); its swing over 4 s moved by hand three ways +0.18 / +0.19 / +0.26 -> -0.00 / +0.14 / +0.07 deg from the still clip's; 0.2 and 0.5 not swept";
+
     // From mod.rs.
     /// A camera taken for still whose static scene two glances in a row find off (the `still`
     /// check failed) is measured again steadied, and that measurement kept when `ok` and,

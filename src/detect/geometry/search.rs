@@ -9,8 +9,8 @@ use crate::detect::tuning::{
     BAND_INNER_PCT, BAND_INNER_SLACK, BAND_OUTER_PCT, BAND_OUTER_SLACK, BASE_TOL_PX,
     BASE_TOL_SHARE, GEOMETRY_THREADS, LOOK_CLOSE_FRAMES, MAX_JUMPS, MAX_ROUGHNESS, MIN_LEN_SHARE,
     MIN_WIRE_LINES, RIVAL_OFFSET_MIN_DEG, RIVAL_OFFSET_STEADY, RIVAL_POLARITY_SHARE,
-    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS, STATIC_LINE_DEG,
-    STATIC_LINE_SHARE,
+    ROI_MARGIN_DEG, ROI_PAD_PX, SECOND_APART, SECOND_MIN_DIRECTIONS, STATIC_EDGE_DEG,
+    STATIC_EDGE_SIDE_SHARE, STATIC_LINE_DEG, STATIC_LINE_SHARE,
 };
 
 /// The second polarity's look against a share of the first's directions (`beat`, see
@@ -65,7 +65,10 @@ impl Race {
 /// unless it lies where lines through `q` lie in [`STATIC_LINE_SHARE`] of the frames
 /// or more (within [`STATIC_LINE_DEG`]) and another line passes that does not: a
 /// static edge through the pivot (a protractor's ruler) that a camera's sway the
-/// glances did not see leaves in the evidence stays put, while the wire turns.
+/// glances did not see leaves in the evidence stays put, while the wire turns. Lines
+/// of one direction (within [`STATIC_EDGE_DEG`]) seen on both sides of `q` (each side
+/// in [`STATIC_EDGE_SIDE_SHARE`] of them or more, and twice) are never taken, however
+/// seldom and even alone in a frame: a wire ends at its pivot, an edge runs through it.
 fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&FrameLine>> {
     let through: Vec<Vec<&FrameLine>> = lines
         .iter()
@@ -96,9 +99,39 @@ fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&Frame
             .count();
         recurs as f64 >= STATIC_LINE_SHARE * seen_in
     };
+    // Which side of `q` a line's pixels lie on, along direction `a`.
+    let side = |f: &FrameLine, a: f64| {
+        let w: f64 = f.pts.iter().map(|p| p.1).sum();
+        let c = f.pts.iter().fold(Pt::new(0.0, 0.0), |c, p| c + p.0 * p.1) * (1.0 / w.max(1e-9));
+        (c - q).dot(&Pt::new(a.cos(), a.sin())) > 0.0
+    };
+    // An edge running through `q`, not a wire ending there.
+    let edge = |f: &FrameLine| {
+        let a = direction(f);
+        let (mut one, mut other) = (0usize, 0usize);
+        for g in through.iter().flatten() {
+            if apart(direction(g), a) <= STATIC_EDGE_DEG.to_radians() {
+                // Directions taken modulo half a turn: each along `a`'s own sense.
+                let d = direction(g);
+                let along = if (d - a).cos() >= 0.0 {
+                    d
+                } else {
+                    d + std::f64::consts::PI
+                };
+                if side(g, along) {
+                    one += 1;
+                } else {
+                    other += 1;
+                }
+            }
+        }
+        one.min(other) >= 2
+            && one.min(other) as f64 >= STATIC_EDGE_SIDE_SHARE * (one + other) as f64
+    };
     through
         .iter()
         .map(|c| {
+            let c: Vec<&FrameLine> = c.iter().copied().filter(|f| !edge(f)).collect();
             let n = nearest(c.iter(), q)?;
             if c.len() < 2 || !fixed(n) {
                 return Some(n);
@@ -600,5 +633,32 @@ mod tests {
             let d = f.expect("a line").line.dir;
             assert!((d.y.atan2(d.x).to_degrees().rem_euclid(180.0) - 93.0).abs() < 1e-6);
         }
+    }
+
+    /// The ruler's edge through the pivot, read now on one side of it and now on the
+    /// other (its direction 1.5 deg apart from frame to frame under a sway), in a fifth
+    /// of the frames and alone in them: never taken. A wire held still, alone in every
+    /// frame, is on one side only: taken.
+    #[test]
+    fn an_edge_through_the_pivot_is_never_taken_but_a_held_wire_is() {
+        let q = Pt::new(300.0, 100.0);
+        let wire = |k: usize| 90.0 + 10.0 * (k as f64 * 0.5).sin();
+        let lines: Vec<Vec<FrameLine>> = (0..40)
+            .map(|k| {
+                if k % 5 == 0 {
+                    let deg = 30.0 + 1.5 * (k % 2) as f64 + if k % 10 == 0 { 180.0 } else { 0.0 };
+                    vec![ray(q, deg, 20.0, 200.0, 0.0)]
+                } else {
+                    vec![ray(q, wire(k), 50.0, 300.0, 0.8)]
+                }
+            })
+            .collect();
+        for (k, f) in lines_through(&lines, q, 3.0).iter().enumerate() {
+            assert_eq!(f.is_some(), k % 5 != 0, "frame {k}");
+        }
+        let held: Vec<Vec<FrameLine>> = (0..40)
+            .map(|k| vec![ray(q, 90.0 + 1.5 * (k % 2) as f64, 50.0, 300.0, 0.8)])
+            .collect();
+        assert!(lines_through(&held, q, 3.0).iter().all(Option::is_some));
     }
 }

@@ -46,6 +46,19 @@ knobs! {
         what "spread of a static edge's direction through the pivot",
         chosen_by "with STATIC_LINE_SHARE: seed 7 sweep scene 38";
 
+    /// Lines through the pivot within this many degrees of one direction, seen on both
+    /// sides of it ...
+    STATIC_EDGE_DEG: f64 = 2.0, "deg",
+        what "spread of an edge's direction through the pivot, seen on both sides",
+        chosen_by "seed 31 sweep scene 18: a ruler's edge through the pivot read at 50.8 to 53.7 deg under a steadied sway";
+
+    /// ... each side in this share of those lines or more (and in two frames), are an
+    /// edge running through the pivot, not taken even alone in a frame: a wire ends at
+    /// its pivot.
+    STATIC_EDGE_SIDE_SHARE: f64 = 0.1, "share",
+        what "least share of an edge's lines on each side of the pivot",
+        chosen_by "seed 31 sweep scenes 13 and 18 (a protractor's ruler through the pivot under a sway): refused before; hand-picked";
+
     /// Jumps a first look may show and still be a pendulum's wire (`jumps`).
     MAX_JUMPS: usize = 1, "jumps",
         what "jumps a first look may show and still be a wire",

@@ -99,26 +99,25 @@ fn lines_through(lines: &[Vec<FrameLine>], q: Pt, tol: f64) -> Vec<Option<&Frame
             .count();
         recurs as f64 >= STATIC_LINE_SHARE * seen_in
     };
-    // Which side of `q` a line's pixels lie on, along direction `a`.
-    let side = |f: &FrameLine, a: f64| {
-        let w: f64 = f.pts.iter().map(|p| p.1).sum();
-        let c = f.pts.iter().fold(Pt::new(0.0, 0.0), |c, p| c + p.0 * p.1) * (1.0 / w.max(1e-9));
-        (c - q).dot(&Pt::new(a.cos(), a.sin())) > 0.0
-    };
-    // An edge running through `q`, not a wire ending there.
+    // Each line through `q`, once: its direction, and whether its pixels (their
+    // weighted centre, the fitted line's point) lie along that direction from `q`.
+    let sides: Vec<(f64, bool)> = through
+        .iter()
+        .flatten()
+        .map(|f| {
+            let d = direction(f);
+            (d, (f.line.point - q).dot(&Pt::new(d.cos(), d.sin())) > 0.0)
+        })
+        .collect();
+    // An edge running through `q`, not a wire ending there: lines of its direction on
+    // both sides of `q`.
     let edge = |f: &FrameLine| {
         let a = direction(f);
         let (mut one, mut other) = (0usize, 0usize);
-        for g in through.iter().flatten() {
-            if apart(direction(g), a) <= STATIC_EDGE_DEG.to_radians() {
-                // Directions taken modulo half a turn: each along `a`'s own sense.
-                let d = direction(g);
-                let along = if (d - a).cos() >= 0.0 {
-                    d
-                } else {
-                    d + std::f64::consts::PI
-                };
-                if side(g, along) {
+        for &(d, along) in &sides {
+            if apart(d, a) <= STATIC_EDGE_DEG.to_radians() {
+                // Directions are lines' (modulo half a turn): the side along `a`'s sense.
+                if along == ((d - a).cos() >= 0.0) {
                     one += 1;
                 } else {
                     other += 1;

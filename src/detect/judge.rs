@@ -9,10 +9,10 @@ mod swing;
 use super::{AngleRow, Status};
 use crate::detect::tuning::{
     CROSSED_MIN, ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, GROWTH_MAX,
-    HYSTERESIS, LENS_SCALE_MAX, NOISE_SHARE_MAX, PERIOD_SPREAD_MAX, PIVOT_SCALE_MAX,
+    HYSTERESIS, LENS_SCALE_MAX, NOISE_SHARE_MAX, PERIODS_MIN, PERIOD_SPREAD_MAX, PIVOT_SCALE_MAX,
     REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, RHYTHM_MAX, RIVAL_POLARITY_SHARE, STALL_RANGE,
     STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX, TURNS_MIN, TURN_FOLLOW_MAX_DEG,
-    TURN_FOLLOW_SIGNIFICANCE, WANDER_MIN_DEG, WANDER_NOISE_FACTOR,
+    TURN_FOLLOW_SIGNIFICANCE, UNTIMED_TURNS_MIN, WANDER_MIN_DEG, WANDER_NOISE_FACTOR,
 };
 use crate::verdict::Status as Verdict;
 pub use added::*;
@@ -361,7 +361,7 @@ pub fn judge(
     }
     // period: a pendulum's period holds from swing to swing (judged on four periods or
     // more).
-    if let Some(m) = period.filter(|_| p.len() >= 4) {
+    if let Some(m) = period.filter(|_| p.len() >= PERIODS_MIN) {
         let spread = 1.4826 * median(p.iter().map(|x| (x - m).abs()).collect()) / m;
         checks.push(check(
             "period",
@@ -376,6 +376,30 @@ pub fn judge(
             ),
             "what was followed does not swing as a wire does (no wire seen: a ball's edge, a \
              shadow?)",
+        ));
+    }
+    // period, untimed: a swing long enough to time its period many times, whose
+    // crossings of the rest angle each lie in a run of found frames of their own (the
+    // track lost what it followed for 0.2 s or more once a swing or more), has no period
+    // to judge, nor a rhythm: seed 53's sweep scene 48 (a faint wire beside its shadow
+    // 5.5 deg off, a drift, a walker), lost in every swing, was called `ok` so, 0.65 deg
+    // RMS off, its crossings seen at 45 % (downwards 8 of 11, upwards 2).
+    let judged = period.is_some() && p.len() >= PERIODS_MIN;
+    if !judged && turns >= UNTIMED_TURNS_MIN {
+        checks.push(check(
+            "period",
+            p.len() as f64,
+            PERIODS_MIN as f64,
+            false,
+            format!(
+                "the angle turned back {turns} times, but its period was timed {} times from \
+                 a crossing of its rest angle to the next within a run of found frames, in \
+                 {swings} whole swings (at least {PERIODS_MIN}, in 2): the track was lost in \
+                 every swing",
+                p.len()
+            ),
+            "what was followed is lost once a swing or more: the wire only part of the time \
+             (a shadow, a ball's edge)?",
         ));
     }
     // rhythm: a pendulum turns back once every half period, so its turning points come

@@ -372,7 +372,8 @@ fn frames_whose_turn_was_held_are_suspect_when_the_others_turn() {
 #[test]
 fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
     // The frames within 4 deg of the rest angle not found (0.26 to 0.41 s of each half
-    // swing, where the wire moves fastest): no crossing is timed, and no period measured.
+    // swing, where the wire moves fastest): no crossing is timed, and no period measured
+    // in its 19 turning points (`period`, untimed).
     let mut rows = swinging();
     for r in &mut rows {
         if (r.angle_rad.unwrap().to_degrees() - 90.0).abs() < 4.0 {
@@ -381,7 +382,7 @@ fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
         }
     }
     let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
-    assert_eq!(failed(&v), ["crossed"], "{:?}", v.checks);
+    assert_eq!(failed(&v), ["crossed", "period"], "{:?}", v.checks);
     assert_eq!(v.seen.period_s, None);
     let c = v.checks.iter().find(|c| c.check == "crossed").unwrap();
     assert_eq!(c.value, 0.0);
@@ -394,6 +395,52 @@ fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
     let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
     let c = v.checks.iter().find(|c| c.check == "crossed").unwrap();
     assert!(c.passed && c.value > 0.7, "{:?}", c);
+}
+
+#[test]
+fn a_track_lost_in_every_swing_has_no_period_and_is_suspect() {
+    // The track lost about every other turning point (where the angle is largest, 90 +
+    // 10 deg at t = 0, 2, 4 ... s), for `lost` s: past 0.2 s, each crossing of the rest
+    // angle lies in a run of found frames of its own, and no period is timed.
+    let lost_at_every_swing = |lost: f64| {
+        let mut rows = swinging();
+        for r in &mut rows {
+            let u = (r.t_s + 0.5 * lost) % PERIOD;
+            if u < lost {
+                r.status = Status::Missing;
+                r.angle_rad = None;
+            }
+        }
+        judge(&rows, [100.0, 20.0], Some(0.3), None)
+    };
+    let v = lost_at_every_swing(0.3);
+    assert_eq!(failed(&v), ["period"], "{:?}", v.checks);
+    assert_eq!(v.verdict, Verdict::Suspect);
+    assert_eq!(v.seen.period_s, None);
+    let c = v.checks.iter().find(|c| c.check == "period").unwrap();
+    assert_eq!(c.value, 0.0);
+    assert!(c.reason.contains("turned back 19 times"), "{}", c.reason);
+    // Lost for 0.1 s, the runs hold on across the gaps: the period is timed and judged.
+    let v = lost_at_every_swing(0.1);
+    assert_eq!(v.verdict, Verdict::Ok, "{:?}", v.checks);
+    let c = v.checks.iter().find(|c| c.check == "period").unwrap();
+    assert!(c.passed && c.value < 0.01, "{:?}", c);
+    // A short swing (fewer than `UNTIMED_TURNS_MIN` turning points) lost so is not
+    // judged on its period: too few swings to time one.
+    let mut rows = swinging();
+    rows.truncate((4.2 * PERIOD * FPS) as usize);
+    for r in &mut rows {
+        if (r.t_s + 0.15) % PERIOD < 0.3 {
+            r.status = Status::Missing;
+            r.angle_rad = None;
+        }
+    }
+    let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
+    assert!(
+        v.checks.iter().all(|c| c.check != "period"),
+        "{:?}",
+        v.checks
+    );
 }
 
 #[test]

@@ -52,6 +52,18 @@ knobs! {
         what "least share of the rest angle's crossings seen",
         chosen_by "issue 50: 240 kept sweep detections (seeds 1, 2, 4): 0.83 or more, but seed 2 scene 20 (2.2 deg RMS, called ok) 0.1 and a suspect one 0.32-0.36; real clips 0.74-1.0, film 1 turned 180 deg 0.52; between";
 
+    /// Fewest periods timed (from a crossing of the rest angle to the next in the same
+    /// sense, within one run of found frames) for the period's spread to be judged.
+    PERIODS_MIN: usize = 4, "periods",
+        what "fewest periods timed for their spread to be judged",
+        chosen_by "dcaed79: hand-picked with PERIOD_SPREAD_MAX; not swept";
+
+    /// A swing that turned back this often, whose period was timed fewer than
+    /// `PERIODS_MIN` times, had its track lost once a swing or more: `period` fails.
+    UNTIMED_TURNS_MIN: usize = 10, "turning points",
+        what "turning points from which a swing must have its period timed",
+        chosen_by "issue 49: seed 53 scene 48 (lost 0.2 s or more in every swing: 21 turning points, no period timed, 0.65 deg RMS off) was called ok; the real clips measured ok time 14-35 periods from 17-49 turning points, the 220-frame clip 3 from 4; five periods";
+
     /// Largest spread of the periods from swing to swing (robust, relative to their median).
     PERIOD_SPREAD_MAX: f64 = 0.05, "share",
         what "largest spread of the periods swing to swing (of the median)",

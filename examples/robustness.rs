@@ -61,7 +61,7 @@ struct Scene {
 }
 
 /// The conditions the per-condition table counts apart.
-const CONDITIONS: [&str; 10] = [
+const CONDITIONS: [&str; 11] = [
     "still camera",
     "camera moves",
     "lens distortion",
@@ -72,6 +72,7 @@ const CONDITIONS: [&str; 10] = [
     "dropped frames",
     "hand releases",
     "plain room",
+    "ball visible",
 ];
 
 /// The seed of a scene's phone conditions (its rolling shutter, its dropped frames) is
@@ -240,6 +241,9 @@ impl Scene {
         {
             tags.push("plain room");
         }
+        // Every twin draws the ball at the wire's end, shaded and with its highlight, and
+        // keeps its whole swing in the frame (`synth::plan::Geometry`): the row says so.
+        tags.push("ball visible");
         Scene {
             material,
             keys,

@@ -377,15 +377,13 @@ pub fn judge(
             "what was followed does not swing as a wire does (no wire seen: a ball's edge, a \
              shadow?)",
         ));
-    }
-    // period, untimed: a swing long enough to time its period many times, whose
-    // crossings of the rest angle each lie in a run of found frames of their own (the
-    // track lost what it followed for 0.2 s or more once a swing or more), has no period
-    // to judge, nor a rhythm: seed 53's sweep scene 48 (a faint wire beside its shadow
-    // 5.5 deg off, a drift, a walker), lost in every swing, was called `ok` so, 0.65 deg
-    // RMS off, its crossings seen at 45 % (downwards 8 of 11, upwards 2).
-    let judged = period.is_some() && p.len() >= PERIODS_MIN;
-    if !judged && turns >= UNTIMED_TURNS_MIN {
+    } else if turns >= UNTIMED_TURNS_MIN {
+        // Untimed: a swing long enough to time its period many times, whose crossings of
+        // the rest angle each lie in a run of found frames of their own (the track lost
+        // what it followed for 0.2 s or more once a swing or more), has no period to
+        // judge, nor a rhythm: seed 53's sweep scene 48 (a faint wire beside its shadow
+        // 5.5 deg off, a drift, a walker), lost in every swing, was called `ok` so, 0.65
+        // deg RMS off, its crossings seen at 45 % (downwards 8 of 11, upwards 2).
         checks.push(check(
             "period",
             p.len() as f64,

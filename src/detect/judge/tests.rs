@@ -400,10 +400,12 @@ fn a_track_that_loses_the_wire_at_every_crossing_is_suspect() {
 #[test]
 fn a_track_lost_in_every_swing_has_no_period_and_is_suspect() {
     // The track lost about every other turning point (where the angle is largest, 90 +
-    // 10 deg at t = 0, 2, 4 ... s), for `lost` s: past 0.2 s, each crossing of the rest
-    // angle lies in a run of found frames of its own, and no period is timed.
-    let lost_at_every_swing = |lost: f64| {
+    // 10 deg at t = 0, 2, 4 ... s), for `lost` s, over the first `swings` periods: past
+    // 0.2 s, each crossing of the rest angle lies in a run of found frames of its own,
+    // and no period is timed.
+    let lost_at_every_swing = |lost: f64, swings: f64| {
         let mut rows = swinging();
+        rows.truncate((swings * PERIOD * FPS) as usize);
         for r in &mut rows {
             let u = (r.t_s + 0.5 * lost) % PERIOD;
             if u < lost {
@@ -413,7 +415,7 @@ fn a_track_lost_in_every_swing_has_no_period_and_is_suspect() {
         }
         judge(&rows, [100.0, 20.0], Some(0.3), None)
     };
-    let v = lost_at_every_swing(0.3);
+    let v = lost_at_every_swing(0.3, 10.0);
     assert_eq!(failed(&v), ["period"], "{:?}", v.checks);
     assert_eq!(v.verdict, Verdict::Suspect);
     assert_eq!(v.seen.period_s, None);
@@ -421,21 +423,13 @@ fn a_track_lost_in_every_swing_has_no_period_and_is_suspect() {
     assert_eq!(c.value, 0.0);
     assert!(c.reason.contains("turned back 19 times"), "{}", c.reason);
     // Lost for 0.1 s, the runs hold on across the gaps: the period is timed and judged.
-    let v = lost_at_every_swing(0.1);
+    let v = lost_at_every_swing(0.1, 10.0);
     assert_eq!(v.verdict, Verdict::Ok, "{:?}", v.checks);
     let c = v.checks.iter().find(|c| c.check == "period").unwrap();
     assert!(c.passed && c.value < 0.01, "{:?}", c);
     // A short swing (fewer than `UNTIMED_TURNS_MIN` turning points) lost so is not
     // judged on its period: too few swings to time one.
-    let mut rows = swinging();
-    rows.truncate((4.2 * PERIOD * FPS) as usize);
-    for r in &mut rows {
-        if (r.t_s + 0.15) % PERIOD < 0.3 {
-            r.status = Status::Missing;
-            r.angle_rad = None;
-        }
-    }
-    let v = judge(&rows, [100.0, 20.0], Some(0.3), None);
+    let v = lost_at_every_swing(0.3, 4.2);
     assert!(
         v.checks.iter().all(|c| c.check != "period"),
         "{:?}",

@@ -138,6 +138,12 @@ impl<'a> FirstLook<'a> {
     /// 960x540 and turned by 180 or 270 degrees it needs the lower threshold or refuses,
     /// and the coarser scale (which measures the clip as filmed) is kept.
     ///
+    /// Where the two coincide (640 divides the larger side: 1280, 1920, 3840 px), the
+    /// other scale is a finer one, half as coarse ([`Other::Finer`]): it is looked at when
+    /// the detection at the working scale fails, or when its look finds no wire. A faint
+    /// string smeared by a fast encoder, or a phone's 4K frame shrunk six times, loses the
+    /// wire to the ball's rim at the working scale and keeps it at the finer one.
+    ///
     /// With the look kept comes the other scale ([`Other`]), when there is one.
     pub(super) fn at_best_scale(&self) -> Result<(Located<'a>, Option<Other<'a>>)> {
         let side = self.bound.w.max(self.bound.h) as f64;
@@ -148,7 +154,28 @@ impl<'a> FirstLook<'a> {
             (side / WORK_SIDE_PX).floor().max(1.0) as u32
         };
         if fine == coarse {
-            return Ok((self.at(coarse)?, None));
+            // The finer scale: half as coarse, as the frame's pixels allow.
+            let finer =
+                coarse
+                    .div_ceil(2)
+                    .max(work_shrink(self.bound.w, self.bound.h, f64::INFINITY));
+            if finer == coarse {
+                return Ok((self.at(coarse)?, None));
+            }
+            // A look that finds no wire at the working scale is made at the finer one.
+            return match self.at(coarse) {
+                Ok(l) => Ok((l, Some(Other::Finer(finer)))),
+                Err(e) => match self.at(finer) {
+                    Ok(l) => Ok((
+                        Located {
+                            looks: l.looks + 1,
+                            ..l
+                        },
+                        None,
+                    )),
+                    Err(_) => Err(e),
+                },
+            };
         }
         let mut at_fine = self.at(fine);
         let rank = |l: &Located| (l.geo.stage, l.geo.jumps);

@@ -217,9 +217,109 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         little_sweep_kept: false,
     };
     let (look, other) = looks.at_best_scale()?;
-    // 2. The streaming pass at that scale.
+    // 2. The streaming pass at that scale (measured again steadied when the camera was
+    // found moving).
+    let d = measure(&mut looks, look)?;
+    // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the
+    // wire's direction turns more or less than its angle about the pivot) is the look's
+    // at a scale that saw something else as the wire (a 2 px wire and its blurred shadow
+    // merged into one line by shrinking, with a pivot 5 px off): the other scale's look
+    // is measured too, and the pass whose pivot its lines bear out better is kept. So is
+    // a pass whose motion is not a pendulum's (its period varies from swing to swing, or
+    // its angle jitters): its look too may have taken something else for the wire (a
+    // real clip turned upside down, its wire's shadow beside it, at a pivot 480 px
+    // off, its lines turning 0.989 times as much).
+    let off = |d: &Detection| d.swing_scale.map_or(0.0, |s| (s - 1.0).abs());
+    let unlike = |d: &Detection| {
+        d.verdict
+            .failed()
+            .any(|c| c.check == "period" || c.check == "smooth")
+    };
+    let Some(other) = other.filter(|_| off(&d) > SWING_SCALE_RETRY || unlike(&d)) else {
+        return Ok(d);
+    };
+    let by_scale = off(&d) > SWING_SCALE_RETRY;
+    let scale = match other {
+        Other::Finer(_) => "a finer working scale",
+        _ => "the other working scale",
+    };
+    if by_scale {
+        eprintln!(
+            "{}: the wire's lines turn {:.3} times as much as its angle about the pivot the \
+             first look found; measuring again from a look at {scale}",
+            input.name(),
+            d.swing_scale.unwrap_or(f64::NAN)
+        );
+    } else {
+        eprintln!(
+            "{}: what was followed does not swing as a wire does ({}); measuring again from \
+             a look at {scale}",
+            input.name(),
+            d.verdict.label()
+        );
+    }
+    // A look made before the camera was found moving from the start is made again,
+    // steadied. A finer scale's look is made afresh: what the camera does was judged
+    // about the region of the look that followed something else (the motion a swinging
+    // ball gives the static scene about its rim).
+    let again = match other {
+        Other::Looked(l) if !looks.moving => streaming_pass(looks, *l),
+        Other::Looked(l) => looks.at(l.shrink).and_then(|l| streaming_pass(looks, l)),
+        Other::Unlooked(k) => looks.at(k).and_then(|l| streaming_pass(looks, l)),
+        Other::Finer(k) => {
+            let mut fresh = FirstLook {
+                moving: false,
+                follow_region: false,
+                ..looks
+            };
+            fresh.at(k).and_then(|l| measure(&mut fresh, l))
+        }
+    };
+    // See `Pass::replaced_by`.
+    let better = |a: &Detection| Pass::of(&d).replaced_by(Pass::of(a), by_scale);
+    let kept = match again {
+        Ok(a) if better(&a) => Detection {
+            decodings: a.decodings + d.decodings,
+            ..a
+        },
+        Ok(a) => {
+            let turn = a.swing_scale.unwrap_or(f64::NAN);
+            let why = match (by_scale, a.swing_scale) {
+                (false, Some(_)) => format!(
+                    "it is {}, its lines turning {turn:.3} times as much (measured first, {})",
+                    a.verdict.label(),
+                    d.verdict.label()
+                ),
+                _ => format!("they turn {turn:.3} times as much"),
+            };
+            eprintln!(
+                "{}: at the other scale {why}: the first measurement is kept",
+                input.name()
+            );
+            Detection {
+                decodings: d.decodings + a.decodings,
+                ..d
+            }
+        }
+        Err(e) => {
+            eprintln!(
+                "{}: the other scale measures nothing ({e:#}): the first measurement is \
+                 kept",
+                input.name()
+            );
+            d
+        }
+    };
+    Ok(kept)
+}
+
+/// The streaming pass from `look`, measured again with every frame steadied when the pass
+/// found the camera moving (or its static scene off) where the look took it for still;
+/// `looks` learns what the camera does.
+fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
+    let name = looks.input.name();
     let shrink = look.shrink;
-    let mut d = streaming_pass(looks, look)?;
+    let mut d = streaming_pass(*looks, look)?;
     // A camera the first look took for still that the pass found moving from its start
     // (no glance found it still): the frames before it was found were measured where
     // they lie, so every frame is measured again steadied, from a look steadied too.
@@ -265,7 +365,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
             "{name}: {why} (measured so, {}): measuring again with every frame steadied",
             d.verdict.label()
         );
-        match looks.at(shrink).and_then(|l| streaming_pass(looks, l)) {
+        match looks.at(shrink).and_then(|l| streaming_pass(*looks, l)) {
             // Found later, by glances that found it still before: the second measurement
             // is kept when its detection is `ok`, or when it fails only some of the
             // checks the first failed and no other (a drift of 11 px found at 8 s,
@@ -330,84 +430,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
             }
         }
     }
-    // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the
-    // wire's direction turns more or less than its angle about the pivot) is the look's
-    // at a scale that saw something else as the wire (a 2 px wire and its blurred shadow
-    // merged into one line by shrinking, with a pivot 5 px off): the other scale's look
-    // is measured too, and the pass whose pivot its lines bear out better is kept. So is
-    // a pass whose motion is not a pendulum's (its period varies from swing to swing, or
-    // its angle jitters): its look too may have taken something else for the wire (a
-    // real clip turned upside down, its wire's shadow beside it, at a pivot 480 px
-    // off, its lines turning 0.989 times as much).
-    let off = |d: &Detection| d.swing_scale.map_or(0.0, |s| (s - 1.0).abs());
-    let unlike = |d: &Detection| {
-        d.verdict
-            .failed()
-            .any(|c| c.check == "period" || c.check == "smooth")
-    };
-    let Some(other) = other.filter(|_| off(&d) > SWING_SCALE_RETRY || unlike(&d)) else {
-        return Ok(d);
-    };
-    let by_scale = off(&d) > SWING_SCALE_RETRY;
-    if by_scale {
-        eprintln!(
-            "{}: the wire's lines turn {:.3} times as much as its angle about the pivot the \
-             first look found; measuring again from a look at the other working scale",
-            input.name(),
-            d.swing_scale.unwrap_or(f64::NAN)
-        );
-    } else {
-        eprintln!(
-            "{}: what was followed does not swing as a wire does ({}); measuring again from \
-             a look at the other working scale",
-            input.name(),
-            d.verdict.label()
-        );
-    }
-    // A look made before the camera was found moving from the start is made again,
-    // steadied.
-    let again = match other {
-        Other::Looked(l) if !looks.moving => Ok(*l),
-        Other::Looked(l) => looks.at(l.shrink),
-        Other::Unlooked(k) => looks.at(k),
-    }
-    .and_then(|l| streaming_pass(looks, l));
-    // See `Pass::replaced_by`.
-    let better = |a: &Detection| Pass::of(&d).replaced_by(Pass::of(a), by_scale);
-    let kept = match again {
-        Ok(a) if better(&a) => Detection {
-            decodings: a.decodings + d.decodings,
-            ..a
-        },
-        Ok(a) => {
-            let turn = a.swing_scale.unwrap_or(f64::NAN);
-            let why = match (by_scale, a.swing_scale) {
-                (false, Some(_)) => format!(
-                    "it is {}, its lines turning {turn:.3} times as much (measured first, {})",
-                    a.verdict.label(),
-                    d.verdict.label()
-                ),
-                _ => format!("they turn {turn:.3} times as much"),
-            };
-            eprintln!(
-                "{}: at the other scale {why}: the first measurement is kept",
-                input.name()
-            );
-            Detection {
-                decodings: d.decodings + a.decodings,
-                ..d
-            }
-        }
-        Err(e) => {
-            eprintln!(
-                "{}: the other scale measures nothing ({e:#}): the first measurement is \
-                 kept",
-                input.name()
-            );
-            d
-        }
-    };
-    Ok(kept)
+    Ok(d)
 }
 
 /// What chooses between a pass and the other working scale's ([`detect_from`]).
@@ -474,6 +497,9 @@ impl Pass {
 enum Other<'a> {
     Looked(Box<Located<'a>>),
     Unlooked(u32),
+    /// Where one scale is the working side's (a side that 640 divides: 1280, 1920, 3840
+    /// px), a finer one, looked at and measured afresh (see [`FirstLook::at_best_scale`]).
+    Finer(u32),
 }
 
 mod pass_source;

@@ -289,3 +289,41 @@ fn frames_whose_motion_was_not_measured_are_flagged() {
     let (w, u) = (Some(Flag::Weak), Some(Flag::Unsteadied));
     assert_eq!(flags, [None, None, None, None, w, u, u, None, None, None]);
 }
+
+/// After a loss of ten frames, the track finds the wire for three frames, then follows
+/// something else for eight (9 deg off), then the wire again: the eight are flagged (and
+/// the wire's frame beside them whose path they pulled), and the other two, left
+/// standing alone between two losses, are flagged isolated. Judged once, before the
+/// other flags, they stood in a run of eleven and were kept.
+#[test]
+fn a_short_run_left_between_two_losses_by_later_flags_is_not_trusted() {
+    let made = || {
+        let mut rows = swinging(660, 1.5);
+        for r in &mut rows[300..310] {
+            r.flag = Some(Flag::Weak);
+        }
+        for r in &mut rows[313..321] {
+            *r.angle_rad.as_mut().unwrap() += 9f64.to_radians();
+        }
+        rows
+    };
+    let flagged = |rows: &[AngleRow], f: fn(&Option<Flag>) -> bool| -> Vec<usize> {
+        (0..rows.len()).filter(|&i| f(&rows[i].flag)).collect()
+    };
+    let mut rows = made();
+    flag_off_the_wire(&mut rows);
+    let off = flagged(&rows, |f| f.is_some() && *f != Some(Flag::Weak));
+    assert!(
+        off.starts_with(&(310..321).collect::<Vec<_>>()) && off.len() <= 14,
+        "{off:?}"
+    );
+    let isolated = flagged(&rows, |f| *f == Some(Flag::Isolated));
+    assert_eq!(isolated, [310, 311]);
+    // The isolated runs judged only before the other flags: frame 310 is kept.
+    let mut rows = made();
+    flag_isolated(&mut rows);
+    flag_jumps(&mut rows);
+    flag_beyond_swing(&mut rows);
+    flag_against_swing(&mut rows);
+    assert_eq!(rows[310].flag, None);
+}

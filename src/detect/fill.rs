@@ -51,22 +51,6 @@ pub(super) fn flag_unsteadied(rows: &mut [AngleRow], steadied: &[Steadied]) {
     }
 }
 
-/// Flag the found frames a track on something else gives, in this order: a short run
-/// between two losses ([`flag_isolated`]), frames off their neighbours' path
-/// ([`flag_jumps`]), a short run beyond the swing ([`flag_beyond_swing`]), frames the
-/// swing shows not to be the wire's ([`flag_against_swing`]); then a short run those
-/// flags left standing between two losses, as isolated as the first. After a walker, a
-/// track that restarted on the wire beside its shadow for three frames, then went on on
-/// the shadow 5.5 deg off (seed 53's sweep scene 48, at full size), had the frames after
-/// them flagged later: the three stood alone and were called `ok`.
-pub(super) fn flag_off_the_wire(rows: &mut [AngleRow]) {
-    flag_isolated(rows);
-    flag_jumps(rows);
-    flag_beyond_swing(rows);
-    flag_against_swing(rows);
-    flag_isolated(rows);
-}
-
 /// Flag the good frames of a short run between two losses of the wire: a track that
 /// finds something for a frame or two while a person walks in front of the wire (the
 /// gate wide open after the loss) is as likely on the person's edge as on the wire.

@@ -72,7 +72,10 @@ pub use row::{AngleRow, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
-use fill::{apply_marks, fill_flagged, flag_off_the_wire, flag_unsteadied};
+use fill::{
+    apply_marks, fill_flagged, flag_against_swing, flag_beyond_swing, flag_isolated, flag_jumps,
+    flag_unsteadied,
+};
 use first_look::*;
 use geometry::InitFrames;
 use nalgebra::Vector2;

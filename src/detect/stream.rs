@@ -199,7 +199,10 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         readout_ms: readout.map(|s| 1e3 * s),
         ..c
     });
-    flag_off_the_wire(&mut rows);
+    flag_isolated(&mut rows);
+    flag_jumps(&mut rows);
+    flag_beyond_swing(&mut rows);
+    flag_against_swing(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(
         &mut rows,

@@ -248,6 +248,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
             .flatten(),
         geo.rival.as_ref().map(judge::polarity_check),
         judge::pivot_check(swing_scale),
+        judge::beside_check(tracker.beside()),
         lens.as_ref()
             .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, seen)),
         opts.pendulum

@@ -1,6 +1,7 @@
 //! The streaming pass: per frame, the evidence against a background that follows the
 //! scene, the wire's angle in a wedge around the prediction, and the gate.
 
+mod beside;
 mod contrast;
 mod diag;
 mod evidence;
@@ -13,10 +14,10 @@ use super::row::KeptMoments;
 use super::shrink::Shrink;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
-    BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
-    LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES,
-    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, RESTATE_BESIDE_FRAMES, START_FRAMES,
-    UNDECIDED_MAX_FRAMES,
+    BESIDE_EVERY_S, BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL,
+    FLASH_SHARE, LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG,
+    REANCHOR_AWAY_GATES, REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, RESTATE_BESIDE_FRAMES,
+    START_FRAMES, UNDECIDED_MAX_FRAMES,
 };
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
@@ -84,6 +85,11 @@ pub(super) struct Tracker {
     pair_other: Option<(f64, f64, KeptMoments)>,
     undecided: Vec<Undecided>,
     restated: Vec<Restated>,
+    /// Per look beside the followed line (at the first frame accepted
+    /// [`BESIDE_EVERY_S`] after the last look), the offsets of the sharper ridges found
+    /// there, rad ([`Tracker::sharper_beside`]); and when the next look is due, s.
+    beside: Vec<Vec<f64>>,
+    beside_next_s: f64,
     prev: Vec<u8>,
     mean_level: Option<f64>,
     gate: f64,
@@ -195,6 +201,8 @@ impl Tracker {
             pair_other: None,
             undecided: Vec::new(),
             restated: Vec::new(),
+            beside: Vec::new(),
+            beside_next_s: f64::NEG_INFINITY,
             prev: Vec::new(),
             mean_level: None,
             gate: opts.gate_deg.to_radians(),
@@ -457,6 +465,19 @@ impl Tracker {
         if angle.is_finite() {
             row.angle_rad = Some(angle);
         }
+        if flag.is_none() && angle.is_finite() && f.t_s >= self.beside_next_s {
+            self.beside_next_s = f.t_s + BESIDE_EVERY_S;
+            let found = self.sharper_beside(angle)?;
+            if self.debug.as_deref() == Some("beside") {
+                eprintln!(
+                    "beside {} at {:.2} deg: {:?}",
+                    f.index,
+                    angle.to_degrees(),
+                    found.iter().map(|o| o.to_degrees()).collect::<Vec<_>>()
+                );
+            }
+            self.beside.push(found);
+        }
         if self.debug.as_deref() == Some("frames") {
             eprintln!(
                 "frame {} t {:.3} angle {:.2} pred {:?} q {:.2} flag {:?} side {:?} undecided {}",
@@ -603,6 +624,12 @@ impl Tracker {
                 other: u.other,
             });
         }
+    }
+
+    /// The offsets of the sharper ridges beside the followed line, per look
+    /// ([`Tracker::sharper_beside`]).
+    pub(super) fn beside(&self) -> &[Vec<f64>] {
+        &self.beside
     }
 
     /// The rows restated since the last call ([`Tracker::restate_undecided`]).

@@ -65,6 +65,49 @@ pub fn wander_check(rows: &[AngleRow], noise_deg: Option<f64>) -> Option<Detecti
     ))
 }
 
+/// `beside`: of the pass's looks across the followed line (`looks`, each the offsets,
+/// rad, of the ridges sharper across than the followed line found beside it, see
+/// `Tracker::sharper_beside`), the share that find one at about the same offset (within
+/// [`BESIDE_TOL_DEG`], and none at about its mirror image: a wide rod's two edges lie
+/// either side of it). A share over [`BESIDE_MAX_SHARE`] says the track follows a wide
+/// line beside a sharp one that turns with it: a wire's shadow beside the wire. Seed 53's
+/// sweep scenes 31, 55 and 62 (faint wires 1 px wide beside their soft shadows) followed
+/// the shadow for the whole clip, 2.2 to 3.7 deg off the wire, and were called `ok`: the
+/// twin's shadow turns with its wire at a fixed angle, so the swing was right, but a
+/// lamp's shadow does not. `None` with fewer than [`BESIDE_MIN_SAMPLES`] looks, or none
+/// that found a sharper ridge.
+pub fn beside_check(looks: &[Vec<f64>]) -> Option<DetectionCheck> {
+    if looks.len() < BESIDE_MIN_SAMPLES || looks.iter().all(Vec::is_empty) {
+        return None;
+    }
+    let tol = BESIDE_TOL_DEG.to_radians();
+    let near = |l: &[f64], o: f64| l.iter().any(|x| (x - o).abs() <= tol);
+    let (count, offset) = looks
+        .iter()
+        .flatten()
+        .map(|&o| {
+            let c = looks.iter().filter(|l| near(l, o) && !near(l, -o)).count();
+            (c, o)
+        })
+        .max_by(|a, b| a.0.cmp(&b.0).then(b.1.abs().total_cmp(&a.1.abs())))?;
+    let share = count as f64 / looks.len() as f64;
+    Some(check(
+        "beside",
+        share,
+        BESIDE_MAX_SHARE,
+        share <= BESIDE_MAX_SHARE,
+        format!(
+            "{count} of {} looks across the followed line find a line sharper across it \
+             {:+.2} deg beside it (at most {:.0} %)",
+            looks.len(),
+            offset.to_degrees(),
+            100.0 * BESIDE_MAX_SHARE
+        ),
+        "the track follows a wide line beside a sharp one that turns with it, as a wire's \
+         soft shadow lies beside a faint wire: the angles may be the shadow's",
+    ))
+}
+
 /// `pivot`: the wire's own direction (each frame's free line fit, whatever the pivot)
 /// swings `swing_scale` times its angle about the pivot (the detection's
 /// swing scale). A pivot off along the wire by `delta` at a mean radius `R` makes it

@@ -175,4 +175,54 @@ knobs! {
     PIVOT_SCALE_MAX: f64 = 0.0075, "share",
         what "largest share the wire's own direction may swing more or less than its angle about the pivot",
         chosen_by "issue 50, seed 7's sweep: a steadied drift through a lens read 1.08 % (0.115 deg RMS, ok) and a hand-held view 0.91 % (0.44 deg); every other scene 0.49 % or less, those within 0.02 deg 0.15 % or less; the real clips measured ok 0.12-0.41 %, the report twins 0.04 % or less; a twin following a light wire's dark shadow 0.78 %";
+
+    /// `beside`: the pass looks across the followed line at the first frame it accepts
+    /// this long after its last look (`Tracker::sharper_beside`) ...
+    BESIDE_EVERY_S: f64 = 1.0, "s",
+        what "time between the pass's looks beside the followed line",
+        chosen_by "for cost: a look takes about 0.35 ms on a 640x480 twin (a band of 217 px), 6 us a frame at 60 frames/s, under 2 % of the pass's own work; a 12 s clip gets 12 looks; not swept";
+    /// ... at directions this far apart at the band's middle ...
+    BESIDE_STEP_PX: f64 = 0.5, "px",
+        what "step between the directions looked at beside the followed line, at the band's middle",
+        chosen_by "hand-picked: a wire 1 px wide is crossed by two; not swept";
+    /// ... summing each direction's contrasts every this many px along it ...
+    BESIDE_RADIAL_STEP_PX: f64 = 2.0, "px",
+        what "step along each direction looked at beside the followed line",
+        chosen_by "hand-picked for cost: half the work of every px, and a line's contrast holds along it; not swept";
+    /// ... up to this far either side of it ...
+    BESIDE_REACH_DEG: f64 = 10.0, "deg",
+        what "how far either side of the followed line the pass looks",
+        chosen_by "PAIR_MAX's 10 deg: a wire and its shadow diverge a few degrees apart";
+    /// ... from this far off it (px at the band's middle; nearer is the followed line's own
+    /// ridge) ...
+    BESIDE_MIN_APART_PX: f64 = 3.0, "px",
+        what "nearest a line beside the followed one may lie, at the band's middle",
+        chosen_by "hand-picked: twice the 2 px contrast's reach; not swept";
+    /// ... for a ridge whose 2 px contrast holds at least this share of the followed
+    /// line's ...
+    BESIDE_MIN_SHARE: f64 = 0.05, "share",
+        what "least 2 px contrast of a ridge beside the followed line, as a share of its own",
+        chosen_by "seed 53's sweep scene 31 (960x540, a 1 px wire 3.4 deg from its shadow, the shadow followed): the wire's 0.07-0.34; noise peaks are told by their scattered offsets";
+    /// ... and sharper across than the followed line by this factor (the share of its
+    /// 3.5 px contrast its 1 px contrast holds) ...
+    BESIDE_SHARPER: f64 = 2.0, "times",
+        what "how much sharper across a ridge beside must be than the followed line",
+        chosen_by "seed 53's sweep: the wires beside followed shadows 2.3 (scene 62, 640x480), 9 to 36 (scene 31) and 5 to 36 (scene 55) times as sharp; the shadows beside followed wires (scenes 22, 47) 0.4 to 1 times";
+    /// ... and at least this sharp.
+    BESIDE_SHARP_MIN: f64 = 0.2, "share",
+        what "least share of its 3.5 px contrast a sharper ridge's 1 px contrast holds",
+        chosen_by "seed 53's sweep scene 62: the wire beside the followed shadow 0.21-0.28; hand-picked";
+    /// The check judges at least this many looks ...
+    BESIDE_MIN_SAMPLES: usize = 10, "looks",
+        what "fewest looks beside the followed line the check judges",
+        chosen_by "hand-picked: 10 s at 30 frames/s; not swept";
+    /// ... and counts the looks that find a sharper ridge within this of one offset (on
+    /// one side only: a wide rod's two edges lie either side) ...
+    BESIDE_TOL_DEG: f64 = 0.5, "deg",
+        what "spread of the offsets of a sharper ridge counted as one line",
+        chosen_by "hand-picked: a shadow turns with its wire; a noise peak's offset scatters over the 20 deg looked at; not swept";
+    /// ... which may be at most this share of them.
+    BESIDE_MAX_SHARE: f64 = 0.5, "share",
+        what "largest share of the looks that may find one sharper line beside the followed one",
+        chosen_by "seed 53's sweep: the shadows followed 0.82, 0.63, 0.52 (scenes 62, 55, 31); wires followed beside their shadows 0.28 and 0 (scenes 22, 47); the real clips 0 to 0.23 a pass, film 2 (no wire seen) 0.45";
 }

@@ -41,6 +41,27 @@ fn extremes_of_a_ball_at_rest_after_the_stop_are_dropped() {
 }
 
 #[test]
+fn a_last_turning_point_lost_in_the_noise_still_ends_at_a_stop() {
+    // As above, the last turning point (8.5 s, 0.03 rad) lost: the envelope of the
+    // five found reaches zero at 10 s, two half swings after the last found (7 s, 0.06
+    // rad), then the ball at rest 0.01 rad from the equilibrium wanders at 14.2 and
+    // 17.9 s.
+    let mut e = decaying(5, 0.3, 0.2, 0.02, 1.5, 1.0);
+    e.push(ex(14.2, 0.291, 1.0));
+    e.push(ex(17.9, 0.289, -1.0));
+    let stop = drop_after_stop(&mut e).expect("a stop");
+    assert_eq!((stop.dropped, e.len()), (2, 5));
+    assert!((stop.t_s - 10.0).abs() < 1e-9, "{}", stop.t_s);
+    // Three half swings after it (the zero at 11.5 s: amplitude 0.23 - 0.02 t), the
+    // stop is not told.
+    let mut e = decaying(5, 0.3, 0.23, 0.02, 1.5, 1.0);
+    e.push(ex(15.2, 0.291, 1.0));
+    e.push(ex(18.9, 0.289, -1.0));
+    assert_eq!(drop_after_stop(&mut e), None);
+    assert_eq!(e.len(), 7);
+}
+
+#[test]
 fn a_ball_at_rest_that_wanders_out_of_rhythm_after_the_stop_is_dropped() {
     // Amplitude 0.2 - 0.02 t, turning points every 1.5 s from t = 1 to 8.5 (six; the
     // last 0.03 rad; the envelope reaches zero at t = 10 s), then the ball at rest at

@@ -14,10 +14,10 @@ use super::row::KeptMoments;
 use super::shrink::Shrink;
 use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
-    BESIDE_EVERY_S, BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL,
-    FLASH_SHARE, LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG,
-    REANCHOR_AWAY_GATES, REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, RESTATE_BESIDE_FRAMES,
-    START_FRAMES, UNDECIDED_MAX_FRAMES,
+    BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
+    LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES,
+    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, RESTATE_BESIDE_FRAMES, START_FRAMES,
+    UNDECIDED_MAX_FRAMES,
 };
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
@@ -85,11 +85,8 @@ pub(super) struct Tracker {
     pair_other: Option<(f64, f64, KeptMoments)>,
     undecided: Vec<Undecided>,
     restated: Vec<Restated>,
-    /// Per look beside the followed line (at the first frame accepted
-    /// [`BESIDE_EVERY_S`] after the last look), the offsets of the sharper ridges found
-    /// there, rad ([`Tracker::sharper_beside`]); and when the next look is due, s.
-    beside: Vec<Vec<f64>>,
-    beside_next_s: f64,
+    /// The looks beside the followed line, for the `beside` check.
+    beside: beside::Looks,
     prev: Vec<u8>,
     mean_level: Option<f64>,
     gate: f64,
@@ -201,8 +198,7 @@ impl Tracker {
             pair_other: None,
             undecided: Vec::new(),
             restated: Vec::new(),
-            beside: Vec::new(),
-            beside_next_s: f64::NEG_INFINITY,
+            beside: beside::Looks::default(),
             prev: Vec::new(),
             mean_level: None,
             gate: opts.gate_deg.to_radians(),
@@ -465,9 +461,8 @@ impl Tracker {
         if angle.is_finite() {
             row.angle_rad = Some(angle);
         }
-        if flag.is_none() && angle.is_finite() && f.t_s >= self.beside_next_s {
-            self.beside_next_s = f.t_s + BESIDE_EVERY_S;
-            let found = self.sharper_beside(angle)?;
+        if flag.is_none() && angle.is_finite() && self.beside.due(f.t_s) {
+            let found = beside::sharper_beside(&self.view()?, angle);
             if self.debug.as_deref() == Some("beside") {
                 eprintln!(
                     "beside {} at {:.2} deg: {:?}",
@@ -476,7 +471,7 @@ impl Tracker {
                     found.iter().map(|o| o.to_degrees()).collect::<Vec<_>>()
                 );
             }
-            self.beside.push(found);
+            self.beside.push(f.t_s, found);
         }
         if self.debug.as_deref() == Some("frames") {
             eprintln!(
@@ -627,9 +622,9 @@ impl Tracker {
     }
 
     /// The offsets of the sharper ridges beside the followed line, per look
-    /// ([`Tracker::sharper_beside`]).
+    /// ([`beside::sharper_beside`]).
     pub(super) fn beside(&self) -> &[Vec<f64>] {
-        &self.beside
+        self.beside.found()
     }
 
     /// The rows restated since the last call ([`Tracker::restate_undecided`]).

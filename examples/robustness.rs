@@ -75,12 +75,12 @@ const CONDITIONS: [&str; 11] = [
     "ball visible",
 ];
 
-/// The seed of a scene's phone conditions (its rolling shutter, its dropped frames) is
-/// the scene's seed with these bits flipped.
 /// A track lying a constant this far off the truth, deg, is listed: a wire's shadow
 /// 2.5 to 6 deg off turns with it (seed 53's scene 48, followed at full size, 5.5 deg).
 const OFFSET_MAX_DEG: f64 = 1.0;
 
+/// The seed of a scene's phone conditions (its rolling shutter, its dropped frames) is
+/// the scene's seed with these bits flipped.
 const PHONE_STREAM: u64 = 0x5048_4f4e_4500_0000;
 
 impl Scene {
@@ -1030,9 +1030,10 @@ fn main() -> Result<()> {
         "  tracks lying a constant more than {OFFSET_MAX_DEG} deg off the truth (another line \
          followed, a shadow?): {}{}",
         offset.len(),
-        match offset.is_empty() {
-            true => String::new(),
-            false => format!(": scenes {}", offset.join(", ")),
+        if offset.is_empty() {
+            String::new()
+        } else {
+            format!(": scenes {}", offset.join(", "))
         }
     );
     println!("  failures ({}):", failures.len());

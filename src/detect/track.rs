@@ -461,17 +461,8 @@ impl Tracker {
         if angle.is_finite() {
             row.angle_rad = Some(angle);
         }
-        if flag.is_none() && angle.is_finite() && self.beside.due(f.t_s) {
-            let found = beside::sharper_beside(&self.view()?, angle);
-            if self.debug.as_deref() == Some("beside") {
-                eprintln!(
-                    "beside {} at {:.2} deg: {:?}",
-                    f.index,
-                    angle.to_degrees(),
-                    found.iter().map(|o| o.to_degrees()).collect::<Vec<_>>()
-                );
-            }
-            self.beside.push(f.t_s, found);
+        if flag.is_none() && angle.is_finite() {
+            self.look_beside(f, angle)?;
         }
         if self.debug.as_deref() == Some("frames") {
             eprintln!(

@@ -67,7 +67,7 @@ pub fn wander_check(rows: &[AngleRow], noise_deg: Option<f64>) -> Option<Detecti
 
 /// `beside`: of the pass's looks across the followed line (`looks`, each the offsets,
 /// rad, of the ridges sharper across than the followed line found beside it, see
-/// `Tracker::sharper_beside`), the share that find one at about the same offset (within
+/// `track::beside::sharper_beside`), the share that find one at about the same offset (within
 /// [`BESIDE_TOL_DEG`], and none at about its mirror image: a wide rod's two edges lie
 /// either side of it). A share over [`BESIDE_MAX_SHARE`] says the track follows a wide
 /// line beside a sharp one that turns with it: a wire's shadow beside the wire. Seed 53's
@@ -82,9 +82,18 @@ pub fn beside_check(looks: &[Vec<f64>]) -> Option<DetectionCheck> {
     }
     let tol = BESIDE_TOL_DEG.to_radians();
     let near = |l: &[f64], o: f64| l.iter().any(|x| (x - o).abs() <= tol);
-    let (count, offset) = looks
+    // Offsets lie on each pass's grid of directions and repeat from look to look: each
+    // is counted once (at its last place, so that ties fall as they would), which keeps
+    // the work proportional to the looks, not their square, on a long recording.
+    let mut offsets: Vec<f64> = Vec::new();
+    for &o in looks.iter().flatten().rev() {
+        if !offsets.contains(&o) {
+            offsets.push(o);
+        }
+    }
+    offsets.reverse();
+    let (count, offset) = offsets
         .iter()
-        .flatten()
         .map(|&o| {
             let c = looks.iter().filter(|l| near(l, o) && !near(l, -o)).count();
             (c, o)

@@ -16,6 +16,7 @@ use crate::detect::tuning::{
     BESIDE_SHARPER, BESIDE_SHARP_MIN, BESIDE_STEP_PX,
 };
 use crate::detect::Pt;
+use crate::video::Frame;
 use anyhow::Result;
 use opencv::prelude::*;
 
@@ -78,6 +79,25 @@ struct Across {
 }
 
 impl Tracker {
+    /// A look beside the line accepted at `angle` in frame `f`, when one is due
+    /// (`ROLLFRIC_DEBUG=beside` prints its offsets).
+    pub(super) fn look_beside(&mut self, f: &Frame, angle: f64) -> Result<()> {
+        if !self.beside.due(f.t_s) {
+            return Ok(());
+        }
+        let found = sharper_beside(&self.view()?, angle);
+        if self.debug.as_deref() == Some("beside") {
+            eprintln!(
+                "beside {} at {:.2} deg: {:?}",
+                f.index,
+                angle.to_degrees(),
+                found.iter().map(|o| o.to_degrees()).collect::<Vec<_>>()
+            );
+        }
+        self.beside.push(f.t_s, found);
+        Ok(())
+    }
+
     /// This frame as a look reads it.
     pub(super) fn view(&self) -> Result<View<'_>> {
         Ok(View {

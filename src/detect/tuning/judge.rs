@@ -177,7 +177,7 @@ knobs! {
         chosen_by "issue 50, seed 7's sweep: a steadied drift through a lens read 1.08 % (0.115 deg RMS, ok) and a hand-held view 0.91 % (0.44 deg); every other scene 0.49 % or less, those within 0.02 deg 0.15 % or less; the real clips measured ok 0.12-0.41 %, the report twins 0.04 % or less; a twin following a light wire's dark shadow 0.78 %";
 
     /// `beside`: the pass looks across the followed line at the first frame it accepts
-    /// this long after its last look (`Tracker::sharper_beside`) ...
+    /// this long after its last look (`track::beside::sharper_beside`) ...
     BESIDE_EVERY_S: f64 = 1.0, "s",
         what "time between the pass's looks beside the followed line",
         chosen_by "for cost: a look takes about 0.35 ms on a 640x480 twin (a band of 217 px), 6 us a frame at 60 frames/s, under 2 % of the pass's own work; a 12 s clip gets 12 looks; not swept";

@@ -13,9 +13,9 @@
 //! more, then on the measuring scale.
 
 use crate::detect::tuning::{
-    CONVERGED_PX, EST_SIDE, EXPLAINS, EXPLAIN_PX, ITERATIONS, MAX_POINTS, MAX_RESIDUAL, MAX_SHIFT,
-    MAX_TURN_DEG, MEASURE_PX, MIN_GRADIENT, PRUNE_MIN_FRAMES, PRUNE_MIN_KEPT, RESTART,
-    SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
+    CONVERGED_PX, EST_SIDE, EXPLAINS, EXPLAIN_PX, ITERATIONS, MAX_COARSE_POINTS, MAX_POINTS,
+    MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG, MEASURE_PX, MIN_GRADIENT, PRUNE_MIN_FRAMES,
+    PRUNE_MIN_KEPT, RESTART, SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
 use align::{align_step, prepare, Hold, Light, Reader, Scratch, Step};
@@ -98,6 +98,9 @@ struct Level {
     /// Frame px per px of this scale.
     shrink: f64,
     points: Vec<Point>,
+    /// How many of the scale's strongest pixels each point read stands for (every k-th
+    /// kept: k), so that the information the scene holds is reckoned as from them all.
+    each: f64,
 }
 
 /// A pixel of a [`Level`].
@@ -111,7 +114,9 @@ struct Point {
 }
 
 impl Level {
-    fn new(img: &Mat, shrink: f64, sweep: Option<&Sweep>) -> Result<Self> {
+    /// The scale `img` (`shrink` frame px per px), outside `sweep`, read at its strongest
+    /// [`MAX_POINTS`] gradients, of which every k-th is kept when more than `most`.
+    fn new(img: &Mat, shrink: f64, sweep: Option<&Sweep>, most: usize) -> Result<Self> {
         let (w, h) = (img.cols(), img.rows());
         let r = img.data_typed::<f32>()?;
         let (cx, cy) = (0.5 * (w as f32 - 1.0), 0.5 * (h as f32 - 1.0));
@@ -149,11 +154,23 @@ impl Level {
             // from memory in the order they lie, not at random.
             points.sort_unstable_by(|a, b| (a.y, a.x).partial_cmp(&(b.y, b.x)).expect("finite"));
         }
+        // Fewer, as spread as these.
+        let mut each = 1;
+        if points.len() > most {
+            let k = points.len().div_ceil(most);
+            each = k;
+            let mut i = 0;
+            points.retain(|_| {
+                i += 1;
+                (i - 1) % k == 0
+            });
+        }
         Ok(Self {
             w,
             h,
             shrink,
             points,
+            each: each as f64,
         })
     }
 }
@@ -219,8 +236,8 @@ impl Steady {
             &mut coarse,
         )?;
         let levels = [
-            Level::new(&coarse, 2.0 * shrink, sweep)?,
-            Level::new(&smooth, shrink, sweep)?,
+            Level::new(&coarse, 2.0 * shrink, sweep, MAX_COARSE_POINTS)?,
+            Level::new(&smooth, shrink, sweep, MAX_POINTS)?,
         ];
         Ok(Self {
             size: (w, h),

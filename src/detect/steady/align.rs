@@ -51,14 +51,16 @@ pub(super) fn prepare(
     } else {
         None
     };
-    // Block means still under twice (bilinear would skip pixels); the frame copied only
-    // when it is small enough already.
+    // Under twice, bilinear as well: it reads every pixel at a factor under 2, and the
+    // smoothing below follows (OpenCV's area means at 1.33, a 640x480 frame's factor,
+    // took a fifth of a hand-held twin's whole detection); the frame copied only when it
+    // is small enough already.
     let size = Size::new(sw, sh);
     let shrunk = match means {
         Some(b) if (b.cols(), b.rows()) == (sw, sh) => b,
         Some(b) => resized(&b, size, imgproc::INTER_LINEAR)?,
         None if (f.width as i32, f.height as i32) == (sw, sh) => m.try_clone()?,
-        None => resized(&m, size, imgproc::INTER_AREA)?,
+        None => resized(&m, size, imgproc::INTER_LINEAR)?,
     };
     // The first frame's median grey brought to 128 and its quartiles' spread to
     // `LEVEL_SPREAD` (a plain wall's faint shading made as telling as a textured scene).
@@ -212,7 +214,7 @@ pub(super) fn align_step(
     // the information the scene holds on each direction of motion (grey levels squared
     // per px squared).
     let r = 0.5 * f64::from(level.w.max(level.h));
-    let n = f64::from(level.w * level.h) * (sum_w / count).max(1e-3);
+    let n = f64::from(level.w * level.h) / level.each * (sum_w / count).max(1e-3);
     let hn = nalgebra::Matrix3::new(
         hm[0][0],
         hm[0][1],

@@ -682,3 +682,44 @@ fn a_hand_in_the_first_frame_that_leaves_for_good_is_dropped_from_the_static_sce
         );
     }
 }
+
+#[test]
+fn the_coarser_scale_reads_fewer_pixels_spread_as_the_strongest_are() {
+    // A textured 1920x1080 frame: its coarser scale (240x135) holds more informative
+    // pixels than `MAX_POINTS`, so it keeps every k-th of its strongest.
+    let (w, h) = (1920, 1080);
+    let s = Steady::new(&textured(w, h, Motion::default(), 0), None).unwrap();
+    let coarse = &s.levels[0];
+    assert!(
+        coarse.points.len() <= MAX_COARSE_POINTS,
+        "{}",
+        coarse.points.len()
+    );
+    assert!(coarse.each >= 2.0, "each point stands for {}", coarse.each);
+    assert_eq!(s.levels[1].each, 1.0);
+    // Spread as the strongest are: every fifth of the scale's height holds some.
+    let mut rows = [0usize; 5];
+    for p in &coarse.points {
+        rows[(p.y as usize * 5 / coarse.h as usize).min(4)] += 1;
+    }
+    assert!(
+        rows.iter().all(|&n| n * 10 >= coarse.points.len()),
+        "{rows:?}"
+    );
+    // The information reckoned as from them all: a shift and a turn are still measured.
+    let mut s = s;
+    let m = Motion {
+        dx: 3.1,
+        dy: -2.2,
+        rot_rad: 0.3f64.to_radians(),
+    };
+    let got = s.measure(&textured(w, h, m, 1)).unwrap().unwrap();
+    assert!(
+        (got.dx - m.dx).abs() < 0.1 && (got.dy - m.dy).abs() < 0.1,
+        "{got:?}"
+    );
+    assert!(
+        (got.rot_rad - m.rot_rad).abs() < 0.02f64.to_radians(),
+        "{got:?}"
+    );
+}

@@ -155,15 +155,9 @@ impl Level {
             points.sort_unstable_by(|a, b| (a.y, a.x).partial_cmp(&(b.y, b.x)).expect("finite"));
         }
         // Fewer, as spread as these.
-        let mut each = 1;
-        if points.len() > most {
-            let k = points.len().div_ceil(most);
-            each = k;
-            let mut i = 0;
-            points.retain(|_| {
-                i += 1;
-                (i - 1) % k == 0
-            });
+        let each = points.len().div_ceil(most).max(1);
+        if each > 1 {
+            points = points.into_iter().step_by(each).collect();
         }
         Ok(Self {
             w,

@@ -117,11 +117,15 @@ impl Scene {
             );
         }
         if rng.uniform() < 0.3 {
+            // A lamp's shadow of the wire, no darker than the wire can cast: it blocks at
+            // most its own width of the lamp's light, however wide the blur spreads it
+            // (`lamp_share: 1`, a lamp giving all the plate's light, the darkest a real
+            // one gets).
             let side = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
             set(
                 "shadow",
                 format!(
-                    "{{angle_deg: {:.1}, blur_px: {:.1}, strength: {:.2}}}",
+                    "{{angle_deg: {:.1}, blur_px: {:.1}, strength: {:.2}, lamp_share: 1}}",
                     side * (2.0 + 4.0 * rng.uniform()),
                     2.0 + 4.0 * rng.uniform(),
                     0.3 + 0.3 * rng.uniform()

@@ -376,6 +376,9 @@ impl Experiment {
                 )?;
                 within("synthetic.shadow.blur_px", sh.blur_px, 0.0, 50.0, "px")?;
                 within("synthetic.shadow.strength", sh.strength, 0.0, 1.0, "")?;
+                if let Some(l) = sh.lamp_share {
+                    within("synthetic.shadow.lamp_share", l, 0.0, 1.0, "")?;
+                }
             }
             if let Some(f) = s.flicker_hz {
                 positive("synthetic.flicker_hz", f, "Hz")?;

@@ -260,7 +260,7 @@ fn default_shake_hz() -> f64 {
 }
 
 /// The wire's shadow (`synthetic.shadow`), e.g. `{angle_deg: 3, blur_px: 4, strength:
-/// 0.5}`.
+/// 0.5, lamp_share: 1}`.
 #[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WireShadow {
@@ -277,6 +277,14 @@ pub struct WireShadow {
     /// Default 0.5.
     #[serde(default = "default_shadow_strength")]
     pub strength: f64,
+    /// The lamp's share of the plate's light, 0 to 1. Given, the shadow takes no more
+    /// light than the wire blocks of the lamp's: at each point at most `lamp_share`
+    /// times the wire's coverage there, blurred as the shadow is, so that a thin wire's
+    /// shadow blurred wide is faint, as a real one is (a 1 px wire's shadow blurred by 4
+    /// px takes at most a tenth of the light along its middle, whatever `strength`).
+    /// Absent: `strength` alone, which can draw a shadow darker than any wire casts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lamp_share: Option<f64>,
 }
 
 /// `synthetic.flicker_hz` when not given.

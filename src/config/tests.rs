@@ -219,6 +219,7 @@ fn other_cameras_conditions_are_checked_naming_the_key() {
     assert_eq!((s.wire_width_px, s.wire_contrast), (Some(1.0), Some(0.25)));
     let sh = s.shadow.unwrap();
     assert_eq!((sh.angle_deg, sh.blur_px, sh.strength), (3.0, 2.0, 0.5));
+    assert_eq!(sh.lamp_share, None);
     for (extra, want) in [
             (
                 "wire_width_px: 0.5",
@@ -240,6 +241,10 @@ fn other_cameras_conditions_are_checked_naming_the_key() {
             (
                 "shadow: { strength: 2 }",
                 "`synthetic.shadow.strength` = 2 :",
+            ),
+            (
+                "shadow: { lamp_share: 1.2 }",
+                "`synthetic.shadow.lamp_share` = 1.2 :",
             ),
             ("shadow: { streng: 2 }", "unknown field `streng`"),
             (

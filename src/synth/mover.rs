@@ -73,7 +73,8 @@ struct ShadowLine {
     /// Angle from the wire (before mirroring; in the untilted view), rad.
     offset: f64,
     /// Darkening per unit of coverage: `strength / profile(0)`, so that the shadow's
-    /// middle takes `strength` of the plate's brightness.
+    /// middle takes `strength` of the plate's brightness, at most `lamp_share` (the
+    /// light a wire of its width can block).
     k: f32,
     /// Coverage against distance from its axis, px.
     profile: Table,
@@ -128,9 +129,12 @@ impl Mover {
             let s2 = s * std::f64::consts::SQRT_2;
             let reach = hw + 4.0 * s + 0.5;
             let f = move |d: f64| 0.5 * (erf((hw - d) / s2) + erf((hw + d) / s2));
+            // The darkening per unit of the blurred wire's coverage is the share of the
+            // plate's light that the lamp casting it gives: at most `lamp_share`.
+            let k = (sh.strength / f(0.0)).min(sh.lamp_share.unwrap_or(f64::INFINITY));
             ShadowLine {
                 offset: sh.angle_deg.to_radians(),
-                k: (sh.strength / f(0.0)) as f32,
+                k: k as f32,
                 profile: Table::new(0.0, reach, 64.0, f),
                 reach,
                 acc: Vec::new(),

@@ -113,6 +113,64 @@ fn the_wire_casts_a_soft_shadow_at_its_angle_that_moves_with_it() {
     assert!((peaks[1] - peaks[0] - moved).abs() < 3.0 / r);
 }
 
+#[test]
+fn a_lamps_share_bounds_the_shadow_to_the_light_the_wire_blocks() {
+    // A 1 px wire's shadow blurred by 4 px. Across it, the darkening summed (px of the
+    // plate's brightness) is the light the wire blocks: its width times the darkening
+    // per unit of coverage. With `lamp_share: 1` that is at most the wire's 1 px, its
+    // middle at most about a tenth of the plate; `strength: 0.5` alone asks the middle
+    // for half the plate, which takes about five times the light a 1 px wire blocks.
+    let across = |shadow: &str| {
+        let base = exp(", clean: true, style: light-wire, wire_width_px: 1");
+        let shaded = exp(&format!(
+            ", clean: true, style: light-wire, wire_width_px: 1, shadow: {{ angle_deg: -6, \
+             blur_px: 4, strength: 0.5{shadow} }}"
+        ));
+        let (mut a, mut b) = (
+            Twin::new(Plan::new(&base, Some(2.0)).unwrap()).unwrap(),
+            Twin::new(Plan::new(&shaded, Some(2.0)).unwrap()).unwrap(),
+        );
+        a.render_frame(5).unwrap();
+        b.render_frame(5).unwrap();
+        let g = a.plan.geo.clone();
+        let r = 0.5 * g.d_px;
+        let (fa, fb) = (a.frame.data_bytes().unwrap(), b.frame.data_bytes().unwrap());
+        let grey = |f: &[u8], j: usize| f[j..j + 3].iter().map(|&v| v as f64).sum::<f64>() / 3.0;
+        let mid = a.plan.truth[5].angle_rad - 6f64.to_radians();
+        // Along the circle of radius `r` through the shadow, 0.05 px a step, 25 px
+        // either side of its middle (beyond four blurs; the wire lies farther).
+        let (step, n) = (0.05, 500);
+        let (mut sum, mut peak) = (0.0, 0.0f64);
+        for k in -n..=n {
+            let ang = mid + k as f64 * step / r;
+            let (x, y) = (g.pivot[0] + r * ang.cos(), g.pivot[1] + r * ang.sin());
+            let j = 3 * ((y.round() as usize) * g.w + x.round() as usize);
+            let (plate, dark) = (grey(fa, j), grey(fa, j) - grey(fb, j));
+            sum += step * dark / plate;
+            peak = peak.max(dark / plate);
+        }
+        (sum, peak)
+    };
+    let (bounded, bounded_peak) = across(", lamp_share: 1");
+    let (asked, asked_peak) = across("");
+    assert!(
+        (bounded - 1.0).abs() < 0.1,
+        "bounded: {bounded} px of the plate's light blocked"
+    );
+    assert!(bounded_peak < 0.12, "bounded: its middle {bounded_peak}");
+    assert!(asked > 4.0 * bounded, "asked: {asked} px against {bounded}");
+    assert!(
+        (asked_peak - 0.5).abs() < 0.05,
+        "asked: its middle {asked_peak}"
+    );
+    // A lamp giving half the light: half the darkening.
+    let (half, _) = across(", lamp_share: 0.5");
+    assert!(
+        (half / bounded - 0.5).abs() < 0.05,
+        "{half} against {bounded}"
+    );
+}
+
 /// Least-squares amplitude `sqrt(a^2 + c^2)` of `y = b (1 + a sin(w t) + c cos(w t))`
 /// over the samples, relative to the mean `b` (fitted as `y = p + q sin + r cos`).
 fn relative_amplitude(t: &[f64], y: &[f64], w: f64) -> f64 {

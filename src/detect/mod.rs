@@ -368,13 +368,14 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
         match looks.at(shrink).and_then(|l| streaming_pass(*looks, l)) {
             // Found later, by glances that found it still before: the second measurement
             // is kept when its detection is `ok`, or when it fails only some of the
-            // checks the first failed and no other (a drift of 11 px found at 8 s,
-            // seed 7's scene 18: measured first, the track lay 4 deg off from 4 to 16 s,
-            // `suspect (rhythm, stalls, pivot)`, and the fit refused it; steadied, 0.11
-            // deg off, `suspect (pivot)`); else the first stands, with its own verdict (a
-            // still clip turned upside down, its pivot placed 300 px below the frame, was
-            // found moving at 8 s; steadied throughout, its angles lost every turning
-            // point).
+            // checks the first failed and no other, its `turn` aside where the first's
+            // angles showed the motion (`DetectionVerdict::steadied_fails_a_part_of`).
+            // A drift of 11 px found at 8 s (seed 7's scene 18): measured first, the
+            // track lay 4 deg off from 4 to 16 s, `suspect (rhythm, stalls, pivot)`, and
+            // the fit refused it; steadied, 0.11 deg off, `suspect (pivot)`. Else the
+            // first stands, with its own verdict (a still clip turned upside down, its
+            // pivot placed 300 px below the frame, was found moving at 8 s; steadied
+            // throughout, its angles lost every turning point).
             Ok(a) => {
                 // Never confirmed, it is kept only when steadying added no more than
                 // `STILL_AGAIN_NOISE_MAX_DEG` of noise: plain 320x240 walls whose glances
@@ -396,7 +397,7 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
                     ))
                 } else if !from_start
                     && a.verdict.failed().next().is_some()
-                    && !a.verdict.fails_a_part_of(&d.verdict)
+                    && !a.verdict.steadied_fails_a_part_of(&d.verdict)
                 {
                     Some(format!(
                         "it is {} (measured first, {}): the first measurement is kept",

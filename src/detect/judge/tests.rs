@@ -641,3 +641,49 @@ fn a_second_measurement_fails_a_part_of_the_first_only_when_it_breaks_nothing_ne
     assert!(!passing.fails_a_part_of(&passing));
     assert!(passing.fails_a_part_of(&first));
 }
+
+#[test]
+fn a_steadied_measurement_failing_turn_alone_replaces_one_whose_angles_showed_the_motion() {
+    let passing = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
+    // The same checks and a steadied measurement's `turn`, those named failed.
+    let failing = |names: &[&str]| {
+        let mut v = passing.clone().with(DetectionCheck {
+            check: "turn".into(),
+            value: 0.0,
+            limit: 0.01,
+            passed: true,
+            reason: String::new(),
+        });
+        for c in &mut v.checks {
+            c.passed = !names.contains(&c.check.as_str());
+        }
+        v
+    };
+    // Seed 53's scene 13: the first measurement's angles wandered with the sway.
+    let first = failing(&["rest", "envelope", "still"]);
+    assert!(failing(&["turn"]).steadied_fails_a_part_of(&first));
+    assert!(failing(&["turn", "rest"]).steadied_fails_a_part_of(&first));
+    // `turn` is not set aside where the first's angles showed nothing but `still`.
+    let only_still = failing(&["still"]);
+    assert!(!failing(&["turn"]).steadied_fails_a_part_of(&only_still));
+    // Nor where the first, steadied in part, failed `turn` too (seed 53's scene 6).
+    let turned = failing(&["turn"]);
+    assert!(!failing(&["turn"]).steadied_fails_a_part_of(&turned));
+    assert!(!failing(&["turn", "rest"]).steadied_fails_a_part_of(&failing(&["turn", "still"])));
+    // Nor does it excuse a check the first passed, or fixing nothing.
+    assert!(!failing(&["turn", "period"]).steadied_fails_a_part_of(&first));
+    assert!(!failing(&["turn", "rest", "envelope", "still"]).steadied_fails_a_part_of(&first));
+    // Without `turn` failed, the same as `fails_a_part_of`.
+    for names in [
+        &["rest"][..],
+        &["rest", "period"],
+        &["rest", "envelope", "still"],
+    ] {
+        let v = failing(names);
+        assert_eq!(
+            v.steadied_fails_a_part_of(&first),
+            v.fails_a_part_of(&first),
+            "{names:?}"
+        );
+    }
+}

@@ -645,9 +645,9 @@ fn a_second_measurement_fails_a_part_of_the_first_only_when_it_breaks_nothing_ne
 #[test]
 fn a_steadied_measurement_failing_turn_alone_replaces_one_whose_angles_showed_the_motion() {
     let passing = judge(&swinging(), [100.0, 20.0], Some(0.3), None);
-    // The same checks and a steadied measurement's `turn`, those named failed.
+    // The same checks, `still` and a steadied measurement's `turn`, those named failed.
     let failing = |names: &[&str]| {
-        let mut v = passing.clone().with(DetectionCheck {
+        let mut v = passing.clone().with(still_check(0.1)).with(DetectionCheck {
             check: "turn".into(),
             value: 0.0,
             limit: 0.01,
@@ -657,6 +657,11 @@ fn a_steadied_measurement_failing_turn_alone_replaces_one_whose_angles_showed_th
         for c in &mut v.checks {
             c.passed = !names.contains(&c.check.as_str());
         }
+        let mut got = failed(&v);
+        got.sort();
+        let mut want = names.to_vec();
+        want.sort();
+        assert_eq!(got, want, "every named check is judged");
         v
     };
     // Seed 53's scene 13: the first measurement's angles wandered with the sway.

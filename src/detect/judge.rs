@@ -101,18 +101,20 @@ impl DetectionVerdict {
 
     /// Whether this verdict, of a measurement steadied throughout, fails a part of
     /// `first`'s, of the measurement that took the camera for still at first (see
-    /// [`Self::fails_a_part_of`]), its `turn` aside when `first` failed a check besides
-    /// `still` and did not fail `turn`. `turn` judges a steadied measurement: the error
-    /// the turns misread add to its angles. A first measurement that took the camera for
-    /// still throughout did not pass it; it carried the camera's motion whole, and its
-    /// own angles showed it. Seed 53's sweep scene 13 (a tripod
-    /// swaying 1.1 px and 0.08 deg at 0.6 Hz, the fulcrum left of a 1280x720 frame):
-    /// measured first, `suspect (rest, envelope, still)`, 0.205 deg RMS off the truth;
-    /// steadied, `suspect (turn)`, 0.0138 deg of its 0.0154 deg noise moving with the
-    /// turn, and 0.018 deg RMS off.
+    /// [`Self::fails_a_part_of`]), its `turn` aside when `first` was never judged by
+    /// `turn` (no frame of it was steadied) and failed a check besides `still`. `turn`
+    /// judges a steadied measurement: the error that misread turns add to its angles. A
+    /// first measurement that took the camera for still throughout was never judged by
+    /// it: it carried the camera's motion whole, and its own angles showed it. Seed 53's
+    /// sweep scene 13 (a tripod swaying 1.1 px and 0.08 deg at 0.6 Hz, the fulcrum left
+    /// of a 1280x720 frame): measured first, `suspect (rest, envelope, still)`, 0.205 deg
+    /// RMS off the truth; steadied, `suspect (turn)`, 0.0138 deg of its 0.0154 deg noise
+    /// moving with the turn, and 0.018 deg RMS off. A first measurement steadied from the
+    /// moment the camera was found moving has its own `turn`, passed or failed, and is
+    /// compared as [`Self::fails_a_part_of`] compares.
     pub fn steadied_fails_a_part_of(&self, first: &DetectionVerdict) -> bool {
-        let harmed =
-            first.failed().any(|c| c.check != "still") && first.failed().all(|c| c.check != "turn");
+        let harmed = first.failed().any(|c| c.check != "still")
+            && first.checks.iter().all(|c| c.check != "turn");
         let mine: Vec<&DetectionCheck> = self
             .failed()
             .filter(|c| !(harmed && c.check == "turn"))

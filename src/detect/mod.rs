@@ -368,8 +368,9 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
         match looks.at(shrink).and_then(|l| streaming_pass(*looks, l)) {
             // Found later, by glances that found it still before: the second measurement
             // is kept when its detection is `ok`, or when it fails only some of the
-            // checks the first failed and no other, its `turn` aside where the first's
-            // angles showed the motion (`DetectionVerdict::steadied_fails_a_part_of`).
+            // checks the first failed and no other, its `turn` aside where the first,
+            // never steadied, showed the motion in its angles
+            // (`DetectionVerdict::steadied_fails_a_part_of`).
             // A drift of 11 px found at 8 s (seed 7's scene 18): measured first, the
             // track lay 4 deg off from 4 to 16 s, `suspect (rhythm, stalls, pivot)`, and
             // the fit refused it; steadied, 0.11 deg off, `suspect (pivot)`. Else the
@@ -382,7 +383,7 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
                 // misread 1.2 to 2.8 px of motion gained 0.04 to 0.11 deg, three swaying
                 // sweep twins 0.005 to 0.007. Unless the first measurement's angles
                 // themselves show the motion's harm (a check besides `still` failed; the
-                // second must pass every one, below): a drift of 11 px at 640x480 (seed
+                // second must then fail only a part of its checks, below): a drift of 11 px at 640x480 (seed
                 // 43's scene 0) turned the wire's direction 2.8 % less than its angle
                 // about the pivot (`pivot`) and scattered the swings (`envelope`), 0.89
                 // deg RMS off; steadied, it gained 0.016 deg of noise and lay 0.024 deg

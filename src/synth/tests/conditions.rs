@@ -138,7 +138,8 @@ fn a_lamps_share_bounds_the_shadow_to_the_light_the_wire_blocks() {
         let grey = |f: &[u8], j: usize| f[j..j + 3].iter().map(|&v| v as f64).sum::<f64>() / 3.0;
         let mid = a.plan.truth[5].angle_rad - 6f64.to_radians();
         // Along the circle of radius `r` through the shadow, 0.05 px a step, 25 px
-        // either side of its middle (beyond four blurs; the wire lies farther).
+        // either side of its middle (beyond four blurs; the wire, near the window's
+        // end, is drawn alike in both frames).
         let (step, n) = (0.05, 500);
         let (mut sum, mut peak) = (0.0, 0.0f64);
         for k in -n..=n {

@@ -94,9 +94,15 @@ impl DetectionVerdict {
     /// passed: a second measurement that fixed some of the first's failures and broke
     /// nothing the first got right.
     pub fn fails_a_part_of(&self, other: &DetectionVerdict) -> bool {
+        self.part_of(other, |_| false)
+    }
+
+    /// Whether this verdict's failures, those `aside` left out, are fewer than
+    /// `other`'s and each among them.
+    fn part_of(&self, other: &DetectionVerdict, aside: impl Fn(&DetectionCheck) -> bool) -> bool {
         let theirs: Vec<&str> = other.failed().map(|c| c.check.as_str()).collect();
-        self.failed().count() < theirs.len()
-            && self.failed().all(|c| theirs.contains(&c.check.as_str()))
+        let mine = || self.failed().filter(|c| !aside(c));
+        mine().count() < theirs.len() && mine().all(|c| theirs.contains(&c.check.as_str()))
     }
 
     /// Whether this verdict, of a measurement steadied throughout, fails a part of
@@ -115,12 +121,7 @@ impl DetectionVerdict {
     pub fn steadied_fails_a_part_of(&self, first: &DetectionVerdict) -> bool {
         let harmed = first.failed().any(|c| c.check != "still")
             && first.checks.iter().all(|c| c.check != "turn");
-        let mine: Vec<&DetectionCheck> = self
-            .failed()
-            .filter(|c| !(harmed && c.check == "turn"))
-            .collect();
-        let theirs: Vec<&str> = first.failed().map(|c| c.check.as_str()).collect();
-        mine.len() < theirs.len() && mine.iter().all(|c| theirs.contains(&c.check.as_str()))
+        self.part_of(first, |c| harmed && c.check == "turn")
     }
 }
 

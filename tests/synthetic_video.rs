@@ -418,37 +418,20 @@ fn a_wire_at_rest_for_seventeen_seconds_is_followed_to_the_end() {
     // the `pivot` check (over 0.75 % off) is measured again from the other scale's look.
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    std::fs::write(
-        d.join("pc.yaml"),
-        "name: pc
-geometry:
-  incline: { h_m: 0.142, l_m: 1.500 }
-  pendulum: { d_m: 0.1831 }
-  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
-video:
-  path: pc.avi
-  lens: { k1: -0.153, u_k1: 0.0003 }
-synthetic:
-  s_r_m: 18.986e-6
-  psi0_deg: 10
-  width: 1280
-  height: 720
-  fps: 60
-  style: oblique
-  seed: 53055
-  rest_angle_deg: -12.2
-  mirror: true
-  wire_width_px: 1
-  wire_contrast: 0.78
-  shadow: {angle_deg: -2.4, blur_px: 2.1, strength: 0.49, lamp_share: 1}
-  pivot_frac: [-0.0140, 0.4992]
-  lens_k1: -0.153
-  room: {board: ruled}
-  rolling_shutter: 0.54
-  duration_s: 40
-",
+    let text = with_synthetic(
+        "polycarbonate",
+        "  s_r_m: 18.986e-6\n  psi0_deg: 10\n  width: 1280\n  height: 720\n  fps: 60\n  \
+         style: oblique\n  seed: 53055\n  rest_angle_deg: -12.2\n  mirror: true\n  \
+         wire_width_px: 1\n  wire_contrast: 0.78\n  \
+         shadow: {angle_deg: -2.4, blur_px: 2.1, strength: 0.49, lamp_share: 1}\n  \
+         pivot_frac: [-0.0140, 0.4992]\n  lens_k1: -0.153\n  room: {board: ruled}\n  \
+         rolling_shutter: 0.54\n  duration_s: 40\n",
     )
-    .unwrap();
+    .replace(
+        "\nsynthetic:",
+        "\nvideo:\n  path: pc.avi\n  lens: { k1: -0.153, u_k1: 0.0003 }\nsynthetic:",
+    );
+    std::fs::write(d.join("pc.yaml"), text).unwrap();
     rollfric_ok(
         &["synth", "pc.yaml", "-o", "pc.avi", "--truth", "truth.csv"],
         d,

@@ -132,12 +132,22 @@ pub fn temp_owner(name: &str) -> Option<u32> {
     pid.parse().ok()
 }
 
-/// Whether process `pid` is running (Linux `/proc`; elsewhere, assumed running).
+/// Whether process `pid` is running (Linux `/proc`; elsewhere, assumed running). A
+/// process that has ended but not been reaped (a zombie, state `Z`, or `X`) is not: a
+/// job killed with its whole process group is reparented to an init that may be slow to
+/// reap it, or never does, and its temporary files would be kept for ever.
 pub fn process_alive(pid: u32) -> bool {
     if !Path::new("/proc/self").exists() {
         return true;
     }
-    Path::new(&format!("/proc/{pid}")).exists()
+    let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+        return false;
+    };
+    // `pid (comm) state ...`: the command may hold spaces and parentheses itself.
+    let state = stat
+        .rsplit_once(')')
+        .and_then(|(_, rest)| rest.trim_start().chars().next());
+    !matches!(state, Some('Z' | 'X'))
 }
 
 /// Write `bytes` atomically unless the file already holds exactly them (an unchanged
@@ -153,6 +163,23 @@ pub fn write_if_changed(path: &Path, bytes: &[u8]) -> Result<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_ended_process_not_yet_reaped_is_not_running() {
+        assert!(process_alive(std::process::id()));
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let pid = child.id();
+        // Not waited for: once it has ended it stays a zombie until reaped.
+        let stat = format!("/proc/{pid}/stat");
+        let ended = (0..200).any(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            std::fs::read_to_string(&stat).is_ok_and(|s| s.contains(") Z"))
+        });
+        assert!(ended, "`true` did not end within 2 s");
+        assert!(!process_alive(pid), "a zombie taken for a running process");
+        child.wait().unwrap();
+        assert!(!process_alive(pid));
+    }
 
     #[test]
     fn a_fifo_is_written_through_not_replaced() {

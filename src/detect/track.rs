@@ -1,12 +1,14 @@
 //! The streaming pass: per frame, the evidence against a background that follows the
 //! scene, the wire's angle in a wedge around the prediction, and the gate.
 
+mod background;
 mod beside;
 mod contrast;
 mod diag;
 mod evidence;
 mod measure;
 mod pivot;
+mod undecided;
 
 use super::geometry::WireGeometry;
 use super::light::Brightness;
@@ -16,8 +18,7 @@ use super::{full_to_shrunk, AngleRow, DetectOptions, Flag, Pt, Status};
 use crate::detect::tuning::{
     BG_DECAY_FRAMES, DISTURBED_MIN_MAD, DISTURBED_TIMES, FLASH_MIN_LEVEL, FLASH_SHARE,
     LONG_FIT_FRAMES, LONG_FIT_S, PAIR_SEP_TOL, PREDICT_BEYOND_SWEEP_DEG, REANCHOR_AWAY_GATES,
-    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, RESTATE_BESIDE_FRAMES, START_FRAMES, STRIP_HALF,
-    UNDECIDED_MAX_FRAMES,
+    REANCHOR_STILL_DEG, REPEAT_MAD, REPEAT_SHARE, START_FRAMES, UNDECIDED_MAX_FRAMES,
 };
 use crate::video::{Frame, Roi};
 use anyhow::{bail, Context, Result};
@@ -400,35 +401,7 @@ impl Tracker {
         // evidence beside the wire for half a minute (a sweep twin's wire at rest after
         // a walker: 0.2 deg off for 25 s).
         if !flash && !disturbed {
-            if self.geo.dark {
-                core::max(&self.bg, &self.small, &mut self.tmp)?;
-            } else {
-                core::min(&self.bg, &self.small, &mut self.tmp)?;
-            }
-            std::mem::swap(&mut self.bg, &mut self.tmp);
-            if f.index.is_multiple_of(self.decay_every) {
-                // The strip about the last accepted line, px of the region.
-                let (piv, band, cols) = (self.piv, (self.r_lo, self.r_hi), self.bg.cols());
-                let wire = self.hist.last().map(|&(_, a)| Pt::new(a.cos(), a.sin()));
-                let on_wire = |i: usize| {
-                    wire.is_some_and(|d| {
-                        let cols = cols as usize;
-                        let q = Pt::new((i % cols) as f64, (i / cols) as f64) - piv;
-                        let along = q.dot(&d);
-                        along >= band.0
-                            && along <= band.1
-                            && (q.x * d.y - q.y * d.x).abs() <= STRIP_HALF
-                    })
-                };
-                let (frame, tmap) = (self.small.data_bytes()?, self.tmap.data_bytes()?);
-                decay_where_seen(
-                    self.bg.data_bytes_mut()?,
-                    frame,
-                    tmap,
-                    self.geo.dark,
-                    on_wire,
-                );
-            }
+            self.follow_scene(f.index)?;
         }
         let mut row = AngleRow {
             frame: f.index,
@@ -560,72 +533,6 @@ impl Tracker {
         Ok(row)
     }
 
-    /// Once the side a wire lies on beside its shadow is learnt, the frames accepted
-    /// before on the ridge of a like pair on the shadow's side are restated with the
-    /// other ridge's measurement, and the history the prediction reads with them. Until
-    /// then, a track begun on a shadow stronger than its wire and barely wider (0.96 px
-    /// against 1.01 on a 1920x1080 twin, too close for [`RIVAL_SHARPER_START`]) stays
-    /// on it, the wire a rival outside the gate, until the votes decide (its first 32
-    /// frames there, 2.8 deg off, `ok`).
-    ///
-    /// [`RIVAL_SHARPER_START`]: crate::detect::tuning::RIVAL_SHARPER_START
-    fn restate_undecided(&mut self) {
-        if self.undecided.is_empty() {
-            return;
-        }
-        let Some((side, along)) = self.ridges.side() else {
-            return;
-        };
-        let held = std::mem::take(&mut self.undecided);
-        // Each pair frame: restated (its ridge on the shadow's side of a like pair)?
-        let restate: Vec<Option<bool>> = held
-            .iter()
-            .map(|u| {
-                u.other.map(|o| {
-                    let sep = u.taken - o.0;
-                    // `side`: where the wire lies against the other ridge (+1: larger).
-                    (sep.abs() - along).abs() <= PAIR_SEP_TOL * along && sep * side < 0.0
-                })
-            })
-            .collect();
-        for (i, u) in held.iter().enumerate() {
-            let restated = match restate[i] {
-                Some(r) => r,
-                // A frame that saw no pair, between two restated, or beside one and
-                // nearer its shadow's ridge than its wire's: taken on the shadow's track,
-                // with nothing to restate it by.
-                None => {
-                    let before = restate[..i].iter().rev().find_map(|r| *r);
-                    let after = restate[i + 1..].iter().find_map(|r| *r);
-                    let beside = |j: usize| {
-                        let n = &held[j];
-                        restate[j] == Some(true)
-                            && n.frame.abs_diff(u.frame) <= RESTATE_BESIDE_FRAMES
-                            && n.other
-                                .is_some_and(|o| (u.taken - n.taken).abs() < (u.taken - o.0).abs())
-                    };
-                    (before == Some(true) && after == Some(true))
-                        || (i > 0 && beside(i - 1))
-                        || (i + 1 < held.len() && beside(i + 1))
-                }
-            };
-            if !restated {
-                continue;
-            }
-            if let Some(o) = u.other {
-                for h in self.hist.iter_mut().filter(|h| h.0 == u.t_s) {
-                    h.1 = o.0;
-                }
-            } else {
-                self.hist.retain(|h| h.0 != u.t_s);
-            }
-            self.restated.push(Restated {
-                frame: u.frame,
-                other: u.other,
-            });
-        }
-    }
-
     /// The offsets of the sharper ridges beside the followed line, per look
     /// ([`beside::sharper_beside`]).
     pub(super) fn beside(&self) -> &[Vec<f64>] {
@@ -668,40 +575,6 @@ impl Tracker {
 }
 
 /// Mean of every `step`-th byte.
-/// The background's decay of one grey level towards the scene, but where the wire lies:
-/// a pixel `on_wire` (by its index in the region: the strip of `STRIP_HALF` px about
-/// the last accepted line) whose grey level in `frame` stands over its noise threshold
-/// (`tmap`) from the background `bg` keeps its level, so that a wire at rest is not
-/// taken into the background. Decayed everywhere, a 1 px wire at rest under a 60 fps
-/// camera lost half its evidence in 10 s, and the track its wire (a sweep twin: on its
-/// shadow, then lost from 36 s). The test is the wire's strip's only: the running
-/// extreme of a plain plate's noise lies a few thresholds from most frames, and held
-/// wherever it did, the background crept up to the noise's extreme (two real clips'
-/// tracks then took a line beside the wire).
-fn decay_where_seen(
-    bg: &mut [u8],
-    frame: &[u8],
-    tmap: &[u8],
-    dark: bool,
-    on_wire: impl Fn(usize) -> bool,
-) {
-    let pixels = bg.iter_mut().zip(frame).zip(tmap).enumerate();
-    for (i, ((b, f), t)) in pixels {
-        let over = if dark {
-            b.saturating_sub(*f) > *t
-        } else {
-            f.saturating_sub(*b) > *t
-        };
-        if !(over && on_wire(i)) {
-            *b = if dark {
-                b.saturating_sub(1)
-            } else {
-                b.saturating_add(1)
-            };
-        }
-    }
-}
-
 fn sampled_mean(d: &[u8], step: usize) -> f64 {
     let (mut s, mut n) = (0u64, 0u64);
     for v in d.iter().step_by(step) {

@@ -1,5 +1,6 @@
 //! The unit tests of `detect/track.rs`.
 
+use super::background::decay_where_seen;
 use super::pivot::{angular_speeds, central_spread, refined_pivot, refinement_lines, FreeLine};
 use super::*;
 use crate::detect::line::Line;

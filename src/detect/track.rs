@@ -108,6 +108,9 @@ pub(super) struct Tracker {
     /// after a long run.
     repeats_since_good: usize,
     decay_every: u64,
+    /// The wire's angle and time when it last moved out of the strip about where it lay
+    /// (see [`Tracker::follow_scene`]).
+    still: Option<(f64, f64)>,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
     /// `detect --steps`: the frame to picture; its index, frame and background as the
@@ -211,6 +214,7 @@ impl Tracker {
             since_good: 0,
             repeats_since_good: 0,
             decay_every: BG_DECAY_FRAMES,
+            still: None,
             diag_dir: opts.diag_dir.clone(),
             diagnostics: Vec::new(),
             steps: opts.steps,
@@ -498,6 +502,7 @@ impl Tracker {
                     None => quality,
                 });
                 self.hist.push((f.t_s, angle));
+                self.note_still(f.t_s, angle);
                 if self.hist.len() > 16 {
                     self.hist.drain(..8);
                 }

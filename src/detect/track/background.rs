@@ -2,7 +2,7 @@
 //! scene, lowered slowly towards it but where the wire lies.
 
 use super::Tracker;
-use crate::detect::tuning::STRIP_HALF;
+use crate::detect::tuning::{BG_REST_S, STRIP_HALF};
 use crate::detect::Pt;
 use anyhow::Result;
 use opencv::core;
@@ -23,6 +23,7 @@ impl Tracker {
             // The strip about the last accepted line, px of the region.
             let (piv, band, cols) = (self.piv, (self.r_lo, self.r_hi), self.bg.cols());
             let wire = self.hist.last().map(|&(_, a)| Pt::new(a.cos(), a.sin()));
+            let whole = self.wire_at_rest();
             let on_wire = |i: usize| {
                 wire.is_some_and(|d| {
                     let cols = cols as usize;
@@ -39,10 +40,32 @@ impl Tracker {
                 frame,
                 tmap,
                 self.geo.dark,
+                whole,
                 on_wire,
             );
         }
         Ok(())
+    }
+
+    /// An accepted angle: where the wire leaves the strip about where it lay (its half
+    /// width seen from the strip's far end), it lies still from here.
+    pub(super) fn note_still(&mut self, t_s: f64, angle: f64) {
+        let moved = |&(a, _): &(f64, f64)| (angle - a).abs() > STRIP_HALF / self.r_hi.max(1.0);
+        if self.still.as_ref().is_none_or(moved) {
+            self.still = Some((angle, t_s));
+        }
+    }
+
+    /// The wire has lain still for [`BG_REST_S`] up to its last accepted frame: within the
+    /// strip about where it lay, so the strip covered the same pixels all along. A
+    /// swinging wire stays so long only about turning points of a swing narrower than
+    /// twice the strip (the bob's edge of a real clip, taken for a wire, passed a test of
+    /// the last 8 to 16 frames at its turning points).
+    fn wire_at_rest(&self) -> bool {
+        match (self.still, self.hist.last()) {
+            (Some((_, t0)), Some(&(t, _))) => t - t0 >= BG_REST_S,
+            _ => false,
+        }
     }
 }
 
@@ -56,11 +79,18 @@ impl Tracker {
 /// extreme of a plain plate's noise lies a few thresholds from most frames, and held
 /// wherever it did, the background crept up to the noise's extreme (two real clips'
 /// tracks then took a line beside the wire).
+///
+/// With `whole` (the wire at rest, [`Tracker::wire_at_rest`]) every pixel of the strip
+/// keeps its level: a faint wire's pixels under their threshold, lowered, faded it
+/// unevenly, and its angle's scatter at rest grew from 0.03 to 0.07 deg (a 1 px wire
+/// shrunk 1.5 times at 30 fps, a sweep twin). Held so while the wire swings, the whole
+/// strip moved a real clip's `beside` figure over its limit.
 pub(super) fn decay_where_seen(
     bg: &mut [u8],
     frame: &[u8],
     tmap: &[u8],
     dark: bool,
+    whole: bool,
     on_wire: impl Fn(usize) -> bool,
 ) {
     let pixels = bg.iter_mut().zip(frame).zip(tmap).enumerate();
@@ -70,7 +100,7 @@ pub(super) fn decay_where_seen(
         } else {
             f.saturating_sub(*b) > *t
         };
-        if !(over && on_wire(i)) {
+        if !((whole || over) && on_wire(i)) {
             *b = if dark {
                 b.saturating_sub(1)
             } else {

@@ -312,20 +312,36 @@ fn the_background_decays_but_under_the_wire() {
     // (80: 20 below, over its threshold) and a saturated black pixel at 0, all on the
     // wire's strip.
     let mut bg = [100u8, 100, 100, 0];
-    decay_where_seen(&mut bg, &[100, 97, 80, 0], &[4, 4, 4, 4], true, |_| true);
+    decay_where_seen(
+        &mut bg,
+        &[100, 97, 80, 0],
+        &[4, 4, 4, 4],
+        true,
+        false,
+        |_| true,
+    );
     assert_eq!(bg, [99, 99, 100, 0]);
     // Off the wire's strip, whatever stands there decays.
     let mut bg = [100u8, 100];
-    decay_where_seen(&mut bg, &[80, 80], &[4, 4], true, |i| i == 0);
+    decay_where_seen(&mut bg, &[80, 80], &[4, 4], true, false, |i| i == 0);
     assert_eq!(bg, [100, 99]);
     // A light wire: the running minimum, decaying upwards; 255 stays 255.
     let mut bg = [100u8, 100, 100, 255];
-    decay_where_seen(&mut bg, &[100, 104, 130, 255], &[4, 4, 4, 4], false, |_| {
-        true
-    });
+    decay_where_seen(
+        &mut bg,
+        &[100, 104, 130, 255],
+        &[4, 4, 4, 4],
+        false,
+        false,
+        |_| true,
+    );
     assert_eq!(bg, [101, 101, 100, 255]);
     // The threshold is the pixel's own: 5 levels is noise under 6, the wire under 4.
     let mut bg = [100u8, 100];
-    decay_where_seen(&mut bg, &[95, 95], &[6, 4], true, |_| true);
+    decay_where_seen(&mut bg, &[95, 95], &[6, 4], true, false, |_| true);
     assert_eq!(bg, [99, 100]);
+    // A wire at rest (`whole`): its strip keeps its level, noise and all; off it, decay.
+    let mut bg = [100u8, 100, 100];
+    decay_where_seen(&mut bg, &[100, 97, 97], &[4, 4, 4], true, true, |i| i < 2);
+    assert_eq!(bg, [100, 100, 99]);
 }

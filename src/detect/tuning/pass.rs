@@ -70,6 +70,13 @@ knobs! {
         what "the background decays by one grey level every this many frames",
         chosen_by "8ff29a6: hand-picked; not swept";
 
+    /// A wire that has lain this long within the strip about where it lay is at rest: at
+    /// the background's lowering its whole strip keeps its level, not only its pixels over
+    /// their threshold.
+    BG_REST_S: f64 = 1.0, "s",
+        what "a wire lying this long within its strip keeps its whole strip in the background",
+        chosen_by "hand-picked: a swing twice the strip's half width stays within it about a turning point for a third of a 3.4 s period; not swept";
+
     /// A prediction is clamped to the first look's sweep widened by this each side.
     PREDICT_BEYOND_SWEEP_DEG: f64 = 15.0, "deg",
         what "predictions are kept within the first look's sweep widened by this",

@@ -108,8 +108,8 @@ pub(super) struct Tracker {
     /// after a long run.
     repeats_since_good: usize,
     decay_every: u64,
-    /// The wire's angle and time when it last moved out of the strip about where it lay
-    /// (see [`Tracker::follow_scene`]).
+    /// The time and angle of the first accepted frame since the wire last moved or the
+    /// track was lost (see [`Tracker::note_still`], [`Tracker::wire_at_rest`]).
     still: Option<(f64, f64)>,
     diag_dir: Option<PathBuf>,
     pub(super) diagnostics: Vec<PathBuf>,
@@ -238,9 +238,15 @@ impl Tracker {
             .map(|p| p.clamp(lo, hi))
     }
 
+    /// The track holds: at most four frames refused or repeated since the last accepted
+    /// one (past that the prediction gives up).
+    fn held(&self) -> bool {
+        self.since_good + self.repeats_since_good <= 4
+    }
+
     fn predict_raw(&self, t: f64) -> Option<f64> {
         let n = self.hist.len();
-        if n == 0 || self.since_good + self.repeats_since_good > 4 {
+        if n == 0 || !self.held() {
             return None;
         }
         // Frames after a refused one are predicted further ahead, where three noisy
@@ -484,6 +490,7 @@ impl Tracker {
                 let r = &self.raw[self.raw.len() - 3..];
                 self.hist.clear();
                 self.hist.extend_from_slice(&r[..2]);
+                self.still = None;
                 None
             }
             other => other,

@@ -47,23 +47,26 @@ impl Tracker {
         Ok(())
     }
 
-    /// An accepted angle: where the wire leaves the strip about where it lay (its half
-    /// width seen from the strip's far end), it lies still from here.
+    /// An accepted angle (before the counts of refused and repeated frames start
+    /// again): the wire lies still from here when it left the strip about where it lay
+    /// still (half its half width seen from the strip's far end, so that every line
+    /// since lies within the strip about any other), or the track had been lost.
     pub(super) fn note_still(&mut self, t_s: f64, angle: f64) {
-        let moved = |&(a, _): &(f64, f64)| (angle - a).abs() > STRIP_HALF / self.r_hi.max(1.0);
-        if self.still.as_ref().is_none_or(moved) {
-            self.still = Some((angle, t_s));
+        let tol = 0.5 * STRIP_HALF / self.r_hi.max(1.0);
+        let moved = |&(_, a): &(f64, f64)| (angle - a).abs() > tol;
+        if !self.held() || self.still.as_ref().is_none_or(moved) {
+            self.still = Some((t_s, angle));
         }
     }
 
-    /// The wire has lain still for [`BG_REST_S`] up to its last accepted frame: within the
-    /// strip about where it lay, so the strip covered the same pixels all along. A
-    /// swinging wire stays so long only about turning points of a swing narrower than
-    /// twice the strip (the bob's edge of a real clip, taken for a wire, passed a test of
-    /// the last 8 to 16 frames at its turning points).
-    fn wire_at_rest(&self) -> bool {
+    /// The wire has lain still for [`BG_REST_S`] up to its last accepted frame, and the
+    /// track holds: its lines since lie within the strip about the last, which covered
+    /// the same pixels all along. A swinging wire lies so long within so narrow a band
+    /// only about the turning points of a swing under 2.5 times the strip's half width
+    /// (seen from its far end, of a 3.4 s period; less at a shorter one): nearly at rest.
+    pub(super) fn wire_at_rest(&self) -> bool {
         match (self.still, self.hist.last()) {
-            (Some((_, t0)), Some(&(t, _))) => t - t0 >= BG_REST_S,
+            (Some((t0, _)), Some(&(t, _))) => self.held() && t - t0 >= BG_REST_S,
             _ => false,
         }
     }

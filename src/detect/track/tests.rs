@@ -345,3 +345,38 @@ fn the_background_decays_but_under_the_wire() {
     decay_where_seen(&mut bg, &[100, 97, 97], &[4, 4, 4], true, true, |i| i < 2);
     assert_eq!(bg, [100, 100, 99]);
 }
+
+#[test]
+fn a_wire_is_at_rest_after_a_second_within_half_its_strip() {
+    // The test tracker's strip reaches 190 px: the band is half of 2.5 px seen from there.
+    let mut tr = test_tracker((1.2, 1.9));
+    let tol = 0.5 * crate::detect::tuning::STRIP_HALF / 190.0;
+    let accept = |tr: &mut Tracker, t: f64, a: f64| {
+        tr.hist.push((t, a));
+        tr.note_still(t, a);
+        tr.since_good = 0;
+    };
+    // 30 frames a second, scattered within the band: at rest once a second has passed.
+    for k in 0..30 {
+        accept(&mut tr, k as f64 / 30.0, 1.5 + 0.9 * tol * (k % 2) as f64);
+    }
+    assert!(!tr.wire_at_rest(), "0.97 s is not yet a second");
+    accept(&mut tr, 1.0, 1.5);
+    assert!(tr.wire_at_rest());
+    // A line out of the band starts the second again from itself.
+    accept(&mut tr, 1.1, 1.5 + 1.1 * tol);
+    assert!(!tr.wire_at_rest());
+    accept(&mut tr, 2.1, 1.5 + 1.1 * tol);
+    assert!(tr.wire_at_rest());
+    // The track lost (five frames refused): not at rest, and the next accepted frame
+    // starts the second again, wherever it lies.
+    tr.since_good = 5;
+    assert!(!tr.wire_at_rest());
+    tr.hist.push((2.5, 1.5 + 1.1 * tol));
+    tr.note_still(2.5, 1.5 + 1.1 * tol);
+    tr.since_good = 0;
+    accept(&mut tr, 3.4, 1.5 + 1.1 * tol);
+    assert!(!tr.wire_at_rest(), "0.9 s since the track came back");
+    accept(&mut tr, 3.5, 1.5 + 1.1 * tol);
+    assert!(tr.wire_at_rest());
+}

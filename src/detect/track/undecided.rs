@@ -57,6 +57,7 @@ impl Tracker {
             if !restated {
                 continue;
             }
+            self.still = None;
             if let Some(o) = u.other {
                 for h in self.hist.iter_mut().filter(|h| h.0 == u.t_s) {
                     h.1 = o.0;

@@ -70,12 +70,12 @@ knobs! {
         what "the background decays by one grey level every this many frames",
         chosen_by "8ff29a6: hand-picked; not swept";
 
-    /// A wire that has lain this long within the strip about where it lay is at rest: at
-    /// the background's lowering its whole strip keeps its level, not only its pixels over
-    /// their threshold.
+    /// A wire that has lain this long within half the strip's half width of where it lay
+    /// (seen from the strip's far end) is at rest: at the background's lowering its whole
+    /// strip keeps its level, not only its pixels over their threshold.
     BG_REST_S: f64 = 1.0, "s",
         what "a wire lying this long within its strip keeps its whole strip in the background",
-        chosen_by "hand-picked: a swing twice the strip's half width stays within it about a turning point for a third of a 3.4 s period; not swept";
+        chosen_by "hand-picked: about a turning point, a swing of a 3.4 s period lies a second within the band only when under 2.5 times the strip's half width; not swept";
 
     /// A prediction is clamped to the first look's sweep widened by this each side.
     PREDICT_BEYOND_SWEEP_DEG: f64 = 15.0, "deg",

@@ -250,6 +250,44 @@ fn with_synthetic(name: &str, block: &str) -> String {
     format!("{head}\nsynthetic:\n{block}")
 }
 
+/// A sweep twin in `d`: experiment `name`'s `synthetic:` block replaced by `block`,
+/// rendered as `twin.<ext>` with its truth, and detected with its lens given (`lens`, a
+/// `video.lens` block): the truth's rows, the angles' rows and what `detect` said.
+fn detect_twin(
+    d: &Path,
+    name: &str,
+    block: &str,
+    ext: &str,
+    lens: &str,
+) -> (Vec<Row>, Vec<Row>, String) {
+    let video = format!("twin.{ext}");
+    let text = with_synthetic(name, block).replace(
+        "\nsynthetic:",
+        &format!("\nvideo:\n  path: {video}\n  lens: {lens}\nsynthetic:"),
+    );
+    std::fs::write(d.join("twin.yaml"), text).unwrap();
+    rollfric_ok(
+        &["synth", "twin.yaml", "-o", &video, "--truth", "truth.csv"],
+        d,
+    );
+    let (_, said) = rollfric_ok(
+        &[
+            "detect",
+            "--experiment",
+            "twin.yaml",
+            &video,
+            "-o",
+            "angles.csv",
+        ],
+        d,
+    );
+    (
+        read(&d.join("truth.csv"), "spoiled"),
+        read(&d.join("angles.csv"), "status"),
+        said,
+    )
+}
+
 /// The detected angle minus the true one of every `ok` frame of `d/angles.csv`
 /// against `d/truth.csv` (rad), after checking one row per frame, no frame missing
 /// and at least 95 % of them `ok`.
@@ -417,8 +455,8 @@ fn a_wire_at_rest_for_seventeen_seconds_is_followed_to_the_end() {
     // the shadow, its lines turning 1.066 times as much as its angle: a pass that fails
     // the `pivot` check (over 0.75 % off) is measured again from the other scale's look.
     let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    let text = with_synthetic(
+    let (truth, a, said) = detect_twin(
+        dir.path(),
         "polycarbonate",
         "  s_r_m: 18.986e-6\n  psi0_deg: 10\n  width: 1280\n  height: 720\n  fps: 60\n  \
          style: oblique\n  seed: 53055\n  rest_angle_deg: -12.2\n  mirror: true\n  \
@@ -426,33 +464,13 @@ fn a_wire_at_rest_for_seventeen_seconds_is_followed_to_the_end() {
          shadow: {angle_deg: -2.4, blur_px: 2.1, strength: 0.49, lamp_share: 1}\n  \
          pivot_frac: [-0.0140, 0.4992]\n  lens_k1: -0.153\n  room: {board: ruled}\n  \
          rolling_shutter: 0.54\n  duration_s: 40\n",
-    )
-    .replace(
-        "\nsynthetic:",
-        "\nvideo:\n  path: pc.avi\n  lens: { k1: -0.153, u_k1: 0.0003 }\nsynthetic:",
-    );
-    std::fs::write(d.join("pc.yaml"), text).unwrap();
-    rollfric_ok(
-        &["synth", "pc.yaml", "-o", "pc.avi", "--truth", "truth.csv"],
-        d,
-    );
-    let truth = read(&d.join("truth.csv"), "spoiled");
-    let (_, said) = rollfric_ok(
-        &[
-            "detect",
-            "--experiment",
-            "pc.yaml",
-            "pc.avi",
-            "-o",
-            "angles.csv",
-        ],
-        d,
+        "avi",
+        "{ k1: -0.153, u_k1: 0.0003 }",
     );
     assert!(
         said.contains("measuring again from a look at a finer working scale"),
         "the first pass, about the shrunk look's pivot, is measured again: {said}"
     );
-    let a = read(&d.join("angles.csv"), "status");
     // The last 8 s, at rest: every frame found, on the wire.
     let last: Vec<f64> = truth[1920..]
         .iter()
@@ -481,37 +499,17 @@ fn a_faint_wire_at_rest_keeps_its_whole_strip() {
     // it, and its angle at rest scattered by 0.07 deg (0.03 while it swung): the
     // detection was `suspect (smooth)` and the fit refused its spurious turning points.
     let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    let text = with_synthetic(
+    let (truth, a, said) = detect_twin(
+        dir.path(),
         "copper",
         "  s_r_m: 18.986e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  fps: 30\n  \
          style: oblique\n  seed: 97059\n  rest_angle_deg: -100.8\n  wire_width_px: 1\n  \
          wire_contrast: 0.82\n  flicker_hz: 100\n  flicker_depth: 0.125\n  \
          lens_k1: -0.112\n  rolling_shutter: 0.74\n  duration_s: 40\n",
-    )
-    .replace(
-        "\nsynthetic:",
-        "\nvideo:\n  path: cu.mp4\n  lens: { k1: -0.112, u_k1: 0.0005 }\nsynthetic:",
-    );
-    std::fs::write(d.join("cu.yaml"), text).unwrap();
-    rollfric_ok(
-        &["synth", "cu.yaml", "-o", "cu.mp4", "--truth", "truth.csv"],
-        d,
-    );
-    let truth = read(&d.join("truth.csv"), "spoiled");
-    let (_, said) = rollfric_ok(
-        &[
-            "detect",
-            "--experiment",
-            "cu.yaml",
-            "cu.mp4",
-            "-o",
-            "angles.csv",
-        ],
-        d,
+        "mp4",
+        "{ k1: -0.112, u_k1: 0.0005 }",
     );
     assert!(said.contains("detection ok"), "{said}");
-    let a = read(&d.join("angles.csv"), "status");
     // From 26 s, at rest: the error's scatter about its mean.
     let rest: Vec<f64> = truth[780..]
         .iter()

@@ -288,6 +288,17 @@ fn detect_twin(
     )
 }
 
+/// The detected angle minus the true one (rad) of every `ok` frame of `angles` from
+/// frame `from` on, against `truth`.
+fn ok_errors(truth: &[Row], angles: &[Row], from: usize) -> Vec<f64> {
+    truth[from..]
+        .iter()
+        .zip(&angles[from..])
+        .filter(|(_, de)| de.tag == "ok")
+        .map(|(tr, de)| de.angle.unwrap() - tr.angle.unwrap())
+        .collect()
+}
+
 /// The detected angle minus the true one of every `ok` frame of `d/angles.csv`
 /// against `d/truth.csv` (rad), after checking one row per frame, no frame missing
 /// and at least 95 % of them `ok`.
@@ -295,12 +306,7 @@ fn ok_errors_against_truth(d: &Path) -> Vec<f64> {
     let t = read(&d.join("truth.csv"), "spoiled");
     let a = read(&d.join("angles.csv"), "status");
     assert_eq!(t.len(), a.len(), "one row per frame");
-    let diffs: Vec<f64> = t
-        .iter()
-        .zip(&a)
-        .filter(|(_, de)| de.tag == "ok")
-        .map(|(tr, de)| de.angle.unwrap() - tr.angle.unwrap())
-        .collect();
+    let diffs = ok_errors(&t, &a, 0);
     assert!(
         a.iter().all(|r| r.tag != "missing") && diffs.len() * 100 >= a.len() * 95,
         "{} of {} frames ok",
@@ -436,12 +442,6 @@ synthetic:
     );
 }
 
-/// A short video is decoded once: the first look's decoder goes on into the streaming
-/// pass (the look's frames held as decoded, the rest read ahead during the geometry,
-/// each cut to the region of interest by the detector). On a 960x540 twin held at its
-/// release for 1.5 s under flicker (the look drops the still frames but the pass
-/// measures them), the CSV is the one a second decoder cropped by ffmpeg gives, byte
-/// for byte.
 #[test]
 fn a_wire_at_rest_for_seventeen_seconds_is_followed_to_the_end() {
     if !need_ffmpeg() {
@@ -472,11 +472,9 @@ fn a_wire_at_rest_for_seventeen_seconds_is_followed_to_the_end() {
         "the first pass, about the shrunk look's pivot, is measured again: {said}"
     );
     // The last 8 s, at rest: every frame found, on the wire.
-    let last: Vec<f64> = truth[1920..]
-        .iter()
-        .zip(&a[1920..])
-        .filter(|(_, de)| de.tag == "ok")
-        .map(|(tr, de)| (de.angle.unwrap() - tr.angle.unwrap()).to_degrees())
+    let last: Vec<f64> = ok_errors(&truth, &a, 1920)
+        .into_iter()
+        .map(f64::to_degrees)
         .collect();
     assert!(
         last.len() >= 470,
@@ -511,25 +509,25 @@ fn a_faint_wire_at_rest_keeps_its_whole_strip() {
     );
     assert!(said.contains("detection ok"), "{said}");
     // From 26 s, at rest: the error's scatter about its mean.
-    let rest: Vec<f64> = truth[780..]
-        .iter()
-        .zip(&a[780..])
-        .filter(|(_, de)| de.tag == "ok")
-        .map(|(tr, de)| (de.angle.unwrap() - tr.angle.unwrap()).to_degrees())
-        .collect();
+    let rest = ok_errors(&truth, &a, 780);
     assert!(
         rest.len() >= 400,
         "{} of 421 frames at rest ok: {said}",
         rest.len()
     );
-    let mean = rest.iter().sum::<f64>() / rest.len() as f64;
-    let sd = (rest.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / rest.len() as f64).sqrt();
+    let sd = scatter_deg(&rest);
     assert!(
         sd < 0.045,
         "at rest the angle scatters by {sd:.4} deg: {said}"
     );
 }
 
+/// A short video is decoded once: the first look's decoder goes on into the streaming
+/// pass (the look's frames held as decoded, the rest read ahead during the geometry,
+/// each cut to the region of interest by the detector). On a 960x540 twin held at its
+/// release for 1.5 s under flicker (the look drops the still frames but the pass
+/// measures them), the CSV is the one a second decoder cropped by ffmpeg gives, byte
+/// for byte.
 #[test]
 fn a_short_video_decoded_once_gives_the_angles_of_two_decodings() {
     if !need_ffmpeg() {

@@ -472,6 +472,15 @@ impl Steady {
         self.forget();
     }
 
+    /// [`Steady::prune`] while frames go on one after another (the streaming pass): the
+    /// next frame is measured on from the last frame's motion, not from none (a drift
+    /// of 7 px by the first drop left the frame after it unmeasured from none).
+    pub(super) fn prune_going_on(&mut self, share: f64) {
+        let recent = self.recent;
+        self.prune(share);
+        self.recent = recent;
+    }
+
     /// Tukey's loss of the frame last measured, aligned (a share of its pixels).
     pub(super) fn loss(&self) -> f64 {
         self.loss

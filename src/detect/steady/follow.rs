@@ -4,8 +4,8 @@
 use super::{Motion, Steady, Sweep};
 use crate::detect::tuning::{
     HIDDEN_FOLLOW, HIDDEN_MIN_LOSS, HIDDEN_TIMES, LATE_AGREE, LATE_DRIFT_GLANCES, LATE_EVERY_S,
-    LATE_EXPLAINS, LATE_GLANCES, MOVING_PX, PASS_PRUNE_FRAMES, PRUNE_SHARE, SCENE_CHANGE_S,
-    SCENE_CHANGE_SHARE,
+    LATE_EXPLAINS, LATE_GLANCES, MOVING_PX, PASS_FIRST_PRUNE_FRAMES, PASS_PRUNE_FRAMES,
+    PRUNE_SHARE, SCENE_CHANGE_S, SCENE_CHANGE_SHARE,
 };
 use crate::video::Frame;
 use anyhow::Result;
@@ -378,11 +378,12 @@ impl Followed {
             Some(m) => {
                 held = st.turn_held();
                 // Over the first frames, what moves in the static scene is counted, then
-                // left out (see `PASS_PRUNE_FRAMES`).
-                if self.n - self.unmeasured < PASS_PRUNE_FRAMES {
+                // left out, twice (see `PASS_FIRST_PRUNE_FRAMES`, `PASS_PRUNE_FRAMES`).
+                let counted = self.n - self.unmeasured + 1;
+                if counted <= PASS_PRUNE_FRAMES {
                     st.tally()?;
-                    if self.n + 1 - self.unmeasured == PASS_PRUNE_FRAMES {
-                        st.prune(PRUNE_SHARE);
+                    if counted == PASS_FIRST_PRUNE_FRAMES || counted == PASS_PRUNE_FRAMES {
+                        st.prune_going_on(PRUNE_SHARE);
                     }
                 }
                 m

@@ -208,13 +208,16 @@ knobs! {
     /// The streaming pass, steadying every frame, counts the same over its first this
     /// many frames measured, and drops the pixels that differed in more than
     /// `PRUNE_SHARE` of them: what the pass reads is its own region at its own scale, not
-    /// the look's, and a second pendulum swinging there pulled its alignment.
+    /// the look's, and a second pendulum swinging there pulled its alignment. Dropped
+    /// this early, what a person passing in the first second hid is dropped too: the
+    /// static scene keeps the rest.
     PASS_FIRST_PRUNE_FRAMES: usize = 30, "frames",
-        what "the pass drops what moved over its first this many steadied frames, then counts again",
+        what "the pass drops what moved over its first this many measured frames, then counts again",
         chosen_by "issue 49, seed 1 scene 0 (640x480, a drift found at 10.1 s, a second pendulum): counted over 100 frames, from 11.1 s the second pendulum pulled the motion 12 px and 2 deg off and the angles 5 deg, 40 frames `ok`; 0.87 -> 0.12 deg RMS, none `ok` over 0.5 deg; 30 hand-picked";
 
     /// ... then counts again up to this many frames measured, and drops what differed in
-    /// more than `PRUNE_SHARE` of those since the first drop.
+    /// more than `PRUNE_SHARE` of those since the first drop (each drop keeps at least
+    /// `PRUNE_MIN_KEPT` of what it finds).
     PASS_PRUNE_FRAMES: usize = 100, "frames",
         what "the pass drops what moves after this many steadied frames",
         chosen_by "issue 49: a second pendulum beside a hand-held twin's wire, 0.082 -> 0.049 deg RMS; 100 frames hand-picked";

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{need_ffmpeg, pivot_in, rollfric_ok, root, scatter_deg};
+use common::{need_ffmpeg, numbers_after, pivot_in, rollfric_ok, root, scatter_deg};
 use std::path::Path;
 
 struct Row {
@@ -551,13 +551,12 @@ fn a_camera_found_moving_late_leaves_a_second_pendulum_out_within_a_second() {
         "avi",
         "pivot: [483.2, 321.5]",
     );
-    let most_px: f64 = said
+    let camera = said
         .split("the camera moved (")
         .nth(1)
-        .and_then(|s| s.split("at most ").nth(1))
-        .and_then(|s| s.split(' ').next())
-        .and_then(|s| s.parse().ok())
+        .and_then(|s| s.split(')').next())
         .unwrap_or_else(|| panic!("no camera motion said: {said}"));
+    let most_px: f64 = numbers_after(camera, "at most ", ' ')[0];
     assert!(
         most_px < 8.5,
         "the camera read as far as {most_px} px (6.7 drawn): {said}"

@@ -456,8 +456,27 @@ impl Steady {
     /// tallied (the pendulum's, or another thing that moved), when enough were tallied
     /// and the static scene keeps enough; then later frames are measured from no motion.
     pub(super) fn prune(&mut self, share: f64) {
+        if self.drop_tallied(share) {
+            self.forget();
+        }
+    }
+
+    /// [`Steady::prune`] while frames go on one after another (the streaming pass): the
+    /// next frame is measured on from the last frame's motion, not from none (a drift
+    /// of 7 px by the first drop left the frame after it unmeasured from none); its loss
+    /// is not compared with the last, of more pixels.
+    pub(super) fn prune_going_on(&mut self, share: f64) {
+        if self.drop_tallied(share) {
+            self.losses = None;
+            self.loss = f64::INFINITY;
+        }
+    }
+
+    /// The drop of [`Steady::prune`], the count starting again; whether enough frames
+    /// were tallied for it.
+    fn drop_tallied(&mut self, share: f64) -> bool {
         if self.tallied < PRUNE_MIN_FRAMES {
-            return;
+            return false;
         }
         let most = share * f64::from(self.tallied);
         for (level, off) in self.levels.iter_mut().zip(&self.off) {
@@ -469,16 +488,7 @@ impl Steady {
         }
         self.off = Default::default();
         self.tallied = 0;
-        self.forget();
-    }
-
-    /// [`Steady::prune`] while frames go on one after another (the streaming pass): the
-    /// next frame is measured on from the last frame's motion, not from none (a drift
-    /// of 7 px by the first drop left the frame after it unmeasured from none).
-    pub(super) fn prune_going_on(&mut self, share: f64) {
-        let recent = self.recent;
-        self.prune(share);
-        self.recent = recent;
+        true
     }
 
     /// Tukey's loss of the frame last measured, aligned (a share of its pixels).

@@ -219,7 +219,7 @@ knobs! {
     /// more than `PRUNE_SHARE` of those since the first drop (each drop keeps at least
     /// `PRUNE_MIN_KEPT` of what it finds).
     PASS_PRUNE_FRAMES: usize = 100, "frames",
-        what "the pass drops what moves after this many steadied frames",
+        what "... and again after this many measured frames",
         chosen_by "issue 49: a second pendulum beside a hand-held twin's wire, 0.082 -> 0.049 deg RMS; 100 frames hand-picked";
 
     /// A frame's light against the first's (see `Light`) is first fitted in this many

@@ -8,12 +8,12 @@ mod swing;
 
 use super::{AngleRow, Status};
 use crate::detect::tuning::{
-    BESIDE_MAX_SHARE, BESIDE_MIN_SAMPLES, BESIDE_TOL_DEG, CROSSED_MIN, ENVELOPE_MAX_DEG,
-    ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, GROWTH_MAX, HYSTERESIS, LENS_SCALE_MAX,
-    NOISE_SHARE_MAX, PERIODS_MIN, PERIOD_SPREAD_MAX, PIVOT_SCALE_MAX, REST_NOISE_FACTOR,
-    REST_WANDER_MAX_DEG, RHYTHM_MAX, RIVAL_POLARITY_SHARE, STALL_RANGE, STALL_SHARE_MAX,
-    STALL_WINDOW, STILL_MAX_PX, TURNS_MIN, TURN_FOLLOW_MAX_DEG, TURN_FOLLOW_SIGNIFICANCE,
-    UNTIMED_TURNS_MIN, WANDER_MIN_DEG, WANDER_NOISE_FACTOR,
+    BENT_MIN_U, BENT_REL_U, BENT_SIGMAS, BESIDE_MAX_SHARE, BESIDE_MIN_SAMPLES, BESIDE_TOL_DEG,
+    CROSSED_MIN, ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, GROWTH_MAX,
+    HYSTERESIS, LENS_SCALE_MAX, NOISE_SHARE_MAX, PERIODS_MIN, PERIOD_SPREAD_MAX, PIVOT_SCALE_MAX,
+    REST_NOISE_FACTOR, REST_WANDER_MAX_DEG, RHYTHM_MAX, RIVAL_POLARITY_SHARE, STALL_RANGE,
+    STALL_SHARE_MAX, STALL_WINDOW, STILL_MAX_PX, TURNS_MIN, TURN_FOLLOW_MAX_DEG,
+    TURN_FOLLOW_SIGNIFICANCE, UNTIMED_TURNS_MIN, WANDER_MIN_DEG, WANDER_NOISE_FACTOR,
 };
 use crate::verdict::Status as Verdict;
 pub use added::*;
@@ -56,8 +56,8 @@ pub struct Seen {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DetectionCheck {
     /// `found`, `turns`, `crossed`, `period`, `rhythm`, `smooth`, `wander`, `stalls`,
-    /// `rest`, `envelope`, `decays`, `still`, `turn`, `polarity`, `lens`, `pivot` or
-    /// `length`.
+    /// `rest`, `envelope`, `decays`, `still`, `turn`, `polarity`, `lens`, `bent`, `pivot`
+    /// or `length`.
     pub check: String,
     pub value: f64,
     pub limit: f64,

@@ -92,6 +92,9 @@ pub struct KeptMoments {
     /// the line through the current pivot: its free line leans towards that pivot and
     /// says little about where the wire's lines meet (see `Tracker::refine_pivot`).
     pub free: [bool; 2],
+    /// How the whole strip, re-centred, bows (the `bent` check's evidence); `None`
+    /// when it was not re-centred.
+    pub bow: Option<crate::lens::bow::Bowed>,
 }
 
 impl std::ops::Index<usize> for KeptMoments {

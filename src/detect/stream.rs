@@ -251,6 +251,16 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         judge::beside_check(tracker.beside()),
         lens.as_ref()
             .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, seen)),
+        judge::bent_check(&rows, lens.as_ref(), [info.width, info.height], |wire| {
+            through_lens_wide(
+                &tracker,
+                &rows,
+                lens.as_ref(),
+                [pivot.x, pivot.y],
+                band,
+                wire,
+            )
+        }),
         opts.pendulum
             .as_ref()
             .and_then(|p| judge::length_check(seen, p)),
@@ -279,4 +289,47 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         moved_from_start,
         moved_later_s,
     })
+}
+
+/// How much wider the swing of `rows` (measured about `pivot` through `given`, or as
+/// seen) is than the detector would measure it through the lens `wire`, the pivot
+/// refined again through it (the `bent` check): the slope of the one's found angles
+/// on the other's, less one. `None` without two found angles apart.
+fn through_lens_wide(
+    tracker: &Tracker,
+    rows: &[AngleRow],
+    given: Option<&crate::lens::Lens>,
+    pivot: [f64; 2],
+    band: [f64; 2],
+    wire: &crate::lens::Lens,
+) -> Option<f64> {
+    let found = |rows: &[AngleRow]| -> Vec<Option<f64>> {
+        rows.iter()
+            .map(|r| {
+                r.angle_rad
+                    .filter(|_| r.status == Status::Ok && r.flag.is_none())
+            })
+            .collect()
+    };
+    let now = found(rows);
+    let now = match given {
+        Some(l) => l.plate_angles(pivot, band, &now),
+        None => now,
+    };
+    let mut again = rows.to_vec();
+    let p = tracker.refine_pivot(&mut again, Some(wire)).pivot;
+    let through = wire.plate_angles([p.x, p.y], band, &found(&again));
+    let pairs: Vec<(f64, f64)> = through
+        .iter()
+        .zip(&now)
+        .filter_map(|(x, y)| Some(((*x)?, (*y)?)))
+        .collect();
+    let n = pairs.len() as f64;
+    let (mx, my) = pairs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    let (sxx, sxy) = pairs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + (x - mx) * (x - mx), b + (x - mx) * (y - my))
+    });
+    (sxx > 0.0).then(|| sxy / sxx - 1.0)
 }

@@ -1,6 +1,8 @@
 //! A lens's radial distortion (`video.lens`, and the twin's `synthetic.lens_k1`): the
 //! one-coefficient model, angles about the pivot measured through it, and what its
-//! coefficient's uncertainty puts on the swing's scale.
+//! coefficient's uncertainty puts on the swing's scale. Its coefficient is fitted from
+//! a picture's straight lines ([`plumb`], `rollfric lens`) or read from the wire's own
+//! bow ([`bow`], the detection's `bent` check).
 //!
 //! A point at distance `r` from the frame's centre in the undistorted view, in frame
 //! widths (a lens of one width's focal length), is seen at `z r (1 + k1 r^2)`, where the
@@ -8,6 +10,7 @@
 //! a phone crops its wide lens's picture to fill the frame. `k1 < 0` is barrel
 //! distortion (a phone's wide lens, to about -0.3), `k1 > 0` pincushion.
 
+pub mod bow;
 pub mod plumb;
 
 use serde::{Deserialize, Serialize};
@@ -55,7 +58,7 @@ impl Lens {
     }
 
     /// The same lens with another coefficient.
-    fn with_k1(&self, k1: f64) -> Self {
+    pub(crate) fn with_k1(&self, k1: f64) -> Self {
         let h = 2.0 * self.centre[1] + 1.0;
         Self::new(k1, self.u_k1, self.w as u32, h as u32)
     }

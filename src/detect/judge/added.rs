@@ -191,6 +191,81 @@ pub fn lens_check(
     ))
 }
 
+/// `bent`: the wire is straight on the plate, and seen through a wide lens every
+/// stretch of it off the frame's centre bows. The found frames' bows (each strip's
+/// parabola, [`crate::detect::row::KeptMoments::bow`]) give the lens's coefficient
+/// ([`crate::lens::bow::k1_from_bows`]) on a frame of `frame` px. When it differs from
+/// the lens given with the video (`given`; none: 0) by more than [`BENT_SIGMAS`] times
+/// their uncertainties (the wire's jackknife, the lens given's, [`BENT_REL_U`] of the
+/// wire's coefficient and [`BENT_MIN_U`] for the measurement's own bias), `wide` says how much wider
+/// the measured swing is than the detector would measure it through the wire's lens
+/// (a share; the pivot refined again through it): the check fails over
+/// [`LENS_SCALE_MAX`]. Seed 1's sweep scenes 10 (640x480, k1 -0.17) and 21 (1280x720,
+/// k1 -0.24, the pivot at the frame's edge) were filmed through a lens none was given
+/// for: their swings 1.3 and 10.0 % wide, `s_r` as much, and called `ok`; the `pivot`
+/// check cannot see it (the wire's lines and its angle bend alike). `None` with too
+/// few found frames (see `k1_from_bows`), or when `wide` cannot say.
+pub fn bent_check(
+    rows: &[AngleRow],
+    given: Option<&crate::lens::Lens>,
+    frame: [u32; 2],
+    wide: impl FnOnce(&crate::lens::Lens) -> Option<f64>,
+) -> Option<DetectionCheck> {
+    use crate::lens::{bow, Lens};
+    let bows: Vec<bow::Bowed> = rows
+        .iter()
+        .filter(|r| r.status == Status::Ok && r.flag.is_none())
+        .filter_map(|r| r.moments.as_ref()?.bow)
+        .collect();
+    let wire = bow::k1_from_bows(&bows, frame[0], frame[1])?;
+    let (k_given, u_given) = given.map_or((0.0, 0.0), |l| (l.k1, l.u_k1));
+    let u = wire
+        .u_k1
+        .hypot(u_given)
+        .hypot(BENT_REL_U * wire.k1.abs())
+        .hypot(BENT_MIN_U);
+    let sigmas = (wire.k1 - k_given).abs() / u;
+    let through = match given {
+        Some(l) => format!("the lens given, {:+.3}", l.k1),
+        None => "no lens given, 0".to_string(),
+    };
+    let bows = format!(
+        "the wire bows as a straight line does through a lens of k1 {:+.3} +- {:.3} ({} \
+         frames), {sigmas:.1} uncertainties from the angles' ({through})",
+        wire.k1, u, wire.frames,
+    );
+    if sigmas <= BENT_SIGMAS {
+        return Some(check(
+            "bent",
+            sigmas,
+            BENT_SIGMAS,
+            true,
+            format!("{bows} (at most {BENT_SIGMAS})"),
+            "",
+        ));
+    }
+    let share = wide(&Lens::new(wire.k1, u, frame[0], frame[1]))?;
+    Some(check(
+        "bent",
+        share.abs(),
+        LENS_SCALE_MAX,
+        share.abs() <= LENS_SCALE_MAX,
+        format!(
+            "{bows}: the swing measured is {:.2} % {} than through it (at most {:.2} %)",
+            100.0 * share.abs(),
+            if share > 0.0 { "wider" } else { "narrower" },
+            100.0 * LENS_SCALE_MAX,
+        ),
+        &format!(
+            "the video was filmed through a lens that bends the picture, and the angles \
+             are not taken back through it: give `video.lens` (`rollfric lens` fits it \
+             from a picture of straight lines; the wire's bow gives `lens: {{k1: {:.3}, \
+             u_k1: {:.3}}}`)",
+            wire.k1, u
+        ),
+    ))
+}
+
 /// `turn`: a moving camera's frames, each steadied by the turn measured for it, hold
 /// angles whose noise from frame to frame does not move with that turn. Where the
 /// static scene fixes the turn poorly (a plain plate's faint shading), the measured turn

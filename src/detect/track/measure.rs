@@ -12,13 +12,13 @@ use crate::detect::line::{
 };
 use crate::detect::row::KeptMoments;
 use crate::detect::tuning::{
-    CELLS, FREE_STRIP_DRIFT, FREE_STRIP_FROM, FREE_STRIP_HALF, FREE_STRIP_PASSES,
-    FULL_WIDTH_HALF_PX, FULL_WIDTH_OFF_PX, FULL_WIDTH_PROFILES, HIST_BIN_PX, HIST_MAX_BINS,
-    HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS, PAIR_MAX, PAIR_MIN_VOTES,
-    PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO, PEAK_STEP_BINS, RIVAL_COVER,
-    RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START, RIVAL_WIDER_GATED,
-    SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS, UNDECIDED_MAX_FRAMES,
-    WIDTH_STRIP,
+    BOW_MAD_FLOOR_PX, BOW_MIN_STEPS, BOW_OUTLIER_MADS, CELLS, FREE_STRIP_DRIFT, FREE_STRIP_FROM,
+    FREE_STRIP_HALF, FREE_STRIP_PASSES, FULL_WIDTH_HALF_PX, FULL_WIDTH_OFF_PX, FULL_WIDTH_PROFILES,
+    HIST_BIN_PX, HIST_MAX_BINS, HIST_MIN_BINS, MAX_CANDIDATES, MIN_LINE_PIXELS, PAIR_LEAD_SIGMAS,
+    PAIR_MAX, PAIR_MIN_VOTES, PAIR_MOVE, PAIR_REACH_MARGIN_DEG, PAIR_SEP_TOL, PAIR_VOTE_RATIO,
+    PEAK_STEP_BINS, RIVAL_COVER, RIVAL_REACH_BINS, RIVAL_SCORE, RIVAL_SHARPER, RIVAL_SHARPER_START,
+    RIVAL_WIDER_GATED, SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS,
+    UNDECIDED_MAX_FRAMES, WIDTH_STRIP,
 };
 use crate::detect::Pt;
 use anyhow::Result;
@@ -48,6 +48,8 @@ pub(super) struct Scratch {
     far: Vec<(Pt, f64)>,
     /// The band's part of each of the strip's pixels ([`drop_stray_parts`]).
     parts: Vec<u8>,
+    /// The strip's steps along its line ([`strip_parabola`]).
+    bins: Vec<[f64; 3]>,
 }
 
 impl Tracker {
@@ -272,6 +274,7 @@ impl Tracker {
             return Ok(KeptMoments {
                 moments: [fallback; 2],
                 free: [false; 2],
+                bow: None,
             });
         };
         self.strip_pixels_from(&free, FREE_STRIP_HALF, self.r_lo, &mut b.strip)?;
@@ -282,22 +285,30 @@ impl Tracker {
             None
         };
         let whole_first = (b.strip.len() >= MIN_LINE_PIXELS).then(|| moments(&b.strip));
-        let mut recentre = |first: Option<[f64; 6]>, from: f64| -> Result<([f64; 6], bool)> {
-            Ok(first
-                .map(|m| self.recentred_moments(&ends, m, from, b))
-                .transpose()?
-                .flatten()
-                .map_or((fallback, false), |m| (m, true)))
-        };
-        let whole = recentre(whole_first, self.r_lo)?;
+        let recentre =
+            |first: Option<[f64; 6]>, from: f64, b: &mut Scratch| -> Result<([f64; 6], bool)> {
+                Ok(first
+                    .map(|m| self.recentred_moments(&ends, m, from, b))
+                    .transpose()?
+                    .flatten()
+                    .map_or((fallback, false), |m| (m, true)))
+            };
+        let whole = recentre(whole_first, self.r_lo, b)?;
+        // The whole strip's last pass, about its own free line: how it bows.
+        let bow = whole
+            .1
+            .then(|| whole.0.free_line())
+            .flatten()
+            .and_then(|free| self.strip_bow(&free, &b.strip, &mut b.bins));
         let far = if split {
-            recentre(far_first, from)?
+            recentre(far_first, from, b)?
         } else {
             whole
         };
         Ok(KeptMoments {
             moments: [whole.0, far.0],
             free: [whole.1, far.1],
+            bow,
         })
     }
 
@@ -324,6 +335,28 @@ impl Tracker {
             m = moments(&b.strip);
         }
         Ok(Some(m))
+    }
+
+    /// How the strip's pixels `strip`, about their free line `free`, bow: the
+    /// [`crate::lens::bow::Bowed`] of the parabola across the line fitted to them,
+    /// in full-frame px.
+    fn strip_bow(
+        &self,
+        free: &Line,
+        strip: &[(Pt, f64)],
+        bins: &mut Vec<[f64; 3]>,
+    ) -> Option<crate::lens::bow::Bowed> {
+        let (mid, response, ends) = strip_parabola(free, strip, FREE_STRIP_HALF, bins)?;
+        let origin = Pt::new(self.roi_x, self.roi_y);
+        let full = |u: f64| {
+            let q = crate::detect::shrunk_to_full(free.point + free.dir * u, origin, self.scale);
+            [q.x, q.y]
+        };
+        Some(crate::lens::bow::Bowed {
+            ends: ends.map(full),
+            mid_px: mid * self.scale,
+            response,
+        })
     }
 
     /// Of the pixels `strip` that [`Self::strip_pixels_from`] found about `line`

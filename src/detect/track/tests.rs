@@ -192,6 +192,7 @@ fn a_frame_beside_one_restated_on_its_shadow_s_ridge_is_refused_with_it() {
                 let moments = crate::detect::row::KeptMoments {
                     moments: [[0.0; 6]; 2],
                     free: [true; 2],
+                    bow: None,
                 };
                 (o, 1.0, moments)
             }),

@@ -29,6 +29,22 @@ knobs! {
         what "half width of the re-centred strip (working scale)",
         chosen_by "fda42d4: faint wire + shadow 0.55 -> 0.27 deg, pivot 1.5 -> 0.7 px; 1280x720 twin swing 0.4 -> 0.2 % small";
 
+    /// The `bent` check's bow of each strip (`strip_parabola`): a step along the line
+    /// whose centroid lies more than this many median deviations from the parabola is
+    /// left out of its next fit ...
+    BOW_OUTLIER_MADS: f64 = 4.0, "deviations",
+        what "a strip's step this far from its parabola is left out of the bow's next fit",
+        chosen_by "issue 49: seed 1's scene 23 (a protractor's ticks and cables across the wire) with its lens given read k1 +0.248 from whole-strip fits, -0.077 with the steps left out (drawn -0.196); the scenes without clutter within 0.01";
+    /// ... the median deviation taken as at least this (px: a clean wire's steps lie
+    /// within hundredths of a pixel of the parabola) ...
+    BOW_MAD_FLOOR_PX: f64 = 0.05, "px",
+        what "least median deviation of a strip's steps from its parabola",
+        chosen_by "hand-picked with BOW_OUTLIER_MADS: a step 0.2 px off is kept";
+    /// ... and a fit needs this many steps.
+    BOW_MIN_STEPS: usize = 10, "steps",
+        what "fewest steps along the line for a strip's bow",
+        chosen_by "hand-picked: three parameters and the outliers left out";
+
     /// The radius, as a share of the band's outer radius, inside which the re-centred
     /// strip leaves the wire out. Near the pivot a soft shadow and the wire (and, at a
     /// shrunk working scale, the static edges crossing there) merge into one ridge whose

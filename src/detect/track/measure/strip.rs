@@ -159,3 +159,97 @@ pub(super) fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
     }
     each(n - e_rest.len(), e_rest, t_rest);
 }
+
+/// The parabola across `line` fitted to a strip's pixels `strip` (weighted, within
+/// `half` px of it, [`edge_share`]'s ramp at the edges): how far its middle lies from
+/// the chord between its ends (px, positive to the left of `line`'s direction: the
+/// side `(dir.y, -dir.x)` points to), the share of a shift across the line the strip's
+/// centroid follows, and the ends' places along the line (from `line.point`).
+///
+/// The parabola is fitted to the strip's centroid across the line at each pixel's
+/// step along it (`bins`, reused from frame to frame), twice more without the steps
+/// over [`BOW_OUTLIER_MADS`] robust deviations from it: where a static line crosses
+/// the wire (a protractor's ticks, a cable) or the ball's rim meets it, the centroid
+/// leaps for a few steps, and a whole-strip fit would bow with it. A strip of width
+/// `2 half` holds the wire's profile `p` and cuts its flanks: its centroid follows a
+/// shift by `1 - sum over the ramp of |v| p(v) / (2 STRIP_EDGE)` over the strip's
+/// weight (the derivative of the windowed centroid), about half for a 2 px wire in a
+/// 1.75 px half strip. `None` with fewer than [`BOW_MIN_STEPS`] steps.
+pub(super) fn strip_parabola(
+    line: &Line,
+    strip: &[(Pt, f64)],
+    half: f64,
+    bins: &mut Vec<[f64; 3]>,
+) -> Option<(f64, f64, [f64; 2])> {
+    let (mut lo, mut hi) = (f64::MAX, f64::MIN);
+    let (mut total, mut ramp) = (0.0, 0.0);
+    for (q, w) in strip {
+        let u = (q - line.point).dot(&line.dir);
+        lo = lo.min(u);
+        hi = hi.max(u);
+        total += w;
+        let v = (q.x - line.point.x) * line.dir.y - (q.y - line.point.y) * line.dir.x;
+        let share = edge_share(half, v.abs());
+        if share > 0.0 && share < 1.0 {
+            ramp += v.abs() * (w / share) / (2.0 * STRIP_EDGE);
+        }
+    }
+    if hi - lo < 2.0 || total <= 0.0 {
+        return None;
+    }
+    // Each step's weight, weighted offset and place along the line.
+    let steps = (hi - lo).round() as usize + 1;
+    bins.clear();
+    bins.resize(steps, [0.0; 3]);
+    for (q, w) in strip {
+        let d = q - line.point;
+        let u = d.dot(&line.dir);
+        let v = d.x * line.dir.y - d.y * line.dir.x;
+        let b = &mut bins[((u - lo).round() as usize).min(steps - 1)];
+        b[0] += w;
+        b[1] += w * v;
+        b[2] += w * u;
+    }
+    bins.retain(|b| b[0] > 0.0);
+    for b in bins.iter_mut() {
+        b[1] /= b[0];
+        b[2] /= b[0];
+    }
+    let fit = |bins: &[[f64; 3]], keep: &dyn Fn(&[f64; 3]) -> bool| {
+        let (mut a, mut r) = ([[0.0f64; 3]; 3], [0.0f64; 3]);
+        let mut n = 0;
+        for b in bins.iter().filter(|b| keep(b)) {
+            let f = [1.0, b[2], b[2] * b[2]];
+            for i in 0..3 {
+                r[i] += b[0] * f[i] * b[1];
+                for j in 0..3 {
+                    a[i][j] += b[0] * f[i] * f[j];
+                }
+            }
+            n += 1;
+        }
+        (n >= BOW_MIN_STEPS)
+            .then(|| {
+                nalgebra::Matrix3::from_fn(|i, j| a[i][j])
+                    .try_inverse()
+                    .map(|m| m * nalgebra::Vector3::from(r))
+            })
+            .flatten()
+    };
+    let off =
+        |x: &nalgebra::Vector3<f64>, b: &[f64; 3]| b[1] - (x[0] + x[1] * b[2] + x[2] * b[2] * b[2]);
+    let mut x = fit(bins, &|_| true)?;
+    for _ in 0..2 {
+        let mut dev: Vec<f64> = bins.iter().map(|b| off(&x, b).abs()).collect();
+        let mid = dev.len() / 2;
+        let mad = dev
+            .select_nth_unstable_by(mid, f64::total_cmp)
+            .1
+            .max(BOW_MAD_FLOOR_PX);
+        let cut = BOW_OUTLIER_MADS * mad;
+        let prev = x;
+        x = fit(bins, &|b| off(&prev, b).abs() <= cut)?;
+    }
+    let h = 0.5 * (hi - lo);
+    Some((-x[2] * h * h, 1.0 - ramp / total, [lo, hi]))
+}

@@ -571,3 +571,54 @@ fn a_sharp_wire_measures_narrower_than_its_blurred_shadow_at_the_full_scale() {
         None
     );
 }
+
+#[test]
+fn a_strip_s_parabola_gives_its_middle_s_offset_and_how_much_of_a_shift_it_follows() {
+    // A strip along x (the line through the origin pointing +x), its pixels on
+    // v = 0.001 u^2 - 0.4 (v to the line's left: -y), u from -100 to 100: the middle
+    // lies 0.001 * 100^2 = 10 px from the chord, to the chord's right (negative).
+    let line = Line {
+        point: Pt::zeros(),
+        dir: Pt::new(1.0, 0.0),
+    };
+    let strip: Vec<(Pt, f64)> = (-100..=100)
+        .map(|u| {
+            let u = f64::from(u);
+            (Pt::new(u, -(0.001 * u * u - 0.4)), 1.0)
+        })
+        .collect();
+    let (mid, response, ends) = strip_parabola(&line, &strip, 50.0, &mut Vec::new()).unwrap();
+    assert!((mid + 10.0).abs() < 1e-9, "{mid}");
+    assert_eq!(ends, [-100.0, 100.0]);
+    // Every pixel well inside the strip: a shift moves the centroid as far.
+    assert!((response - 1.0).abs() < 1e-12, "{response}");
+    // A flat profile reaching past the strip (1.75 px either side, its ramp from 1.25
+    // to 2.25 px), sampled every half pixel: a shift leaves what the strip holds as it
+    // is, and the centroid does not follow. By hand, per place along the line: the
+    // shares 1 (0, 0.5 and 1 px), 0.75 (1.5 px) and 0.25 (2 px) weigh 1 + 2 * 3 = 7;
+    // the ramp's places, |v| 1.5 and 2 at raw weight 1 over its width 1 px, each side,
+    // 2 * 3.5 = 7: the response is 1 - 7 / 7 = 0.
+    let flat: Vec<(Pt, f64)> = (-50..=50)
+        .flat_map(|u| {
+            (-4..=4).filter_map(move |k| {
+                let v = 0.5 * f64::from(k);
+                let share = edge_share(1.75, v.abs());
+                (share > 0.0).then(|| (Pt::new(f64::from(u), v), share))
+            })
+        })
+        .collect();
+    let (_, response, _) = strip_parabola(&line, &flat, 1.75, &mut Vec::new()).unwrap();
+    assert!(response.abs() < 1e-12, "{response}");
+    assert!(strip_parabola(&line, &strip[..2], 50.0, &mut Vec::new()).is_none());
+    // A static line crossing the wire pulls five steps 3 px aside: they are left out,
+    // and the bow is the wire's (all in: 9.87 px).
+    let crossed: Vec<(Pt, f64)> = strip
+        .iter()
+        .map(|&(q, w)| {
+            let pulled = (40.0..45.0).contains(&q.x);
+            (Pt::new(q.x, if pulled { q.y - 3.0 } else { q.y }), w)
+        })
+        .collect();
+    let (mid, _, _) = strip_parabola(&line, &crossed, 50.0, &mut Vec::new()).unwrap();
+    assert!((mid + 10.0).abs() < 1e-9, "{mid}");
+}

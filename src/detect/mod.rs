@@ -90,7 +90,7 @@ pub type Pt = Vector2<f64>;
 /// Full-frame coordinates of a point of a grid shrunk `s` times from the full frame's
 /// pixels starting at `origin`: its pixel `i` averages full pixels `origin + s i` to
 /// `origin + s i + s - 1`, so its centre lies at `origin + s i + (s - 1) / 2`.
-pub(crate) fn shrunk_to_full(p: Pt, origin: Pt, s: f64) -> Pt {
+fn shrunk_to_full(p: Pt, origin: Pt, s: f64) -> Pt {
     origin + p * s + Pt::repeat(0.5 * (s - 1.0))
 }
 

@@ -252,14 +252,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         lens.as_ref()
             .and_then(|l| judge::lens_check(l, [pivot.x, pivot.y], band, seen)),
         judge::bent_check(&rows, lens.as_ref(), [info.width, info.height], |wire| {
-            through_lens_wide(
-                &tracker,
-                &rows,
-                lens.as_ref(),
-                [pivot.x, pivot.y],
-                band,
-                wire,
-            )
+            through_lens_wide(&tracker, &rows, lens.as_ref(), band, wire)
         }),
         opts.pendulum
             .as_ref()
@@ -291,34 +284,34 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     })
 }
 
-/// How much wider the swing of `rows` (measured about `pivot` through `given`, or as
-/// seen) is than the detector would measure it through the lens `wire`, the pivot
-/// refined again through it (the `bent` check): the slope of the one's found angles
-/// on the other's, less one. `None` without two found angles apart.
+/// How much wider the swing of `rows` measured through `given` (or as seen) is than
+/// the detector would measure it through the lens `wire` (the `bent` check): the pivot
+/// refined through each from the same rows (those `ok` and unflagged now), each frame's
+/// angle refitted about it and taken back through its lens, and the slope of the one's
+/// angles on the other's, less one. `None` without two angles apart.
 fn through_lens_wide(
     tracker: &Tracker,
     rows: &[AngleRow],
     given: Option<&crate::lens::Lens>,
-    pivot: [f64; 2],
     band: [f64; 2],
     wire: &crate::lens::Lens,
 ) -> Option<f64> {
-    let found = |rows: &[AngleRow]| -> Vec<Option<f64>> {
-        rows.iter()
+    let measured = |lens: Option<&crate::lens::Lens>| -> Vec<Option<f64>> {
+        let mut again = rows.to_vec();
+        let p = tracker.refine_pivot(&mut again, lens).pivot;
+        let found: Vec<Option<f64>> = again
+            .iter()
             .map(|r| {
                 r.angle_rad
                     .filter(|_| r.status == Status::Ok && r.flag.is_none())
             })
-            .collect()
+            .collect();
+        match lens {
+            Some(l) => l.plate_angles([p.x, p.y], band, &found),
+            None => found,
+        }
     };
-    let now = found(rows);
-    let now = match given {
-        Some(l) => l.plate_angles(pivot, band, &now),
-        None => now,
-    };
-    let mut again = rows.to_vec();
-    let p = tracker.refine_pivot(&mut again, Some(wire)).pivot;
-    let through = wire.plate_angles([p.x, p.y], band, &found(&again));
+    let (now, through) = (measured(given), measured(Some(wire)));
     let pairs: Vec<(f64, f64)> = through
         .iter()
         .zip(&now)

@@ -58,7 +58,7 @@ impl Lens {
     }
 
     /// The same lens with another coefficient.
-    pub(crate) fn with_k1(&self, k1: f64) -> Self {
+    fn with_k1(&self, k1: f64) -> Self {
         let h = 2.0 * self.centre[1] + 1.0;
         Self::new(k1, self.u_k1, self.w as u32, h as u32)
     }

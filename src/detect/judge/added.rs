@@ -196,15 +196,20 @@ pub fn lens_check(
 /// parabola, [`crate::detect::row::KeptMoments::bow`]) give the lens's coefficient
 /// ([`crate::lens::bow::k1_from_bows`]) on a frame of `frame` px. When it differs from
 /// the lens given with the video (`given`; none: 0) by more than [`BENT_SIGMAS`] times
-/// their uncertainties (the wire's jackknife, the lens given's, [`BENT_REL_U`] of the
-/// wire's coefficient and [`BENT_MIN_U`] for the measurement's own bias), `wide` says how much wider
-/// the measured swing is than the detector would measure it through the wire's lens
-/// (a share; the pivot refined again through it): the check fails over
-/// [`LENS_SCALE_MAX`]. Seed 1's sweep scenes 10 (640x480, k1 -0.17) and 21 (1280x720,
-/// k1 -0.24, the pivot at the frame's edge) were filmed through a lens none was given
-/// for: their swings 1.3 and 10.0 % wide, `s_r` as much, and called `ok`; the `pivot`
-/// check cannot see it (the wire's lines and its angle bend alike). `None` with too
-/// few found frames (see `k1_from_bows`), or when `wide` cannot say.
+/// its uncertainty (the wire's jackknife, the lens given's, [`BENT_REL_U`] of the
+/// wire's coefficient and [`BENT_MIN_U`], added in quadrature: the measurement's own
+/// bias), `wide` says how much wider the swing measured is than the detector would
+/// measure it through the wire's lens (a share), and the check fails over
+/// [`LENS_SCALE_MAX`]. With no lens given the gate passes a wire's `k1` under about
+/// 0.15 whatever its effect (`BENT_MIN_U` and `BENT_REL_U` alone make 3.5 uncertainties
+/// of it). The wire's own bend takes part of the measured bows: a constant one (a
+/// shadow's pull) is fitted as an offset, but a string that bends as it swings (the real
+/// clips' light bobs) bends with the swing's distance from rest, as a lens does about
+/// the frame's centre, and reads as a lens (to +0.16). Seed 1's sweep scenes 10 (640x480, k1 -0.17) and 21 (1280x720, k1 -0.24,
+/// the pivot at the frame's edge) were filmed through a lens none was given for: their
+/// swings 1.3 and 10.0 % wide, `s_r` as much, and called `ok`; the `pivot` check cannot
+/// see it (the wire's lines and its angle bend alike). `None` with too few found frames
+/// (see `k1_from_bows`), or when `wide` cannot say.
 pub fn bent_check(
     rows: &[AngleRow],
     given: Option<&crate::lens::Lens>,
@@ -257,11 +262,16 @@ pub fn bent_check(
             100.0 * LENS_SCALE_MAX,
         ),
         &format!(
-            "the video was filmed through a lens that bends the picture, and the angles \
-             are not taken back through it: give `video.lens` (`rollfric lens` fits it \
-             from a picture of straight lines; the wire's bow gives `lens: {{k1: {:.3}, \
-             u_k1: {:.3}}}`)",
-            wire.k1, u
+            "the video was filmed through a lens that bends the picture {}: give \
+             `video.lens` (`rollfric lens` fits it from a picture of straight lines; the \
+             wire's bow gives `lens: {{k1: {:.3}, u_k1: {:.3}}}`)",
+            if given.is_some() {
+                "otherwise than the lens given"
+            } else {
+                "and none was given"
+            },
+            wire.k1,
+            u
         ),
     ))
 }

@@ -20,7 +20,7 @@ use crate::detect::tuning::{
     RIVAL_WIDER_GATED, SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS,
     UNDECIDED_MAX_FRAMES, WIDTH_STRIP,
 };
-use crate::detect::Pt;
+use crate::detect::{shrunk_to_full, Pt};
 use anyhow::Result;
 use band::*;
 use opencv::prelude::*;
@@ -48,8 +48,10 @@ pub(super) struct Scratch {
     far: Vec<(Pt, f64)>,
     /// The band's part of each of the strip's pixels ([`drop_stray_parts`]).
     parts: Vec<u8>,
-    /// The strip's steps along its line ([`strip_parabola`]).
+    /// The strip's steps along its line, and their deviations from its parabola
+    /// ([`strip_parabola`]).
     bins: Vec<[f64; 3]>,
+    devs: Vec<f64>,
 }
 
 impl Tracker {
@@ -285,21 +287,23 @@ impl Tracker {
             None
         };
         let whole_first = (b.strip.len() >= MIN_LINE_PIXELS).then(|| moments(&b.strip));
-        let recentre =
-            |first: Option<[f64; 6]>, from: f64, b: &mut Scratch| -> Result<([f64; 6], bool)> {
-                Ok(first
-                    .map(|m| self.recentred_moments(&ends, m, from, b))
-                    .transpose()?
-                    .flatten()
-                    .map_or((fallback, false), |m| (m, true)))
-            };
+        // Each strip's moments, and the line its last pass walked about (none when it
+        // was not re-centred: the fallback's).
+        let recentre = |first: Option<[f64; 6]>,
+                        from: f64,
+                        b: &mut Scratch|
+         -> Result<([f64; 6], Option<Line>)> {
+            Ok(first
+                .map(|m| self.recentred_moments(&ends, m, free, from, b))
+                .transpose()?
+                .flatten()
+                .map_or((fallback, None), |(m, walked)| (m, Some(walked))))
+        };
         let whole = recentre(whole_first, self.r_lo, b)?;
-        // The whole strip's last pass, about its own free line: how it bows.
+        // The whole strip's last pass: how it bows about the line it was walked about.
         let bow = whole
             .1
-            .then(|| whole.0.free_line())
-            .flatten()
-            .and_then(|free| self.strip_bow(&free, &b.strip, &mut b.bins));
+            .and_then(|walked| self.strip_bow(&walked, &b.strip, &mut b.bins, &mut b.devs));
         let far = if split {
             recentre(far_first, from, b)?
         } else {
@@ -307,7 +311,7 @@ impl Tracker {
         };
         Ok(KeptMoments {
             moments: [whole.0, far.0],
-            free: [whole.1, far.1],
+            free: [whole.1.is_some(), far.1.is_some()],
             bow,
         })
     }
@@ -321,9 +325,10 @@ impl Tracker {
         &self,
         ends: &[Pt; 2],
         mut m: [f64; 6],
+        mut walked: Line,
         from: f64,
         b: &mut Scratch,
-    ) -> Result<Option<[f64; 6]>> {
+    ) -> Result<Option<([f64; 6], Line)>> {
         for _ in 1..FREE_STRIP_PASSES {
             let Some(free) = free_line_within(&m, ends) else {
                 return Ok(None);
@@ -333,23 +338,36 @@ impl Tracker {
                 return Ok(None);
             }
             m = moments(&b.strip);
+            walked = free;
         }
-        Ok(Some(m))
+        Ok(Some((m, walked)))
     }
 
-    /// How the strip's pixels `strip`, about their free line `free`, bow: the
-    /// [`crate::lens::bow::Bowed`] of the parabola across the line fitted to them,
-    /// in full-frame px.
+    /// How the strip's pixels `strip`, walked about the line `walked`, bow: the
+    /// [`crate::lens::bow::Bowed`] of the parabola across that line fitted to them, in
+    /// full-frame px, the line pointing away from the pivot (a free line has no
+    /// direction of its own: a hanging wire's would point down on one side of the
+    /// vertical and up on the other, and a bend of the wire's own would flip its sign
+    /// from one half swing to the next).
     fn strip_bow(
         &self,
-        free: &Line,
+        walked: &Line,
         strip: &[(Pt, f64)],
         bins: &mut Vec<[f64; 3]>,
+        devs: &mut Vec<f64>,
     ) -> Option<crate::lens::bow::Bowed> {
-        let (mid, response, ends) = strip_parabola(free, strip, FREE_STRIP_HALF, bins)?;
+        let outwards = if (walked.point - self.piv).dot(&walked.dir) >= 0.0 {
+            *walked
+        } else {
+            Line {
+                point: walked.point,
+                dir: -walked.dir,
+            }
+        };
+        let (mid, response, ends) = strip_parabola(&outwards, strip, FREE_STRIP_HALF, bins, devs)?;
         let origin = Pt::new(self.roi_x, self.roi_y);
         let full = |u: f64| {
-            let q = crate::detect::shrunk_to_full(free.point + free.dir * u, origin, self.scale);
+            let q = shrunk_to_full(outwards.point + outwards.dir * u, origin, self.scale);
             [q.x, q.y]
         };
         Some(crate::lens::bow::Bowed {

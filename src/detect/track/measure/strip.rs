@@ -166,20 +166,22 @@ pub(super) fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
 /// side `(dir.y, -dir.x)` points to), the share of a shift across the line the strip's
 /// centroid follows, and the ends' places along the line (from `line.point`).
 ///
-/// The parabola is fitted to the strip's centroid across the line at each pixel's
-/// step along it (`bins`, reused from frame to frame), twice more without the steps
+/// `strip` is walked about `line` (the shares of its edges' pixels are `line`'s). The
+/// parabola is fitted to the strip's centroid across the line at each pixel's step
+/// along it (`bins` and `devs`, reused from frame to frame), twice more without the steps
 /// over [`BOW_OUTLIER_MADS`] robust deviations from it: where a static line crosses
 /// the wire (a protractor's ticks, a cable) or the ball's rim meets it, the centroid
 /// leaps for a few steps, and a whole-strip fit would bow with it. A strip of width
 /// `2 half` holds the wire's profile `p` and cuts its flanks: its centroid follows a
 /// shift by `1 - sum over the ramp of |v| p(v) / (2 STRIP_EDGE)` over the strip's
-/// weight (the derivative of the windowed centroid), about half for a 2 px wire in a
-/// 1.75 px half strip. `None` with fewer than [`BOW_MIN_STEPS`] steps.
+/// weight (the derivative of the windowed centroid): 0.67 for a wire whose profile is
+/// a Gaussian of 1 px, 0.89 of 0.7 px, in a 1.75 px half strip. `None` with fewer than [`BOW_MIN_STEPS`] steps.
 pub(super) fn strip_parabola(
     line: &Line,
     strip: &[(Pt, f64)],
     half: f64,
     bins: &mut Vec<[f64; 3]>,
+    devs: &mut Vec<f64>,
 ) -> Option<(f64, f64, [f64; 2])> {
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
     let (mut total, mut ramp) = (0.0, 0.0);
@@ -240,9 +242,10 @@ pub(super) fn strip_parabola(
         |x: &nalgebra::Vector3<f64>, b: &[f64; 3]| b[1] - (x[0] + x[1] * b[2] + x[2] * b[2] * b[2]);
     let mut x = fit(bins, &|_| true)?;
     for _ in 0..2 {
-        let mut dev: Vec<f64> = bins.iter().map(|b| off(&x, b).abs()).collect();
-        let mid = dev.len() / 2;
-        let mad = dev
+        devs.clear();
+        devs.extend(bins.iter().map(|b| off(&x, b).abs()));
+        let mid = devs.len() / 2;
+        let mad = devs
             .select_nth_unstable_by(mid, f64::total_cmp)
             .1
             .max(BOW_MAD_FLOOR_PX);

@@ -587,7 +587,8 @@ fn a_strip_s_parabola_gives_its_middle_s_offset_and_how_much_of_a_shift_it_follo
             (Pt::new(u, -(0.001 * u * u - 0.4)), 1.0)
         })
         .collect();
-    let (mid, response, ends) = strip_parabola(&line, &strip, 50.0, &mut Vec::new()).unwrap();
+    let (mid, response, ends) =
+        strip_parabola(&line, &strip, 50.0, &mut Vec::new(), &mut Vec::new()).unwrap();
     assert!((mid + 10.0).abs() < 1e-9, "{mid}");
     assert_eq!(ends, [-100.0, 100.0]);
     // Every pixel well inside the strip: a shift moves the centroid as far.
@@ -607,9 +608,10 @@ fn a_strip_s_parabola_gives_its_middle_s_offset_and_how_much_of_a_shift_it_follo
             })
         })
         .collect();
-    let (_, response, _) = strip_parabola(&line, &flat, 1.75, &mut Vec::new()).unwrap();
+    let (_, response, _) =
+        strip_parabola(&line, &flat, 1.75, &mut Vec::new(), &mut Vec::new()).unwrap();
     assert!(response.abs() < 1e-12, "{response}");
-    assert!(strip_parabola(&line, &strip[..2], 50.0, &mut Vec::new()).is_none());
+    assert!(strip_parabola(&line, &strip[..2], 50.0, &mut Vec::new(), &mut Vec::new()).is_none());
     // A static line crossing the wire pulls five steps 3 px aside: they are left out,
     // and the bow is the wire's (all in: 9.87 px).
     let crossed: Vec<(Pt, f64)> = strip
@@ -619,6 +621,7 @@ fn a_strip_s_parabola_gives_its_middle_s_offset_and_how_much_of_a_shift_it_follo
             (Pt::new(q.x, if pulled { q.y - 3.0 } else { q.y }), w)
         })
         .collect();
-    let (mid, _, _) = strip_parabola(&line, &crossed, 50.0, &mut Vec::new()).unwrap();
+    let (mid, _, _) =
+        strip_parabola(&line, &crossed, 50.0, &mut Vec::new(), &mut Vec::new()).unwrap();
     assert!((mid + 10.0).abs() < 1e-9, "{mid}");
 }

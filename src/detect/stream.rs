@@ -301,10 +301,7 @@ fn through_lens_wide(
         let p = tracker.refine_pivot(&mut again, lens).pivot;
         let found: Vec<Option<f64>> = again
             .iter()
-            .map(|r| {
-                r.angle_rad
-                    .filter(|_| r.status == Status::Ok && r.flag.is_none())
-            })
+            .map(|r| r.unflagged_angle().filter(|_| r.status == Status::Ok))
             .collect();
         match lens {
             Some(l) => l.plate_angles([p.x, p.y], band, &found),
@@ -312,17 +309,11 @@ fn through_lens_wide(
         }
     };
     let (now, through) = (measured(given), measured(Some(wire)));
-    let pairs: Vec<(f64, f64)> = through
+    let (x, y): (Vec<f64>, Vec<f64>) = through
         .iter()
         .zip(&now)
         .filter_map(|(x, y)| Some(((*x)?, (*y)?)))
-        .collect();
-    let n = pairs.len() as f64;
-    let (mx, my) = pairs
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-    let (sxx, sxy) = pairs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-        (a + (x - mx) * (x - mx), b + (x - mx) * (y - my))
-    });
-    (sxx > 0.0).then(|| sxy / sxx - 1.0)
+        .unzip();
+    let apart = x.iter().any(|v| *v != x[0]);
+    apart.then(|| crate::numerics::linear_fit(&x, &y).slope - 1.0)
 }

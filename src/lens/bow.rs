@@ -90,10 +90,6 @@ pub fn k1_from_bows(seen: &[Bowed], w: u32, h: u32) -> Option<WireK1> {
         return None;
     }
     const DK: f64 = 1e-4;
-    // The residuals less the offset `a`.
-    let shifted = |p: &[(f64, f64)], a: f64| -> Vec<(f64, f64)> {
-        p.iter().map(|(r, d)| (r - a, *d)).collect()
-    };
     // Each frame's residual and its derivative in k1, at `k1` (a frame the lens cannot
     // take back, none).
     let at = |k1: f64| -> Vec<(f64, f64)> {
@@ -110,9 +106,11 @@ pub fn k1_from_bows(seen: &[Bowed], w: u32, h: u32) -> Option<WireK1> {
             })
             .collect()
     };
-    // The normal equations of the offset `a` and the step in k1.
-    let sums = |p: &[(f64, f64)]| {
+    // The normal equations of the offset and the step in k1, the residuals taken less
+    // the offset `a`.
+    let sums = |p: &[(f64, f64)], a: f64| {
         p.iter().fold([0.0; 5], |s, (r, d)| {
+            let r = r - a;
             [s[0] + 1.0, s[1] + d, s[2] + d * d, s[3] + r, s[4] + r * d]
         })
     };
@@ -129,7 +127,7 @@ pub fn k1_from_bows(seen: &[Bowed], w: u32, h: u32) -> Option<WireK1> {
     let mut last = at(k1);
     let mut moved = f64::INFINITY;
     for _ in 0..STEPS {
-        let (da, dk) = step(sums(&shifted(&last, a)))?;
+        let (da, dk) = step(sums(&last, a))?;
         a += da;
         k1 += dk;
         moved = dk.abs();
@@ -141,11 +139,11 @@ pub fn k1_from_bows(seen: &[Bowed], w: u32, h: u32) -> Option<WireK1> {
     if moved > SETTLED {
         return None;
     }
-    let all = sums(&shifted(&last, a));
+    let all = sums(&last, a);
     let blocks = JACKKNIFE_BLOCKS;
     let leave_out: Vec<f64> = (0..blocks)
         .map(|i| {
-            let s = sums(&shifted(&last[i * n / blocks..(i + 1) * n / blocks], a));
+            let s = sums(&last[i * n / blocks..(i + 1) * n / blocks], a);
             let rest: [f64; 5] = std::array::from_fn(|j| all[j] - s[j]);
             step(rest).map(|(_, dk)| k1 + dk)
         })

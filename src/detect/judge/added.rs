@@ -205,11 +205,12 @@ pub fn lens_check(
 /// of it). The wire's own bend takes part of the measured bows: a constant one (a
 /// shadow's pull) is fitted as an offset, but a string that bends as it swings (the real
 /// clips' light bobs) bends with the swing's distance from rest, as a lens does about
-/// the frame's centre, and reads as a lens (to +0.16). Seed 1's sweep scenes 10 (640x480, k1 -0.17) and 21 (1280x720, k1 -0.24,
-/// the pivot at the frame's edge) were filmed through a lens none was given for: their
-/// swings 1.3 and 10.0 % wide, `s_r` as much, and called `ok`; the `pivot` check cannot
-/// see it (the wire's lines and its angle bend alike). `None` with too few found frames
-/// (see `k1_from_bows`), or when `wide` cannot say.
+/// the frame's centre, and reads as a lens (to +0.16). Seed 1's sweep scenes 10
+/// (640x480, k1 -0.17) and 21 (1280x720, k1 -0.24, the pivot at the frame's edge) were
+/// filmed through a lens none was given for: their swings 1.3 and 10.0 % wide, `s_r` as
+/// much, and called `ok`; the `pivot` check cannot see it (the wire's lines and its
+/// angle bend alike). `None` with too few found frames (see `k1_from_bows`), or when
+/// `wide` cannot say.
 pub fn bent_check(
     rows: &[AngleRow],
     given: Option<&crate::lens::Lens>,

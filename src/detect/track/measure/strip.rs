@@ -168,14 +168,15 @@ pub(super) fn over_threshold(e: &[u8], t: &[u8], mut found: impl FnMut(usize)) {
 ///
 /// `strip` is walked about `line` (the shares of its edges' pixels are `line`'s). The
 /// parabola is fitted to the strip's centroid across the line at each pixel's step
-/// along it (`bins` and `devs`, reused from frame to frame), twice more without the steps
-/// over [`BOW_OUTLIER_MADS`] robust deviations from it: where a static line crosses
+/// along it (`bins` and `devs`, reused from frame to frame), twice more without the
+/// steps over [`BOW_OUTLIER_MADS`] robust deviations from it: where a static line crosses
 /// the wire (a protractor's ticks, a cable) or the ball's rim meets it, the centroid
 /// leaps for a few steps, and a whole-strip fit would bow with it. A strip of width
 /// `2 half` holds the wire's profile `p` and cuts its flanks: its centroid follows a
 /// shift by `1 - sum over the ramp of |v| p(v) / (2 STRIP_EDGE)` over the strip's
 /// weight (the derivative of the windowed centroid): 0.67 for a wire whose profile is
-/// a Gaussian of 1 px, 0.89 of 0.7 px, in a 1.75 px half strip. `None` with fewer than [`BOW_MIN_STEPS`] steps.
+/// a Gaussian of 1 px, 0.89 of 0.7 px, in a 1.75 px half strip. `None` with fewer than
+/// [`BOW_MIN_STEPS`] steps.
 pub(super) fn strip_parabola(
     line: &Line,
     strip: &[(Pt, f64)],
@@ -183,14 +184,18 @@ pub(super) fn strip_parabola(
     bins: &mut Vec<[f64; 3]>,
     devs: &mut Vec<f64>,
 ) -> Option<(f64, f64, [f64; 2])> {
+    // A pixel's place along the line and across it (to its left).
+    let place = |q: &Pt| {
+        let d = q - line.point;
+        (d.dot(&line.dir), d.x * line.dir.y - d.y * line.dir.x)
+    };
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
     let (mut total, mut ramp) = (0.0, 0.0);
     for (q, w) in strip {
-        let u = (q - line.point).dot(&line.dir);
+        let (u, v) = place(q);
         lo = lo.min(u);
         hi = hi.max(u);
         total += w;
-        let v = (q.x - line.point.x) * line.dir.y - (q.y - line.point.y) * line.dir.x;
         let share = edge_share(half, v.abs());
         if share > 0.0 && share < 1.0 {
             ramp += v.abs() * (w / share) / (2.0 * STRIP_EDGE);
@@ -204,9 +209,7 @@ pub(super) fn strip_parabola(
     bins.clear();
     bins.resize(steps, [0.0; 3]);
     for (q, w) in strip {
-        let d = q - line.point;
-        let u = d.dot(&line.dir);
-        let v = d.x * line.dir.y - d.y * line.dir.x;
+        let (u, v) = place(q);
         let b = &mut bins[((u - lo).round() as usize).min(steps - 1)];
         b[0] += w;
         b[1] += w * v;

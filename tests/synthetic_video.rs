@@ -613,6 +613,24 @@ fn a_short_video_decoded_once_gives_the_angles_of_two_decodings() {
     // And the command line says how often it decoded.
     let (_, said) = rollfric_ok(&["detect", "held.avi", "-o", "angles.csv"], d);
     assert!(said.contains("decoded once"), "{said}");
+    // The processor time is split where the streaming pass starts (the first look and
+    // its geometry before, a cost fixed per video), and the command line gives the part
+    // before it within the whole.
+    let cpu = once.cpu_s.expect("the processor time is read from /proc");
+    assert!(cpu.before_pass >= 0.0 && cpu.pass >= 0.0, "{cpu:?}");
+    let figure = |from: &str, to: &str, last: bool| -> f64 {
+        let part = said.split(from).nth(1 - usize::from(last)).unwrap_or("");
+        let part = if last {
+            part.rsplit(", ").next()
+        } else {
+            part.split(to).next()
+        };
+        part.and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no figure in: {said}"))
+    };
+    let total = figure("CPU besides the decoder ", " s, ", false);
+    let before = figure(" s of it before the pass", "", true);
+    assert!((0.0..=total).contains(&before), "{said}");
 }
 
 /// A look shrunk to half size can take a wire and its blurred shadow for one line: a

@@ -255,7 +255,10 @@ pub fn detect(a: DetectArgs) -> Result<String> {
             k => format!("{k} times"),
         },
         peak_memory().map_or("?".to_string(), |m| format!("{m:.0} MiB")),
-        own_cpu_seconds().map_or("?".to_string(), |c| format!("{c:.2} s")),
+        own_cpu_seconds().map_or("?".to_string(), |c| match d.cpu_s {
+            Some(split) => format!("{c:.2} s, {:.2} s of it before the pass", split.before_pass),
+            None => format!("{c:.2} s"),
+        }),
         d.count(Status::Ok),
         d.count(Status::Corrected),
         d.count(Status::Manual),

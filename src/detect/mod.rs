@@ -68,7 +68,7 @@ pub use input::{MemoryVideo, VideoFile, VideoInput};
 pub use line::{fit_line_through, fit_line_weighted, moments, unwrap_near, Line};
 pub use options::{DetectOptions, FrameProgress, PendulumGiven};
 pub use review::{Review, ReviewFrame};
-pub use row::{AngleRow, Detection, Flag, Status};
+pub use row::{AngleRow, CpuSplit, Detection, Flag, Status};
 
 use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
@@ -178,6 +178,26 @@ const TWO_PENDULUMS: &str = "two pendulums swing in the frame";
 /// Detect the wire angle in every frame of `input` (the input decides how it
 /// decodes).
 pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detection> {
+    let cpu_from = crate::usage::own_cpu_seconds();
+    let pass_from = std::cell::Cell::new(None);
+    let mut d = detect_looked(input, opts, &pass_from)?;
+    d.cpu_s = match (cpu_from, pass_from.get(), crate::usage::own_cpu_seconds()) {
+        (Some(a), Some(b), Some(c)) => Some(CpuSplit {
+            before_pass: b - a,
+            pass: c - b,
+        }),
+        _ => None,
+    };
+    Ok(d)
+}
+
+/// [`detect_from`], the processor time when the first streaming pass starts kept in
+/// `pass_from`.
+fn detect_looked(
+    input: &dyn VideoInput,
+    opts: &DetectOptions,
+    pass_from: &std::cell::Cell<Option<f64>>,
+) -> Result<Detection> {
     let started = std::time::Instant::now();
     let info = input.info();
     let name = input.name();
@@ -211,6 +231,7 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
         first,
         last,
         started,
+        pass_from,
         moving: false,
         follow_region: false,
         held_under_motion: false,

@@ -148,6 +148,14 @@ impl AngleRow {
     }
 }
 
+/// A detection's processor time, s, before its first streaming pass and from then on
+/// ([`Detection::cpu_s`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CpuSplit {
+    pub before_pass: f64,
+    pub pass: f64,
+}
+
 /// The result of a detection.
 #[derive(Clone, Debug, Serialize)]
 pub struct Detection {
@@ -164,6 +172,14 @@ pub struct Detection {
     /// first look otherwise.
     #[serde(skip)]
     pub decodings: usize,
+    /// The detector's processor time (this process's; the decoder is another), s: from
+    /// the detection's start to its first streaming pass (the first look, its geometry,
+    /// and any look made again before it: a cost fixed per video), and from then to the
+    /// detection's end (the pass and any pass made again: the cost per frame). None
+    /// where the clock cannot be read, or before the detection ends. Not in the JSON:
+    /// it differs from run to run.
+    #[serde(skip)]
+    pub cpu_s: Option<CpuSplit>,
     pub diagnostics: Vec<PathBuf>,
     /// `detect --steps`: the pictures of the frame's steps (file name, PNG bytes), of
     /// the pass that was kept; empty when the frame was not measured.

@@ -12,8 +12,12 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         last,
         started,
         follow_region,
+        pass_from,
         ..
     } = looks;
+    if pass_from.get().is_none() {
+        pass_from.set(crate::usage::own_cpu_seconds());
+    }
     let info = input.info();
     let name = input.name();
     let stream = look.stream.take();
@@ -270,6 +274,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         band_px: band,
         decoder: input.decoder(),
         decodings,
+        cpu_s: None,
         diagnostics: tracker.diagnostics,
         steps: tracker.steps_drawn,
         figure11,

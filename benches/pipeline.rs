@@ -366,9 +366,9 @@ fn detect_figures_split(stderr: &str) -> (f64, f64, f64) {
     let before = stderr
         .rsplit("CPU besides the decoder ")
         .next()
-        .and_then(|s| s.split(" s of it before the pass").next())
-        .and_then(|s| s.rsplit(", ").next())
-        .and_then(|s| s.parse().ok())
+        .and_then(|s| s.split_once(" s, "))
+        .and_then(|(_, s)| s.split_once(" s of it before the pass"))
+        .and_then(|(s, _)| s.parse().ok())
         .unwrap_or(f64::NAN);
     let (peak, cpu) = detect_figures_total(stderr);
     (peak, cpu, before)
@@ -400,8 +400,10 @@ fn frames_of(stderr: &str) -> f64 {
 /// Video figures: per twin, rounds of decode only (`ffmpeg -f null`, the floor) and the
 /// detector back to back, alternating which goes first; the walls (median), the ratio
 /// decode-only / detector of each round (median and range: 1 means the detector keeps
-/// the decoder's pace), the detector's own CPU per frame besides the decoder, and its
-/// peak memory. Then the peak memory on a 10 s and a 60 s 1920x1080 video.
+/// the decoder's pace), the detector's own CPU per frame besides the decoder, the same
+/// less its part before the first streaming pass (the summary line's whole less its
+/// `of it before the pass`: the process's own start and the files written count in the
+/// pass's), and its peak memory. Then the peak memory on a 10 s and a 60 s 1920x1080 video.
 fn video_bench(root: &Path) {
     use std::process::Command;
     let dir = root.join("target/bench");

@@ -106,8 +106,8 @@ pub(super) struct FirstLook<'a> {
     pub(super) last: u64,
     pub(super) started: std::time::Instant,
     /// The process's processor time when the first streaming pass started, s (see
-    /// [`Detection::cpu_s`]); set by that pass.
-    pub(super) pass_from: &'a std::cell::Cell<Option<f64>>,
+    /// [`Detection::cpu_s`]); set by that pass, none when the clock could not be read.
+    pub(super) pass_from: &'a std::cell::OnceCell<Option<f64>>,
     /// The camera is known to move (a pass found it moving from the start): the look's
     /// frames are steadied whatever its own glances find.
     pub(super) moving: bool,

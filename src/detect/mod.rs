@@ -179,9 +179,13 @@ const TWO_PENDULUMS: &str = "two pendulums swing in the frame";
 /// decodes).
 pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detection> {
     let cpu_from = crate::usage::own_cpu_seconds();
-    let pass_from = std::cell::Cell::new(None);
+    let pass_from = std::cell::OnceCell::new();
     let mut d = detect_looked(input, opts, &pass_from)?;
-    d.cpu_s = match (cpu_from, pass_from.get(), crate::usage::own_cpu_seconds()) {
+    d.cpu_s = match (
+        cpu_from,
+        pass_from.get().copied().flatten(),
+        crate::usage::own_cpu_seconds(),
+    ) {
         (Some(a), Some(b), Some(c)) => Some(CpuSplit {
             before_pass: b - a,
             pass: c - b,
@@ -192,11 +196,11 @@ pub fn detect_from(input: &dyn VideoInput, opts: &DetectOptions) -> Result<Detec
 }
 
 /// [`detect_from`], the processor time when the first streaming pass starts kept in
-/// `pass_from`.
+/// `pass_from` (by that pass).
 fn detect_looked(
     input: &dyn VideoInput,
     opts: &DetectOptions,
-    pass_from: &std::cell::Cell<Option<f64>>,
+    pass_from: &std::cell::OnceCell<Option<f64>>,
 ) -> Result<Detection> {
     let started = std::time::Instant::now();
     let info = input.info();

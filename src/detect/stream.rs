@@ -15,9 +15,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         pass_from,
         ..
     } = looks;
-    if pass_from.get().is_none() {
-        pass_from.set(crate::usage::own_cpu_seconds());
-    }
+    pass_from.get_or_init(crate::usage::own_cpu_seconds);
     let info = input.info();
     let name = input.name();
     let stream = look.stream.take();

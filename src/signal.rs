@@ -157,15 +157,20 @@ pub const STOP_REST_BAND: f64 = 0.25;
 ///   and every later one lies at the ball's rest ([`STOP_REST_BAND`]). The envelope's
 ///   zero may then lie up to [`STOP_ZERO_AFTER_GAP`] half swings after the last turning
 ///   point (the very last may be lost in the noise).
-/// * **Out of rhythm**: only when the extremes as a whole are not one half swing apart
-///   (the fit would refuse them, [`half_swings`]) and no gap told the stop. The extremes
-///   after the last turning point are not one half swing apart either, and each lies
-///   nearer the equilibrium than the last turning point did (the ball cannot swing
-///   wider after it). A camera that sways slowly makes the angle of a ball at rest
-///   wander as far as the last turning points swung, every half to one and a half half
-///   swings: a copper sweep twin (a tripod's sway of 0.8 px at 0.46 Hz) stopped at
-///   22.7 s, 0.48 deg from its equilibrium, then wandered 0.24 deg either side of its
-///   rest for 18 s, and the fit was refused.
+/// * **Out of rhythm**: when no gap told the stop. The extremes after the last turning
+///   point are not one half swing apart ([`half_swings`], with the half swing of those
+///   before), and each lies nearer the equilibrium than the last turning point did (the
+///   ball cannot swing wider after it). A camera that sways slowly makes the angle of a
+///   ball at rest wander as far as the last turning points swung, every half to one and
+///   a half half swings: a copper sweep twin (a tripod's sway of 0.8 px at 0.46 Hz)
+///   stopped at 22.7 s, 0.48 deg from its equilibrium, then wandered 0.24 deg either
+///   side of its rest for 18 s, and the fit was refused. This rule was once tried only
+///   when the extremes as a whole were not one half swing apart (as the fit would
+///   refuse them): but a ball at rest wandering every two thirds of a half swing holds
+///   more of the gaps than the swing, and whether the whole then reads as in rhythm
+///   turns on a few hundredths of a second. The fit refines the turning points before
+///   it counts them (a glass twin swayed at 0.46 Hz: in rhythm as found, out of rhythm
+///   once refined, and refused), so the rule does not wait for that count.
 ///
 /// A turning point lost mid-motion leaves the envelope above zero; a convex decay (air,
 /// a string) fitted with a line may reach zero there, but its later turning points
@@ -177,12 +182,7 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     }
     let stop_by =
         |rule: Rest| (3..n - 1).find_map(|i| stop_after(extremes, i, rule).map(|t| (i, t)));
-    let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| {
-        in_rhythm(extremes)
-            .is_none()
-            .then(|| stop_by(Rest::OutOfRhythm))
-            .flatten()
-    })?;
+    let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| stop_by(Rest::OutOfRhythm))?;
     extremes.truncate(i + 1);
     Some(Stop {
         t_s: t_zero,

@@ -86,9 +86,16 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
             coarse.len()
         );
     }
-    let half_period = median_gap(t, &coarse, |k| {
-        (y[k] - center).abs() >= LOBE_GAP_SHARE * span
-    });
+    let mut half_period = median_gap(t, &coarse);
+    // A window that cannot hold a turning point's samples: the lobes that set the half
+    // swing are not the swing's (see `LOBE_GAP_SHARE`).
+    let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
+    let dt = median(&mut dt);
+    if 2.0 * 0.3 * half_period / dt + 1.0 < MIN_WINDOW_SAMPLES as f64 {
+        if let Some(half) = swing_gap(t, y, center, &coarse) {
+            half_period = half;
+        }
+    }
     let w = 0.3 * half_period;
 
     let mut out = Vec::new();
@@ -101,7 +108,7 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
         let lo = t.partition_point(|&v| v < lo_t);
         let hi = t.partition_point(|&v| v <= hi_t);
         let fall = |i: usize| side * (y[k] - y[i]);
-        if fall(lo) < 1.5 * h || fall(hi - 1) < 1.5 * h || hi - lo < 9 {
+        if fall(lo) < 1.5 * h || fall(hi - 1) < 1.5 * h || hi - lo < MIN_WINDOW_SAMPLES {
             continue;
         }
         if let Some(e) = refine(&t[lo..hi], &y[lo..hi], t[k], side, &s.t) {
@@ -157,20 +164,15 @@ pub const STOP_REST_BAND: f64 = 0.25;
 ///   and every later one lies at the ball's rest ([`STOP_REST_BAND`]). The envelope's
 ///   zero may then lie up to [`STOP_ZERO_AFTER_GAP`] half swings after the last turning
 ///   point (the very last may be lost in the noise).
-/// * **Out of rhythm**: when no gap told the stop. The extremes after the last turning
-///   point are not one half swing apart ([`half_swings`], with the half swing of those
-///   before), and each lies nearer the equilibrium than the last turning point did (the
-///   ball cannot swing wider after it). A camera that sways slowly makes the angle of a
-///   ball at rest wander as far as the last turning points swung, every half to one and
-///   a half half swings: a copper sweep twin (a tripod's sway of 0.8 px at 0.46 Hz)
-///   stopped at 22.7 s, 0.48 deg from its equilibrium, then wandered 0.24 deg either
-///   side of its rest for 18 s, and the fit was refused. This rule was once tried only
-///   when the extremes as a whole were not one half swing apart (as the fit would
-///   refuse them): but a ball at rest wandering every two thirds of a half swing holds
-///   more of the gaps than the swing, and whether the whole then reads as in rhythm
-///   turns on a few hundredths of a second. The fit refines the turning points before
-///   it counts them (a glass twin swayed at 0.46 Hz: in rhythm as found, out of rhythm
-///   once refined, and refused), so the rule does not wait for that count.
+/// * **Out of rhythm**: only when the extremes as a whole are not one half swing apart
+///   (the fit would refuse them, [`half_swings`]) and no gap told the stop. The extremes
+///   after the last turning point are not one half swing apart either, and each lies
+///   nearer the equilibrium than the last turning point did (the ball cannot swing
+///   wider after it). A camera that sways slowly makes the angle of a ball at rest
+///   wander as far as the last turning points swung, every half to one and a half half
+///   swings: a copper sweep twin (a tripod's sway of 0.8 px at 0.46 Hz) stopped at
+///   22.7 s, 0.48 deg from its equilibrium, then wandered 0.24 deg either side of its
+///   rest for 18 s, and the fit was refused.
 ///
 /// A turning point lost mid-motion leaves the envelope above zero; a convex decay (air,
 /// a string) fitted with a line may reach zero there, but its later turning points
@@ -182,7 +184,12 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     }
     let stop_by =
         |rule: Rest| (3..n - 1).find_map(|i| stop_after(extremes, i, rule).map(|t| (i, t)));
-    let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| stop_by(Rest::OutOfRhythm))?;
+    let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| {
+        in_rhythm(extremes)
+            .is_none()
+            .then(|| stop_by(Rest::OutOfRhythm))
+            .flatten()
+    })?;
     extremes.truncate(i + 1);
     Some(Stop {
         t_s: t_zero,
@@ -352,10 +359,7 @@ pub fn find_release(s: &AngleSeries) -> Option<(Release, Extreme)> {
     if coarse.len() < 3 {
         return None;
     }
-    let moving = &y[run..];
-    let half = median_gap(&t[run..], &coarse, |k| {
-        (moving[k] - center).abs() >= LOBE_GAP_SHARE * span
-    });
+    let half = median_gap(&t[run..], &coarse);
     // The departure unseen (samples lost as the ball was let go: the hand in front, the
     // steadying of a moving camera lost for a while): when and from where it left is
     // not measured, and the first sample after the gap is no start from rest.
@@ -460,30 +464,44 @@ fn lobes(y: &[f64], center: f64, h: f64) -> Vec<(f64, usize)> {
         .collect()
 }
 
-/// The lobes [`find_extremes`] reckons the half swing from reach at least this share of
-/// the series' span from its centre. After the stop, the ball at rest wanders about the
-/// centre (a swaying camera's slow motion, the noise), crossing it often and little; a
-/// series that stops early holds more of those lobes than of the swing's. Seed 1's sweep
-/// scene 11 (a sway of 1.7 px at 0.58 Hz, the camera not steadied; the ball at rest from
-/// 23 s of 40) held 14 lobes of the swing, 1.6 to 1.7 s apart, and 43 of the ball at rest,
-/// their median gap 0.48 s: each turning point's window (0.3 of a half swing either side)
-/// then held 7 samples, under the 9 it needs, and none was found (the fit refused the
-/// video). A decay to no less than this share keeps every lobe, and its half swing.
+/// The median time between consecutive coarse turning points: a half swing.
+fn median_gap(t: &[f64], coarse: &[(f64, usize)]) -> f64 {
+    let mut gaps: Vec<f64> = coarse.windows(2).map(|w| t[w[1].1] - t[w[0].1]).collect();
+    median(&mut gaps)
+}
+
+/// A turning point is refined from at least this many samples within 0.3 of a half
+/// swing of it ([`find_extremes`]).
+const MIN_WINDOW_SAMPLES: usize = 9;
+
+/// When the median gap of every lobe leaves [`find_extremes`]' windows too short to hold
+/// a turning point ([`MIN_WINDOW_SAMPLES`]), the half swing is the median gap between
+/// consecutive lobes that both reach at least this share of the third tallest lobe's
+/// height from the centre (the third: a misread frame or two, far out, would set the
+/// tallest), when at least three such gaps are found. After an early stop, the ball at
+/// rest wanders about the centre (a swaying camera's slow motion, the noise), crossing
+/// it often and little, and a series may hold more of those lobes than of the swing's:
+/// seed 1's sweep scene 11 (a sway of 1.7 px at 0.58 Hz, the camera not steadied; the
+/// ball at rest from 23 s of 40) held 14 lobes of the swing, 1.6 to 1.7 s apart, and 43
+/// of the ball at rest, their median gap 0.48 s; each turning point's window then held 7
+/// samples, and none was found (the fit refused the video). Where the windows hold
+/// their samples (every other series), the half swing is the median gap of every lobe,
+/// as it was.
 pub const LOBE_GAP_SHARE: f64 = 0.1;
 
-/// The median time between consecutive coarse turning points both `tall`: a half swing.
-/// Every gap counts when fewer than two are between tall ones.
-fn median_gap(t: &[f64], coarse: &[(f64, usize)], tall: impl Fn(usize) -> bool) -> f64 {
-    let gap = |w: &[(f64, usize)]| t[w[1].1] - t[w[0].1];
+/// The half swing of the swing's own lobes ([`LOBE_GAP_SHARE`]), if at least three gaps
+/// lie between them.
+fn swing_gap(t: &[f64], y: &[f64], center: f64, coarse: &[(f64, usize)]) -> Option<f64> {
+    let height = |k: usize| (y[k] - center).abs();
+    let mut heights: Vec<f64> = coarse.iter().map(|&(_, k)| height(k)).collect();
+    heights.sort_by(|a, b| b.total_cmp(a));
+    let tall = LOBE_GAP_SHARE * *heights.get(2)?;
     let mut gaps: Vec<f64> = coarse
         .windows(2)
-        .filter(|w| tall(w[0].1) && tall(w[1].1))
-        .map(gap)
+        .filter(|w| height(w[0].1) >= tall && height(w[1].1) >= tall)
+        .map(|w| t[w[1].1] - t[w[0].1])
         .collect();
-    if gaps.len() < 2 {
-        gaps = coarse.windows(2).map(gap).collect();
-    }
-    median(&mut gaps)
+    (gaps.len() >= 3).then(|| median(&mut gaps))
 }
 
 /// Local cusp fit around a coarse extreme at `t_c`; see the module documentation.

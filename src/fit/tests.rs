@@ -178,10 +178,10 @@ fn more_outliers_than_the_cap_are_kept_and_named() {
 /// A ball that stops early under a camera that sways (seed 1's sweep scene 11: its
 /// angles wander 0.45 deg either side at 0.58 Hz, the camera found moving only at 24 s
 /// and steadied from then on, its angle then wandering by 0.05 deg and jumping 0.15 deg
-/// aside in a frame of three, as a plain wall's misread motions make it; the ball at rest
-/// from 23 s of 40): the ball at rest crosses the series' centre often and little, and its many short lobes must
-/// not set the half swing the turning points are sought with (they did: none was found,
-/// and the fit was refused).
+/// aside in a frame of three, as a plain wall's misread motions make it; the ball at
+/// rest from 23 s of 40): the ball at rest crosses the series' centre often and little,
+/// and its many short lobes must not set the half swing the turning points are sought
+/// with (they did: none was found, and the fit was refused).
 #[test]
 fn a_ball_at_rest_under_a_swaying_camera_leaves_the_half_swing_to_the_swing() {
     let p = pendulum(0.1831);

@@ -355,27 +355,6 @@ fn bench_video(root: &Path, dir: &Path, v: &BenchVideo) -> std::path::PathBuf {
 /// What `rollfric detect` says of its own run: peak memory (MiB) and CPU besides the
 /// decoder (s), from its summary line.
 fn detect_figures(stderr: &str) -> (f64, f64) {
-    let (peak, cpu, _) = detect_figures_split(stderr);
-    (peak, cpu)
-}
-
-/// [`detect_figures`], with the part of the CPU spent before the streaming pass (the first
-/// look and its geometry, s): `... CPU besides the decoder 0.61 s, 0.15 s of it before the
-/// pass)`.
-fn detect_figures_split(stderr: &str) -> (f64, f64, f64) {
-    let before = stderr
-        .rsplit("CPU besides the decoder ")
-        .next()
-        .and_then(|s| s.split_once(" s, "))
-        .and_then(|(_, s)| s.split_once(" s of it before the pass"))
-        .and_then(|(s, _)| s.parse().ok())
-        .unwrap_or(f64::NAN);
-    let (peak, cpu) = detect_figures_total(stderr);
-    (peak, cpu, before)
-}
-
-/// Peak memory and the whole CPU besides the decoder, from the summary line.
-fn detect_figures_total(stderr: &str) -> (f64, f64) {
     let after = |key: &str| -> f64 {
         stderr
             .rsplit(key)
@@ -385,6 +364,19 @@ fn detect_figures_total(stderr: &str) -> (f64, f64) {
             .unwrap_or(f64::NAN)
     };
     (after("peak memory "), after("CPU besides the decoder "))
+}
+
+/// The part of `rollfric detect`'s CPU besides the decoder spent before its streaming
+/// pass (the first look and its geometry, s), from its summary line: `... CPU besides the
+/// decoder 0.61 s, 0.15 s of it before the pass)`.
+fn cpu_before_pass(stderr: &str) -> f64 {
+    stderr
+        .rsplit("CPU besides the decoder ")
+        .next()
+        .and_then(|s| s.split_once(" s, "))
+        .and_then(|(_, s)| s.split_once(" s of it before the pass"))
+        .and_then(|(s, _)| s.parse().ok())
+        .unwrap_or(f64::NAN)
 }
 
 /// How many frames `rollfric detect` says it read, from its summary line.
@@ -482,7 +474,8 @@ fn video_bench(root: &Path) {
             });
         }
         let frames = frames_of(&last);
-        let (peak, cpu, before) = detect_figures_split(&last);
+        let (peak, cpu) = detect_figures(&last);
+        let before = cpu_before_pass(&last);
         let ratios: Vec<f64> = walls.iter().map(|(d, t)| d / t).collect();
         let lo = ratios.iter().copied().fold(f64::MAX, f64::min);
         let hi = ratios.iter().copied().fold(f64::MIN, f64::max);

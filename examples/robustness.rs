@@ -325,7 +325,7 @@ struct DetectionSeen {
     /// The same from the final detection's first streaming pass on (its first look and
     /// geometry, and a refused detection before it, left out; a look made again for a
     /// second pass counts), per frame, ms.
-    pass_ms_per_frame: f64,
+    pass_ms_per_frame: Option<f64>,
     /// `ROBUSTNESS_PACE`: decode-only wall over the detector's wall, median of the
     /// paired rounds (scenes of 30 s or more).
     pace: Option<f64>,
@@ -644,9 +644,7 @@ fn run(
         label: d.verdict.label(),
         suspect: d.verdict.verdict == rollfric::verdict::Status::Suspect,
         cpu_ms_per_frame: 1e3 * cpu / d.rows.len().max(1) as f64,
-        pass_ms_per_frame: d
-            .cpu_s
-            .map_or(f64::NAN, |c| 1e3 * c.pass / d.rows.len().max(1) as f64),
+        pass_ms_per_frame: d.cpu_s.map(|c| 1e3 * c.pass / d.rows.len().max(1) as f64),
         pace,
     });
     let a = match pipeline::analyze(&exp, &angles, Overrides::default()) {
@@ -801,9 +799,7 @@ fn main() -> Result<()> {
         );
         if let Some(s) = &seen {
             cpu_ms.push(s.cpu_ms_per_frame);
-            if s.pass_ms_per_frame.is_finite() {
-                pass_ms.push(s.pass_ms_per_frame);
-            }
+            pass_ms.extend(s.pass_ms_per_frame);
             if let Some(p) = s.pace {
                 paces.push((i, p));
             }
@@ -935,11 +931,8 @@ fn main() -> Result<()> {
             seen.as_ref().map_or(String::new(), |s| format!(
                 "; detector CPU {:.3} ms/frame ({} from the pass on){}",
                 s.cpu_ms_per_frame,
-                if s.pass_ms_per_frame.is_finite() {
-                    format!("{:.3}", s.pass_ms_per_frame)
-                } else {
-                    "-".to_string()
-                },
+                s.pass_ms_per_frame
+                    .map_or("-".to_string(), |p| format!("{p:.3}")),
                 s.pace
                     .map_or(String::new(), |p| format!(", pace {p:.2} of decode-only"))
             ))

@@ -86,17 +86,15 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
             coarse.len()
         );
     }
-    let mut half_period = median_gap(t, &coarse);
+    let mut w = WINDOW_SHARE * median_gap(t, &coarse);
     // A window that cannot hold a turning point's samples: the lobes that set the half
     // swing are not the swing's (see `LOBE_GAP_SHARE`).
     let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
-    let dt = median(&mut dt);
-    if 2.0 * 0.3 * half_period / dt + 1.0 < MIN_WINDOW_SAMPLES as f64 {
+    if 2.0 * w / median(&mut dt) + 1.0 < MIN_WINDOW_SAMPLES as f64 {
         if let Some(half) = swing_gap(t, y, center, &coarse) {
-            half_period = half;
+            w = WINDOW_SHARE * half;
         }
     }
-    let w = 0.3 * half_period;
 
     let mut out = Vec::new();
     for &(side, k) in &coarse {
@@ -470,8 +468,11 @@ fn median_gap(t: &[f64], coarse: &[(f64, usize)]) -> f64 {
     median(&mut gaps)
 }
 
-/// A turning point is refined from at least this many samples within 0.3 of a half
-/// swing of it ([`find_extremes`]).
+/// [`find_extremes`] seeks a turning point within this share of a half swing either
+/// side of a lobe's extreme ...
+const WINDOW_SHARE: f64 = 0.3;
+
+/// ... and refines it from at least this many samples there.
 const MIN_WINDOW_SAMPLES: usize = 9;
 
 /// When the median gap of every lobe leaves [`find_extremes`]' windows too short to hold

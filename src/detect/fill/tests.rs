@@ -236,6 +236,33 @@ fn frames_off_the_swing_are_flagged() {
     assert!(off_swing(&mut rows).is_empty());
 }
 
+/// Beside a loss of the wire (a person covering it), a frame 0.6 deg off the swing is
+/// flagged, on either side of the loss and up to `LOSS_EDGE_S` from it; as far off
+/// but further from the loss, or 0.2 deg off beside it, a frame is kept.
+#[test]
+fn frames_partly_hidden_beside_a_loss_are_flagged_nearer_the_swing() {
+    let mut rows = swinging(660, 1.5);
+    for r in &mut rows[300..310] {
+        r.flag = Some(Flag::Weak);
+    }
+    // Frames within the edge's reach of the loss's first (300) and last (309) frames.
+    let edge = (LOSS_EDGE_S * 30.0).round() as usize;
+    let (before, after) = (301 - edge, 308 + edge);
+    for (k, deg) in [
+        (299, 0.6),
+        (before, -0.6),
+        (after, 0.6),
+        (298, 0.2),
+        (311, -0.2),
+        (before - 3, 0.6),
+        (after + 3, -0.6),
+        (450, -0.6),
+    ] {
+        *rows[k].angle_rad.as_mut().unwrap() += f64::to_radians(deg);
+    }
+    assert_eq!(off_swing(&mut rows), vec![before, 299, after]);
+}
+
 /// A track that sits on a static line 30 deg off for its first 16 found frames, then
 /// leaps onto the wire: those 16 are flagged, and no frame of the swing. A run as
 /// short but lasting more than half a period (frames far apart) is kept.

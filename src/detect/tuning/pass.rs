@@ -139,6 +139,12 @@ knobs! {
         what "noise the steadying may add for a second measurement after `still` alone failed to be kept",
         chosen_by "plain in-memory walls gained 0.038-0.115 deg (misread motions), swaying sweep twins 0.005-0.007";
 
+    /// ... and when its angles stray from the swing's own path (`fill::swing_scatter`)
+    /// by no more than this many times the first measurement's.
+    STILL_AGAIN_STRAY_TIMES: f64 = 1.25, "times",
+        what "how much further than the first a second measurement's angles may stray from the swing's path, `still` alone failed, to be kept",
+        chosen_by "issue 49, seed 1205 scene 36 (still, a hand in the first frame, a walker): 1.60, 0.082 deg RMS off against 0.024 measured first; seed 4 scene 4 (a sway of 1.07 px at 0.25 Hz seen still) 0.66, steadied kept; hand-picked between";
+
     /// A swing scale (`Tracker::swing_scale`) further than this from 1 has the other
     /// working scale's look measured too (`detect_from`): the `pivot` check's limit
     /// (`PIVOT_SCALE_MAX`), so that no pass that check calls off is kept without the
@@ -187,6 +193,17 @@ knobs! {
     OFF_SWING_MIN_DEG: f64 = 1.0, "deg",
         what "a found frame this far off the swing's path fitted about it is flagged",
         chosen_by "issue 49: a walker's edge followed 2.8 to 16 deg off after a loss; as JUMP_MIN_DEG";
+
+    /// ... or, within `LOSS_EDGE_S` of a loss of the wire, more than this, deg ...
+    LOSS_EDGE_MIN_DEG: f64 = 0.3, "deg",
+        what "a found frame beside a loss this far off the swing's path is flagged",
+        chosen_by "issue 49, seed 1205 scene 36 (a walker over a still 960x540 twin): a frame on half the wire 0.91 deg off, ok; the sweep's bar for an occluded frame is 0.5 deg";
+
+    /// ... where a loss is `LOSS_FRAMES` frames in a row without an unflagged angle and
+    /// its edge reaches this far before its first frame and after its last, s.
+    LOSS_EDGE_S: f64 = 0.2, "s",
+        what "how far before and after a loss of the wire its edge reaches",
+        chosen_by "issue 49, seed 1205 scene 36: the walker's edge crossed the wire over 4 frames at 25 fps (0.16 s)";
 
     /// ... and more than this many times the fit's robust scatter, is flagged.
     OFF_SWING_SIGMAS: f64 = 8.0, "times",

@@ -978,17 +978,16 @@ fn a_drift_that_spoiled_the_angles_is_measured_steadied_though_steadying_adds_no
 
 /// A still camera (960x540, 25 fps, CRF 34, a light wire) whose first frame holds the
 /// hand that lets the ball go, and a person walking in front of the wire at 10.4 s
-/// (seed 1205's sweep, scene 36): the last two glances find the static scene 0.65 px
-/// off the first frame's, so every frame is measured again steadied. The steadying
-/// misreads the still camera (turned by up to 0.16 deg for seconds, by 3 deg as the
-/// person passes), and adds little noise from frame to frame; its angles stray further
-/// from the swing's own path than the first's, and the first measurement is kept (it
-/// was 0.082 deg RMS off the truth steadied, three frames beside the person `ok` 0.5
-/// to 0.8 deg off). Measured so, the frame before the person hid the wire, seen on half
-/// of it 0.9 deg off, is not `ok`: beside a loss of the wire, a frame 0.3 deg off the
-/// swing's path is flagged.
+/// (seed 1205's sweep, scene 36). Its last two glances find the static scene 0.65 px
+/// off the first frame's, but not off the first glance's, 2 s in: the hand lay in the
+/// first frame, and the camera is taken as still. (Measured again steadied onto the
+/// first frame, the still camera was read turning by up to 0.16 deg for seconds, and by
+/// 3 deg as the person passed: 0.082 deg RMS off the truth, three frames beside the
+/// person `ok` 0.5 to 0.8 deg off.) The frame before the person hid the wire, seen on
+/// half of it 0.9 deg off, is not `ok`: beside a loss of the wire, a frame 0.3 deg off
+/// the swing's path is flagged.
 #[test]
-fn a_still_camera_misread_by_a_hand_and_a_walker_keeps_its_first_measurement() {
+fn a_hand_in_the_first_frame_is_no_drift_and_a_walker_hides_no_ok_frame() {
     if !need_ffmpeg() {
         return;
     }
@@ -1004,9 +1003,7 @@ fn a_still_camera_misread_by_a_hand_and_a_walker_keeps_its_first_measurement() {
     twin_rendered(d, &text, "twin.mp4");
     let (_, detected) = rollfric_ok(&["detect", "twin.mp4", "-o", "angles.csv"], d);
     assert!(
-        detected.contains("measuring again with every frame steadied")
-            && detected.contains("stray from the swing's own path")
-            && detected.contains("the first measurement is kept"),
+        !detected.contains("measuring again") && detected.contains("detection ok"),
         "{detected}"
     );
     let (e, _) = ok_errors_deg(d, "angles.csv");

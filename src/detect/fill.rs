@@ -224,7 +224,7 @@ pub(super) fn flag_against_swing(rows: &mut [AngleRow]) {
 /// for a few frames at a time, 23 frames `ok` 1 to 7.6 deg off.
 ///
 /// Within [`LOSS_EDGE_S`] of a loss of the wire ([`LOSS_FRAMES`] frames in a row
-/// without an unflagged angle), [`LOSS_EDGE_MIN_DEG`] stands for [`OFF_SWING_MIN_DEG`]:
+/// without an unflagged angle), [`LOSS_EDGE_MIN_DEG`] stands in for [`OFF_SWING_MIN_DEG`]:
 /// whatever hid the wire for the loss hid part of it in the frames just before and
 /// after, and the line through what was left leans towards the hider's edge. A
 /// person walking in front of a still 960x540 twin's wire (seed 1205's sweep, scene
@@ -255,9 +255,10 @@ fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
 }
 
 /// Whether each row lies within [`LOSS_EDGE_S`] of a loss of the wire: a row of a run
-/// of at least [`LOSS_FRAMES`] rows in a row without an unflagged angle.
+/// of at least [`LOSS_FRAMES`] rows in a row without an unflagged angle (`rows` in
+/// time order).
 fn near_loss(rows: &[AngleRow]) -> Vec<bool> {
-    let mut losses: Vec<(f64, f64)> = Vec::new();
+    let mut near = vec![false; rows.len()];
     let mut i = 0;
     while i < rows.len() {
         if rows[i].unflagged_angle().is_some() {
@@ -269,16 +270,13 @@ fn near_loss(rows: &[AngleRow]) -> Vec<bool> {
             i += 1;
         }
         if i - start >= LOSS_FRAMES {
-            losses.push((rows[start].t_s, rows[i - 1].t_s));
+            let (a, b) = (rows[start].t_s - LOSS_EDGE_S, rows[i - 1].t_s + LOSS_EDGE_S);
+            let from = rows.partition_point(|r| r.t_s < a);
+            let to = rows.partition_point(|r| r.t_s <= b);
+            near[from..to].fill(true);
         }
     }
-    rows.iter()
-        .map(|r| {
-            losses
-                .iter()
-                .any(|&(a, b)| r.t_s >= a - LOSS_EDGE_S && r.t_s <= b + LOSS_EDGE_S)
-        })
-        .collect()
+    near
 }
 
 /// The swing's own path fitted about each step of half a period (see

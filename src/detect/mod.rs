@@ -61,8 +61,7 @@ pub mod tuning;
 
 use crate::detect::tuning::{
     INIT_SECONDS, LOOK_MAX_FRAMES, LOOK_SWING_AGREE, LOOK_SWING_APART, PER_SIDE,
-    STILL_AGAIN_NOISE_MAX_DEG, STILL_AGAIN_STRAY_TIMES, SWING_SCALE_RETRY, WORK_MAX_PIXELS,
-    WORK_SIDE_PX,
+    STILL_AGAIN_NOISE_MAX_DEG, SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
@@ -415,34 +414,12 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
                 // deg RMS off; steadied, it gained 0.016 deg of noise and lay 0.024 deg
                 // off.
                 let by_noise = unconfirmed && d.verdict.failed().all(|c| c.check == "still");
-                // Nor when its angles stray further from the swing's own path than the
-                // first's, by more than `STILL_AGAIN_STRAY_TIMES`: motions misread
-                // slowly (a still 960x540 twin under CRF 34, its first frame holding the
-                // hand that let the ball go and a person walking past later, was read
-                // turning by up to 0.16 deg for seconds at a time, and by 3 deg as the
-                // person passed; its angles strayed 0.022 deg against the first's 0.014,
-                // 0.082 deg RMS off the truth against 0.024) add little noise from frame
-                // to frame. A camera that moved unfollowed moves the first's angles.
-                let strays = match (judge::stray_deg(&d.rows), judge::stray_deg(&a.rows)) {
-                    (Some(first), Some(second))
-                        if by_noise && second > STILL_AGAIN_STRAY_TIMES * first =>
-                    {
-                        Some((first, second))
-                    }
-                    _ => None,
-                };
                 let refused = if by_noise && added_noise(&a) > STILL_AGAIN_NOISE_MAX_DEG {
                     Some(format!(
                         "its angle's noise from frame to frame grows by {:.4} deg (at most \
                          {STILL_AGAIN_NOISE_MAX_DEG} deg): the motions were misread, and the \
                          first measurement is kept",
                         added_noise(&a)
-                    ))
-                } else if let Some((first, second)) = strays {
-                    Some(format!(
-                        "its angles stray from the swing's own path by {second:.4} deg, more \
-                         than {STILL_AGAIN_STRAY_TIMES} times the {first:.4} deg measured \
-                         first: the motions were misread, and the first measurement is kept"
                     ))
                 } else if !from_start
                     && a.verdict.failed().next().is_some()

@@ -245,17 +245,18 @@ fn frames_partly_hidden_beside_a_loss_are_flagged_nearer_the_swing() {
     for r in &mut rows[300..310] {
         r.flag = Some(Flag::Weak);
     }
-    // Frames within the edge's reach of the loss's first (300) and last (309) frames.
+    // At 30 frames/s, five frames (0.17 s) before the loss's first frame (300) and
+    // after its last (309) lie within the edge's reach (0.2 s); seven (0.23 s), beyond.
     let edge = (LOSS_EDGE_S * 30.0).round() as usize;
-    let (before, after) = (301 - edge, 308 + edge);
+    let (before, after) = (300 - (edge - 1), 309 + (edge - 1));
     for (k, deg) in [
         (299, 0.6),
         (before, -0.6),
         (after, 0.6),
         (298, 0.2),
         (311, -0.2),
-        (before - 3, 0.6),
-        (after + 3, -0.6),
+        (before - 2, 0.6),
+        (after + 2, -0.6),
         (450, -0.6),
     ] {
         *rows[k].angle_rad.as_mut().unwrap() += f64::to_radians(deg);

@@ -38,7 +38,12 @@ pub fn still_check(reach_px: f64) -> DetectionCheck {
 /// screen) and 2.94 (split screen).
 /// `None` without the noise or two whole swings.
 pub fn wander_check(rows: &[AngleRow], noise_deg: Option<f64>) -> Option<DetectionCheck> {
-    let scatter = stray_deg(rows)?;
+    let (t, a): (Vec<f64>, Vec<f64>) = rows
+        .iter()
+        .filter(|r| r.status == Status::Ok)
+        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
+        .unzip();
+    let scatter = crate::detect::fill::swing_scatter(&t, &a)?.to_degrees();
     let times = scatter / noise_deg?;
     let times = if times.is_finite() {
         times
@@ -58,17 +63,6 @@ pub fn wander_check(rows: &[AngleRow], noise_deg: Option<f64>) -> Option<Detecti
         "something moves the angles slowly that is not the swing: the camera's motion \
          read short or late (a codec's lag)",
     ))
-}
-
-/// How far the `ok` frames' angles stray from the swing's own path (see
-/// `fill::swing_scatter`), deg; `None` without two whole swings.
-pub fn stray_deg(rows: &[AngleRow]) -> Option<f64> {
-    let (t, a): (Vec<f64>, Vec<f64>) = rows
-        .iter()
-        .filter(|r| r.status == Status::Ok)
-        .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
-        .unzip();
-    Some(crate::detect::fill::swing_scatter(&t, &a)?.to_degrees())
 }
 
 /// `beside`: of the pass's looks across the followed line (`looks`, each the offsets,

@@ -139,12 +139,6 @@ knobs! {
         what "noise the steadying may add for a second measurement after `still` alone failed to be kept",
         chosen_by "plain in-memory walls gained 0.038-0.115 deg (misread motions), swaying sweep twins 0.005-0.007";
 
-    /// ... and when its angles stray from the swing's own path (`fill::swing_scatter`)
-    /// by no more than this many times the first measurement's.
-    STILL_AGAIN_STRAY_TIMES: f64 = 1.25, "times",
-        what "how much further than the first a second measurement's angles may stray from the swing's path, `still` alone failed, to be kept",
-        chosen_by "issue 49, seed 1205 scene 36 (still, a hand in the first frame, a walker): 1.60, 0.082 deg RMS off against 0.024 measured first; seed 4 scene 4 (a sway of 1.07 px at 0.25 Hz seen still) 0.66, steadied kept; hand-picked between";
-
     /// A swing scale (`Tracker::swing_scale`) further than this from 1 has the other
     /// working scale's look measured too (`detect_from`): the `pivot` check's limit
     /// (`PIVOT_SCALE_MAX`), so that no pass that check calls off is kept without the

@@ -7,9 +7,10 @@ use super::*;
 
 /// `still`: a camera taken as still throughout, whose static scene (the pendulum's
 /// sweep left out) is found displaced by more than [`STILL_MAX_PX`] (`reach_px`, at the
-/// region's farthest corner) between the first frame and two glances in a row, moved
-/// unfollowed: every angle carries the pivot's displacement (a tenth of a degree for
-/// every 0.4 px at 230 px from the pivot).
+/// region's farthest corner) between the first frame (or the first glance, where what
+/// differs in the first frame is no bump: see `Late::unfollowed`) and two glances in
+/// a row, moved unfollowed: every angle carries the pivot's displacement (a tenth of a
+/// degree for every 0.4 px at 230 px from the pivot).
 pub fn still_check(reach_px: f64) -> DetectionCheck {
     check(
         "still",
@@ -18,7 +19,8 @@ pub fn still_check(reach_px: f64) -> DetectionCheck {
         reach_px <= STILL_MAX_PX,
         format!(
             "the camera was taken as still, and the static scene lies {reach_px:.2} px from \
-             where the first frame has it at two glances in a row (at most {STILL_MAX_PX} px)"
+             where the first frame (or the first glance) has it at two glances in a row (at \
+             most {STILL_MAX_PX} px)"
         ),
         "the camera drifted and the detector did not follow it",
     )

@@ -5,7 +5,7 @@ use super::{Motion, Steady, Sweep};
 use crate::detect::tuning::{
     HIDDEN_FOLLOW, HIDDEN_MIN_LOSS, HIDDEN_TIMES, LATE_AGREE, LATE_DRIFT_GLANCES, LATE_EVERY_S,
     LATE_EXPLAINS, LATE_GLANCES, MOVING_PX, PASS_FIRST_PRUNE_FRAMES, PASS_PRUNE_FRAMES,
-    PRUNE_SHARE, SCENE_CHANGE_S, SCENE_CHANGE_SHARE,
+    PRUNE_SHARE, SCENE_CHANGE_S, SCENE_CHANGE_SHARE, STILL_MAX_PX,
 };
 use crate::video::Frame;
 use anyhow::Result;
@@ -174,6 +174,8 @@ impl Late {
             // 960x540 clip turned upside down was found moving at 2 % of the video's).
             *st = on_scene.within(self.side);
             self.first = None;
+            self.first_glanced = None;
+            self.glanced = [None, None];
             self.on = true;
             self.on_at = Some(f.t_s);
         }
@@ -221,13 +223,16 @@ impl Late {
     /// the last two glances, or at any two in a row that found the frame moved when
     /// those lie further (a tripod swaying every 2.2 s, each glance 2 s after the last,
     /// whose last two glances met it near its middle: 0.35 px at the last two, 1.37 px
-    /// at the farthest two in a row; its angles 0.097 deg RMS off). The last two are
-    /// measured from the first glance too, the nearer taken: a scene that has not moved
-    /// since the first glance ([`LATE_EVERY_S`] in) has not drifted, and what differs in
-    /// the first frame lay in it (the hand that let the ball go: a still 960x540 twin
-    /// under CRF 34 read 0.65 px off the first frame at its last two glances, 0.0 off the
-    /// first glance; measured again steadied onto that first frame, its angles lay 0.082
-    /// deg RMS off the truth against 0.024). `None` when the camera was followed, or with
+    /// at the farthest two in a row; its angles 0.097 deg RMS off). Unless the first
+    /// glance ([`LATE_EVERY_S`] in) lies displaced from the first frame by more than
+    /// [`STILL_MAX_PX`], a motion that explains it ([`LATE_EXPLAINS`]: a camera bumped
+    /// before the first glance, judged from the first frame), the last two are measured from the first glance too, the farther of them, and the
+    /// nearer of the two readings is taken: a scene that has not moved since the first
+    /// glance has not drifted, and what differs in the first frame lay in it (the hand
+    /// that let the ball go: a still 960x540 twin under CRF 34 read 0.65 px off the first
+    /// frame at its last two glances, 0.38 off the first glance; measured again steadied
+    /// onto that first frame, its angles lay 0.082 deg RMS off the truth against 0.024;
+    /// its first glance lay 0.27 px off the first frame). `None` when the camera was followed, or with
     /// fewer than two glances, or when no two glances in a row can be measured.
     pub(in crate::detect) fn unfollowed(&self) -> Result<Option<f64>> {
         let (Some(first), [Some(a), Some(b)]) = (&self.first, &self.glanced) else {
@@ -236,25 +241,40 @@ impl Late {
         if self.on {
             return Ok(None);
         }
-        // The smaller displacement of the last two glances from `from`.
-        let off = |from: &Frame| -> Result<Option<f64>> {
+        // The displacement of the last two glances from `from`, the smaller (`nearer`)
+        // or the larger.
+        let off = |from: &Frame, nearer: bool| -> Result<Option<f64>> {
             let mut on_scene = Steady::new(from, Some(&self.sweep))?;
-            let mut reach = Some(f64::INFINITY);
+            let mut reach: Option<f64> = None;
             for g in [a, b] {
-                let m = on_scene.glance(g)?;
-                reach = reach
-                    .zip(m)
-                    .map(|(r, m)| r.min(m.reach(g.width as f64, g.height as f64)));
+                let Some(m) = on_scene.glance(g)? else {
+                    return Ok(None);
+                };
+                let r = m.reach(g.width as f64, g.height as f64);
+                reach = Some(reach.map_or(r, |p| if nearer { p.min(r) } else { p.max(r) }));
             }
             Ok(reach)
         };
-        let mut reach = off(first)?;
-        let earlier = self
-            .first_glanced
-            .as_ref()
-            .filter(|g| g.t_s < a.t_s.min(b.t_s));
+        let mut reach = off(first, true)?;
+        let earlier = self.first_glanced.as_ref().filter(|g| g.t_s < a.t_s);
         if let (Some(r), Some(g)) = (reach, earlier) {
-            if let Some(since) = off(g)? {
+            let mut on_scene = Steady::new(first, Some(&self.sweep))?;
+            let moved = on_scene
+                .glance(g)?
+                .map(|m| m.reach(g.width as f64, g.height as f64));
+            let shifted = match moved {
+                Some(px) => px > STILL_MAX_PX && on_scene.explains_by(LATE_EXPLAINS)?,
+                None => false,
+            };
+            let since = if shifted { None } else { off(g, false)? };
+            if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
+                eprintln!(
+                    "steady: the last two glances {r:.3} px off the first frame, {since:?} \
+                     off the first glance, which lies {moved:?} px off the first frame \
+                     (bumped: {shifted})"
+                );
+            }
+            if let Some(since) = since {
                 reach = Some(r.min(since));
             }
         }

@@ -138,7 +138,9 @@ knobs! {
         chosen_by "dcaed79: hand-picked; not measured";
 
     /// `still`: the farthest a still-taken camera's static scene may lie from the first
-    /// frame's at two of the pass's glances in a row (px at the region's farthest corner).
+    /// frame's (or the first glance's) at two of the pass's glances in a row (px at the
+    /// region's farthest corner); a first glance lying further than this from the first
+    /// frame, by a motion that explains it, is a bump (see `Late::unfollowed`).
     STILL_MAX_PX: f64 = 0.5, "px",
         what "largest displacement of a still-taken camera's static scene at two glances in a row",
         chosen_by "seed 4: a still CRF 34 twin read 0.40 px, oblique sways seen still 0.54 (0.27 deg RMS, ok at 0.6) and 0.83; 26 older still scenes 0.005-0.31";

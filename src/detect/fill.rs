@@ -72,15 +72,21 @@ pub(super) fn flag_isolated(rows: &mut [AngleRow]) {
 
 /// The runs of good frames (an angle, no flag), each as `start..end` row indices.
 fn good_runs(rows: &[AngleRow]) -> Vec<(usize, usize)> {
+    runs_where(rows, true)
+}
+
+/// The runs of rows whose having an unflagged angle is `good`, each as `start..end`
+/// row indices.
+fn runs_where(rows: &[AngleRow], good: bool) -> Vec<(usize, usize)> {
     let mut runs = Vec::new();
     let mut i = 0;
     while i < rows.len() {
-        if rows[i].unflagged_angle().is_none() {
+        if rows[i].unflagged_angle().is_some() != good {
             i += 1;
             continue;
         }
         let start = i;
-        while i < rows.len() && rows[i].unflagged_angle().is_some() {
+        while i < rows.len() && rows[i].unflagged_angle().is_some() == good {
             i += 1;
         }
         runs.push((start, i));
@@ -259,18 +265,12 @@ fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
 /// time order).
 fn near_loss(rows: &[AngleRow]) -> Vec<bool> {
     let mut near = vec![false; rows.len()];
-    let mut i = 0;
-    while i < rows.len() {
-        if rows[i].unflagged_angle().is_some() {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        while i < rows.len() && rows[i].unflagged_angle().is_none() {
-            i += 1;
-        }
-        if i - start >= LOSS_FRAMES {
-            let (a, b) = (rows[start].t_s - LOSS_EDGE_S, rows[i - 1].t_s + LOSS_EDGE_S);
+    for (start, end) in runs_where(rows, false) {
+        if end - start >= LOSS_FRAMES {
+            let (a, b) = (
+                rows[start].t_s - LOSS_EDGE_S,
+                rows[end - 1].t_s + LOSS_EDGE_S,
+            );
             let from = rows.partition_point(|r| r.t_s < a);
             let to = rows.partition_point(|r| r.t_s <= b);
             near[from..to].fill(true);

@@ -90,8 +90,8 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
     // A window that cannot hold a turning point's samples, or one much shorter than the
     // swing's own lobes give: the lobes that set the half swing are not the swing's (see
     // `LOBE_GAP_SHARE`).
-    let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
     if let Some(half) = swing_gap(t, y, center, &coarse) {
+        let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
         let short = 2.0 * w / median(&mut dt) + 1.0 < MIN_WINDOW_SAMPLES as f64;
         if short || w < SWING_GAP_SHORT * WINDOW_SHARE * half {
             w = WINDOW_SHARE * half;
@@ -482,18 +482,15 @@ const MIN_WINDOW_SAMPLES: usize = 9;
 /// ([`SWING_GAP_SHORT`]), the half swing is the median gap between
 /// the lobes, one after another, that reach at least this share of the third tallest
 /// lobe's height from the centre (the third: a misread frame or two, far out, would set
-/// the tallest), the smaller lobes between them passed over, when at least three such
-/// gaps are found. After an early stop, the ball at
+/// the tallest), the smaller lobes between them passed over, where the two lie on
+/// opposite sides (two on one side: a turning point between them was missed), when at
+/// least three such gaps are found. After an early stop, the ball at
 /// rest wanders about the centre (a swaying camera's slow motion, the noise), crossing
 /// it often and little, and a series may hold more of those lobes than of the swing's:
 /// seed 1's sweep scene 11 (a sway of 1.7 px at 0.58 Hz, the camera not steadied; the
 /// ball at rest from 23 s of 40) held 14 lobes of the swing, 1.6 to 1.7 s apart, and 43
 /// of the ball at rest, their median gap 0.48 s; each turning point's window then held 7
-/// samples, and none was found (the fit refused the video). A hand-held camera's
-/// steadied angle jitters across the centre at each of the swing's crossings too,
-/// leaving small lobes between the swing's (seed 1205's scene 33: 0.15 deg RMS, the
-/// ball at rest from 22 s of 40); taken only where two tall lobes were neighbours, the
-/// gaps were too few, and the fit found 2 turning points. Where the windows hold
+/// samples, and none was found (the fit refused the video). Where the windows hold
 /// their samples (every other series), the half swing is the median gap of every lobe,
 /// as it was.
 pub const LOBE_GAP_SHARE: f64 = 0.1;
@@ -501,10 +498,10 @@ pub const LOBE_GAP_SHARE: f64 = 0.1;
 /// The median gap of every lobe under this share of the swing's own half swing
 /// ([`LOBE_GAP_SHARE`]) is set by lobes that are not the swing's, and the swing's is
 /// taken: seed 1205's scene 33 (hand-held, steadied, its angle 0.15 deg RMS off; the
-/// ball at rest from 22 s of 40) gave 0.84 s against the swing's 1.68, and its
-/// windows, half as wide as a turning point's, saw too little fall on one side of 10
-/// of the 12 (2 turning points found, the fit refused). Every lobe a swing's, the two
-/// agree.
+/// ball at rest from 22 s of 40, wandering across the centre a few times a second)
+/// gave 0.84 s against the swing's 1.68, and its windows, half as wide as the swing's
+/// half swing gives, saw too little fall on one side of 10 of its 12 turning points (2
+/// found, the fit refused). Every lobe a swing's, the two agree.
 pub const SWING_GAP_SHORT: f64 = 0.75;
 
 /// The half swing of the swing's own lobes ([`LOBE_GAP_SHARE`]), if at least three gaps
@@ -514,12 +511,16 @@ fn swing_gap(t: &[f64], y: &[f64], center: f64, coarse: &[(f64, usize)]) -> Opti
     let mut heights: Vec<f64> = coarse.iter().map(|&(_, k)| height(k)).collect();
     heights.sort_by(|a, b| b.total_cmp(a));
     let tall = LOBE_GAP_SHARE * *heights.get(2)?;
-    let swing: Vec<usize> = coarse
+    let swing: Vec<(f64, usize)> = coarse
         .iter()
-        .map(|&(_, k)| k)
-        .filter(|&k| height(k) >= tall)
+        .copied()
+        .filter(|&(_, k)| height(k) >= tall)
         .collect();
-    let mut gaps: Vec<f64> = swing.windows(2).map(|w| t[w[1]] - t[w[0]]).collect();
+    let mut gaps: Vec<f64> = swing
+        .windows(2)
+        .filter(|w| w[0].0 != w[1].0)
+        .map(|w| t[w[1].1] - t[w[0].1])
+        .collect();
     (gaps.len() >= 3).then(|| median(&mut gaps))
 }
 

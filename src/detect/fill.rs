@@ -75,8 +75,8 @@ fn good_runs(rows: &[AngleRow]) -> Vec<(usize, usize)> {
     runs_where(rows, true)
 }
 
-/// The runs of rows whose having an unflagged angle is `good`, each as `start..end`
-/// row indices.
+/// The longest runs of rows with an unflagged angle (`good`) or without one (`!good`),
+/// each as `start..end` row indices.
 fn runs_where(rows: &[AngleRow], good: bool) -> Vec<(usize, usize)> {
     let mut runs = Vec::new();
     let mut i = 0;

@@ -87,13 +87,11 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
         );
     }
     let mut w = WINDOW_SHARE * median_gap(t, &coarse);
-    // A window that cannot hold a turning point's samples, or one much shorter than the
-    // swing's own lobes give: the lobes that set the half swing are not the swing's (see
-    // `LOBE_GAP_SHARE`).
-    if let Some(half) = swing_gap(t, y, center, &coarse) {
-        let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
-        let short = 2.0 * w / median(&mut dt) + 1.0 < MIN_WINDOW_SAMPLES as f64;
-        if short || w < SWING_GAP_SHORT * WINDOW_SHARE * half {
+    // A window that cannot hold a turning point's samples: the lobes that set the half
+    // swing are not the swing's (see `LOBE_GAP_SHARE`).
+    let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
+    if 2.0 * w / median(&mut dt) + 1.0 < MIN_WINDOW_SAMPLES as f64 {
+        if let Some(half) = swing_gap(t, y, center, &coarse) {
             w = WINDOW_SHARE * half;
         }
     }
@@ -478,13 +476,10 @@ const WINDOW_SHARE: f64 = 0.3;
 const MIN_WINDOW_SAMPLES: usize = 9;
 
 /// When the median gap of every lobe leaves [`find_extremes`]' windows too short to hold
-/// a turning point ([`MIN_WINDOW_SAMPLES`]), or is much shorter than the swing's own
-/// ([`SWING_GAP_SHORT`]), the half swing is the median gap between
-/// the lobes, one after another, that reach at least this share of the third tallest
-/// lobe's height from the centre (the third: a misread frame or two, far out, would set
-/// the tallest), the smaller lobes between them passed over, where the two lie on
-/// opposite sides (two on one side: a turning point between them was missed), when at
-/// least three such gaps are found. After an early stop, the ball at
+/// a turning point ([`MIN_WINDOW_SAMPLES`]), the half swing is the median gap between
+/// consecutive lobes that both reach at least this share of the third tallest lobe's
+/// height from the centre (the third: a misread frame or two, far out, would set the
+/// tallest), when at least three such gaps are found. After an early stop, the ball at
 /// rest wanders about the centre (a swaying camera's slow motion, the noise), crossing
 /// it often and little, and a series may hold more of those lobes than of the swing's:
 /// seed 1's sweep scene 11 (a sway of 1.7 px at 0.58 Hz, the camera not steadied; the
@@ -495,15 +490,6 @@ const MIN_WINDOW_SAMPLES: usize = 9;
 /// as it was.
 pub const LOBE_GAP_SHARE: f64 = 0.1;
 
-/// The median gap of every lobe under this share of the swing's own half swing
-/// ([`LOBE_GAP_SHARE`]) is set by lobes that are not the swing's, and the swing's is
-/// taken: seed 1205's scene 33 (hand-held, steadied, its angle 0.15 deg RMS off; the
-/// ball at rest from 22 s of 40, wandering across the centre a few times a second)
-/// gave 0.84 s against the swing's 1.68, and its windows, half as wide as the swing's
-/// half swing gives, saw too little fall on one side of 10 of its 12 turning points (2
-/// found, the fit refused). Every lobe a swing's, the two agree.
-pub const SWING_GAP_SHORT: f64 = 0.75;
-
 /// The half swing of the swing's own lobes ([`LOBE_GAP_SHARE`]), if at least three gaps
 /// lie between them.
 fn swing_gap(t: &[f64], y: &[f64], center: f64, coarse: &[(f64, usize)]) -> Option<f64> {
@@ -511,14 +497,9 @@ fn swing_gap(t: &[f64], y: &[f64], center: f64, coarse: &[(f64, usize)]) -> Opti
     let mut heights: Vec<f64> = coarse.iter().map(|&(_, k)| height(k)).collect();
     heights.sort_by(|a, b| b.total_cmp(a));
     let tall = LOBE_GAP_SHARE * *heights.get(2)?;
-    let swing: Vec<(f64, usize)> = coarse
-        .iter()
-        .copied()
-        .filter(|&(_, k)| height(k) >= tall)
-        .collect();
-    let mut gaps: Vec<f64> = swing
+    let mut gaps: Vec<f64> = coarse
         .windows(2)
-        .filter(|w| w[0].0 != w[1].0)
+        .filter(|w| height(w[0].1) >= tall && height(w[1].1) >= tall)
         .map(|w| t[w[1].1] - t[w[0].1])
         .collect();
     (gaps.len() >= 3).then(|| median(&mut gaps))

@@ -234,30 +234,6 @@ fn a_ball_at_rest_under_a_swaying_camera_leaves_the_half_swing_to_the_swing() {
     );
 }
 
-/// The angles seed 1205's sweep scene 33 was measured at (`tests/fit_series/
-/// handheld_rest.csv`: 1280x720 at 25 frames/s, hand-held 3.2 px and 0.48 deg at 3.8
-/// Hz, steadied, 0.15 deg RMS off the truth; copper, the ball at rest from 22 s of
-/// 40). The ball at rest wanders across the centre a few times a second, and its lobes
-/// set the median gap of every lobe at 0.84 s, half the swing's 1.68, without leaving
-/// the windows too short to hold a turning point's samples: with windows half as wide
-/// as the swing's half swing gives, 10 of the 12 turning points saw too little fall on
-/// one side, and the fit was refused (2 found). The swing's own half swing is taken.
-#[test]
-fn a_hand_held_ball_at_rest_does_not_halve_the_half_swing() {
-    let text = include_str!("../../tests/fit_series/handheld_rest.csv");
-    let series = AngleSeries::parse_csv(text).unwrap();
-    assert_eq!(series.t.len(), 1001);
-    let m = measure(&series).unwrap();
-    assert!(
-        m.extremes.len() >= 10,
-        "{} turning points",
-        m.extremes.len()
-    );
-    let stop = m.stop.expect("the ball at rest is told");
-    assert!((21.0..25.0).contains(&stop.t_s), "{stop:?}");
-    assert!((m.period_s - 3.377).abs() < 0.02, "{} s", m.period_s);
-}
-
 #[test]
 fn rejects_too_few_turning_points() {
     let p = pendulum(0.1774);

@@ -226,14 +226,16 @@ impl Late {
     /// at the farthest two in a row; its angles 0.097 deg RMS off). Unless the first
     /// glance ([`LATE_EVERY_S`] in) lies displaced from the first frame by more than
     /// [`STILL_MAX_PX`], a motion that explains it ([`LATE_EXPLAINS`]: a camera bumped
-    /// before the first glance, judged from the first frame), the last two are measured from the first glance too, the farther of them, and the
-    /// nearer of the two readings is taken: a scene that has not moved since the first
+    /// before the first glance, judged from the first frame), the last two are measured
+    /// from the first glance too, the farther of them, and the nearer of the two
+    /// readings is taken: a scene that has not moved since the first
     /// glance has not drifted, and what differs in the first frame lay in it (the hand
     /// that let the ball go: a still 960x540 twin under CRF 34 read 0.65 px off the first
     /// frame at its last two glances, 0.38 off the first glance; measured again steadied
     /// onto that first frame, its angles lay 0.082 deg RMS off the truth against 0.024;
-    /// its first glance lay 0.27 px off the first frame). `None` when the camera was followed, or with
-    /// fewer than two glances, or when no two glances in a row can be measured.
+    /// its first glance lay 0.27 px off the first frame). `None` when the camera was
+    /// followed, or with fewer than two glances, or when no two glances in a row can be
+    /// measured.
     pub(in crate::detect) fn unfollowed(&self) -> Result<Option<f64>> {
         let (Some(first), [Some(a), Some(b)]) = (&self.first, &self.glanced) else {
             return Ok(None);
@@ -241,10 +243,9 @@ impl Late {
         if self.on {
             return Ok(None);
         }
-        // The displacement of the last two glances from `from`, the smaller (`nearer`)
-        // or the larger.
-        let off = |from: &Frame, nearer: bool| -> Result<Option<f64>> {
-            let mut on_scene = Steady::new(from, Some(&self.sweep))?;
+        // The displacement of the last two glances from `on_scene`'s frame, the smaller
+        // (`nearer`) or the larger.
+        let off = |on_scene: &mut Steady, nearer: bool| -> Result<Option<f64>> {
             let mut reach: Option<f64> = None;
             for g in [a, b] {
                 let Some(m) = on_scene.glance(g)? else {
@@ -255,10 +256,10 @@ impl Late {
             }
             Ok(reach)
         };
-        let mut reach = off(first, true)?;
+        let mut on_scene = Steady::new(first, Some(&self.sweep))?;
+        let mut reach = off(&mut on_scene, true)?;
         let earlier = self.first_glanced.as_ref().filter(|g| g.t_s < a.t_s);
         if let (Some(r), Some(g)) = (reach, earlier) {
-            let mut on_scene = Steady::new(first, Some(&self.sweep))?;
             let moved = on_scene
                 .glance(g)?
                 .map(|m| m.reach(g.width as f64, g.height as f64));
@@ -266,7 +267,11 @@ impl Late {
                 Some(px) => px > STILL_MAX_PX && on_scene.explains_by(LATE_EXPLAINS)?,
                 None => false,
             };
-            let since = if shifted { None } else { off(g, false)? };
+            let since = if shifted {
+                None
+            } else {
+                off(&mut Steady::new(g, Some(&self.sweep))?, false)?
+            };
             if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
                 eprintln!(
                     "steady: the last two glances {r:.3} px off the first frame, {since:?} \

@@ -62,6 +62,22 @@ pub fn noise_sigma(y: &[f64]) -> f64 {
 /// release (the series begins at an extreme) and a final stop at an extreme are not
 /// turning points of the free motion.
 pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
+    find_extremes_by(s, HalfSwing::EveryLobe)
+}
+
+/// Which lobes set the half swing that [`find_extremes_by`] seeks turning points over.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HalfSwing {
+    /// The median gap of every lobe; the swing's own ([`LOBE_GAP_SHARE`]) where that
+    /// leaves the windows too short to hold a turning point's samples.
+    EveryLobe,
+    /// The swing's own lobes' ([`LOBE_GAP_SHARE`]), where at least three gaps lie
+    /// between them (else as [`HalfSwing::EveryLobe`]).
+    SwingLobes,
+}
+
+/// [`find_extremes`] with the half swing set as `by` says.
+pub fn find_extremes_by(s: &AngleSeries, by: HalfSwing) -> Result<Vec<Extreme>> {
     let (t, y) = (&s.t, &s.angle);
     let n = y.len();
     if n < 8 {
@@ -90,7 +106,7 @@ pub fn find_extremes(s: &AngleSeries) -> Result<Vec<Extreme>> {
     // A window that cannot hold a turning point's samples: the lobes that set the half
     // swing are not the swing's (see `LOBE_GAP_SHARE`).
     let mut dt: Vec<f64> = t.windows(2).map(|p| p[1] - p[0]).collect();
-    if 2.0 * w / median(&mut dt) + 1.0 < MIN_WINDOW_SAMPLES as f64 {
+    if by == HalfSwing::SwingLobes || 2.0 * w / median(&mut dt) + 1.0 < MIN_WINDOW_SAMPLES as f64 {
         if let Some(half) = swing_gap(t, y, center, &coarse) {
             w = WINDOW_SHARE * half;
         }

@@ -1114,13 +1114,15 @@ fn a_light_wire_and_its_dark_shadow_alike_are_said_and_polarity_picks_the_wire()
 /// Seed 31's sweep scene 1, cut to 12 s: the ball is held still for 1.5 s while a
 /// second string swings beside it, so the first look (2.5 s) sees only the string
 /// move, takes its pivot, and the pass follows it smoothly to the end, every check on
-/// the angles passing (`ok` before, 5.9 deg RMS off the pendulum over 40 s). Given the
-/// experiment, the detection judges the period it saw against the geometry's: 1.612 s
-/// implies d = 0.054 m, not 0.183 m, and the detection is `suspect (length)`. (Rendered
-/// without its heavy compression, `crf: 34`, the look sees both swing and the video is
-/// refused as two pendulums.)
+/// the angles passing (`ok` before the `length` check, 5.9 deg RMS off the pendulum
+/// over 40 s). Given the experiment, the detection judges the period it saw against
+/// the geometry's: 1.612 s implies d = 0.054 m, not 0.183 m (`suspect (length)`). It
+/// then looks again from 2.5 s, where the pendulum swings, finds its pivot, measures
+/// the video again about it, and keeps that measurement, whose period is the
+/// pendulum's. (Rendered without its heavy compression, `crf: 34`, the look sees both
+/// swing and the video is refused as two pendulums.)
 #[test]
-fn a_second_pendulum_followed_in_place_of_the_first_fails_the_length_check() {
+fn a_second_pendulum_followed_in_place_of_the_first_is_left_for_the_first() {
     if !need_ffmpeg() {
         return;
     }
@@ -1149,22 +1151,24 @@ fn a_second_pendulum_followed_in_place_of_the_first_fails_the_length_check() {
         d,
     )
     .1;
-    assert!(said.contains("detection suspect (length)"), "{said}");
-    assert!(said.contains("implies d = 0.05"), "{said}");
+    assert!(
+        said.contains("the period seen is not the pendulum's (suspect (length))")
+            && said.contains("a look from 2.5 s finds another pivot")
+            && !said.contains("the first measurement is kept"),
+        "{said}"
+    );
+    assert!(said.contains("detection ok"), "{said}");
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(d.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["verdict"], "suspect", "{summary}");
     let checks = summary["checks"].as_array().expect("checks");
     let length = checks
         .iter()
         .find(|c| c["check"] == "length")
         .expect("a `length` check");
-    assert_eq!(length["passed"], false, "{length}");
-    assert!(length["value"].as_f64().unwrap() > 0.5, "{length}");
-    // The suspicion is borne out: the angles are not the pendulum's.
+    assert_eq!(length["passed"], true, "{length}");
     let (e, _) = ok_errors_deg(d, "angles.csv");
-    let rms = scatter_deg(&e.iter().map(|x| x.to_radians()).collect::<Vec<_>>());
-    assert!(rms > 1.0, "angle RMS {rms:.3} deg about the mean");
+    let rms = (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt();
+    assert!(rms < 0.05, "angle RMS {rms:.4} deg");
 }
 
 /// A room that is not empty: a gridded board behind the pendulum, two static edges near

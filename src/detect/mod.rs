@@ -60,8 +60,8 @@ mod track;
 pub mod tuning;
 
 use crate::detect::tuning::{
-    INIT_SECONDS, LOOK_MAX_FRAMES, LOOK_SWING_AGREE, LOOK_SWING_APART, PER_SIDE,
-    STILL_AGAIN_NOISE_MAX_DEG, SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
+    INIT_SECONDS, LENGTH_LOOKS, LOOK_MAX_FRAMES, LOOK_SWING_AGREE, LOOK_SWING_APART, PER_SIDE,
+    SECOND_APART, STILL_AGAIN_NOISE_MAX_DEG, SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
@@ -203,44 +203,175 @@ fn detect_looked(
     pass_from: &std::cell::OnceCell<Option<f64>>,
 ) -> Result<Detection> {
     let started = std::time::Instant::now();
-    let info = input.info();
-    let name = input.name();
-    let bound = opts.roi.unwrap_or(Roi {
-        x: 0,
-        y: 0,
-        w: info.width,
-        h: info.height,
-    });
-    if bound.x + bound.w > info.width || bound.y + bound.h > info.height {
-        bail!(
-            "{}: `video.roi` = [{}, {}, {}, {}] does not fit in the {}x{} frame",
-            name,
-            bound.x,
-            bound.y,
-            bound.w,
-            bound.h,
-            info.width,
-            info.height
-        );
+    let looks = FirstLook::new(input, opts, started, pass_from)?;
+    let d = detect_scaled(looks)?;
+    another_pendulum(looks, d)
+}
+
+impl<'a> FirstLook<'a> {
+    /// The first looks of a detection with `opts` (its region and frames), none made yet.
+    fn new(
+        input: &'a dyn VideoInput,
+        opts: &'a DetectOptions,
+        started: std::time::Instant,
+        pass_from: &'a std::cell::OnceCell<Option<f64>>,
+    ) -> Result<Self> {
+        let info = input.info();
+        let bound = opts.roi.unwrap_or(Roi {
+            x: 0,
+            y: 0,
+            w: info.width,
+            h: info.height,
+        });
+        if bound.x + bound.w > info.width || bound.y + bound.h > info.height {
+            bail!(
+                "{}: `video.roi` = [{}, {}, {}, {}] does not fit in the {}x{} frame",
+                input.name(),
+                bound.x,
+                bound.y,
+                bound.w,
+                bound.h,
+                info.width,
+                info.height
+            );
+        }
+        let (first, last) = match opts.frames {
+            Some([a, b]) => (a, b),
+            None => (0, u64::MAX),
+        };
+        Ok(FirstLook {
+            input,
+            opts,
+            bound,
+            first,
+            last,
+            started,
+            pass_from,
+            moving: false,
+            follow_region: false,
+            held_under_motion: false,
+            little_sweep_kept: false,
+        })
     }
-    let (first, last) = match opts.frames {
-        Some([a, b]) => (a, b),
-        None => (0, u64::MAX),
+}
+
+/// Step 4 of [`detect_looked`]: a period that is not the experiment's pendulum's (the
+/// `length` check failed, a pendulum given and neither a pivot nor a region) may be
+/// another pendulum's, one that swung through the first look while the ball was held
+/// still. Seed 1205's sweep scene 31 (1280x720, the ball held for 1.96 s of the look's
+/// 2.5, a second string swinging below the fulcrum) followed the string, 1.37 s against
+/// the pendulum's 3.32, `suspect (length)`; a look from 2.5 s on finds the pendulum's
+/// pivot. Looked again at most [`LENGTH_LOOKS`] times, each [`INIT_SECONDS`] after the
+/// one before: the first look that finds a pivot (its own or a second pendulum's) more
+/// than [`SECOND_APART`] of the frame's larger side from the one followed has the video
+/// measured again with that pivot given (and the look's region and polarity, for its
+/// own pendulum), and that measurement is kept when its period is seen and is the
+/// pendulum's.
+fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
+    let FirstLook { input, opts, .. } = looks;
+    let length_failed = d.verdict.failed().any(|c| c.check == "length");
+    if !length_failed || opts.pivot.is_some() || opts.roi.is_some() {
+        return Ok(d);
+    }
+    let name = input.name();
+    let info = input.info();
+    let side = f64::from(info.width.max(info.height));
+    let followed = Vector2::new(d.pivot_px[0], d.pivot_px[1]);
+    let Some(t0) = d.rows.first().map(|r| r.t_s) else {
+        return Ok(d);
     };
+    let mut decodings = 0;
+    for j in 1..=LENGTH_LOOKS {
+        let t = t0 + j as f64 * INIT_SECONDS;
+        let Some(row) = d.rows.iter().find(|r| r.t_s >= t) else {
+            break;
+        };
+        let later = FirstLook {
+            first: row.frame,
+            ..looks
+        };
+        let Ok((look, _)) = later.at_best_scale() else {
+            continue;
+        };
+        decodings += look.looks;
+        let geo = &look.geo;
+        let far = |p: &Pt| (Vector2::new(p.x, p.y) - followed).norm() > SECOND_APART * side;
+        // The look's own pendulum with its region (the look from the start, held, may
+        // take something else through the pivot for the wire: seed 1205's scene 54, a
+        // hand releasing the ball); a second pendulum's pivot alone.
+        let polarity = match geo.dark {
+            true => crate::config::Polarity::Dark,
+            false => crate::config::Polarity::Light,
+        };
+        let (p, roi, polarity) = match (far(&geo.pivot), geo.second.filter(far)) {
+            (true, _) => (geo.pivot, Some(geo.roi), polarity),
+            (false, Some(q)) => (q, None, opts.polarity),
+            (false, None) => continue,
+        };
+        drop(look);
+        eprintln!(
+            "{name}: the period seen is not the pendulum's ({}); a look from {:.1} s finds \
+             another pivot, ({:.1}, {:.1}) px: measuring again about it",
+            d.verdict.label(),
+            row.t_s,
+            p.x,
+            p.y
+        );
+        let about = DetectOptions {
+            pivot: Some([p.x, p.y]),
+            roi,
+            polarity,
+            ..opts.clone()
+        };
+        let again =
+            FirstLook::new(input, &about, looks.started, looks.pass_from).and_then(detect_scaled);
+        return Ok(match again {
+            Ok(a)
+                if a.verdict
+                    .checks
+                    .iter()
+                    .any(|c| c.check == "length" && c.passed) =>
+            {
+                Detection {
+                    decodings: d.decodings + decodings + a.decodings,
+                    ..a
+                }
+            }
+            Ok(a) => {
+                eprintln!(
+                    "{name}: about ({:.1}, {:.1}) px it is {}: the first measurement is kept",
+                    p.x,
+                    p.y,
+                    a.verdict.label()
+                );
+                Detection {
+                    decodings: d.decodings + decodings + a.decodings,
+                    ..d
+                }
+            }
+            Err(e) => {
+                eprintln!(
+                    "{name}: about ({:.1}, {:.1}) px it measures nothing ({e:#}): the first \
+                     measurement is kept",
+                    p.x, p.y
+                );
+                Detection {
+                    decodings: d.decodings + decodings,
+                    ..d
+                }
+            }
+        });
+    }
+    Ok(Detection {
+        decodings: d.decodings + decodings,
+        ..d
+    })
+}
+
+/// Steps 1 to 3 of [`detect_looked`] from `looks`.
+fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
+    let FirstLook { input, .. } = looks;
     // 1. Geometry from the first seconds, at the working scale that sees the wire best.
-    let mut looks = FirstLook {
-        input,
-        opts,
-        bound,
-        first,
-        last,
-        started,
-        pass_from,
-        moving: false,
-        follow_region: false,
-        held_under_motion: false,
-        little_sweep_kept: false,
-    };
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale (measured again steadied when the camera was
     // found moving).

@@ -31,6 +31,15 @@ knobs! {
         what "frames of a still start (a held ball) the first look keeps",
         chosen_by "cb79a79: the 8 experiments byte-identical; a 2 s hold of a faint wire, refused before, measured";
 
+    /// A period that is not the experiment's pendulum's (the `length` check) may be
+    /// another pendulum's, swinging while the ball was held through the first look: the
+    /// detector looks again this many times, each look `INIT_SECONDS` after the one
+    /// before, for a pendulum about another pivot (`SECOND_APART` away), and measures it
+    /// when one is found (`detect::another_pendulum`).
+    LENGTH_LOOKS: usize = 3, "looks",
+        what "later looks for another pendulum after the `length` check failed",
+        chosen_by "seed 1205's sweep scenes 31 and 54 (a ball held 2 s, a second string swinging): the look from 2.5 s finds the pendulum; three reach 10 s, STILL_MAX_SECONDS; not swept";
+
     /// A still start longer than this (s) is taken as the motion's start: the look does
     /// not wait for ever on a wire it cannot see move.
     STILL_MAX_SECONDS: f64 = 10.0, "s",

@@ -502,8 +502,9 @@ const MIN_WINDOW_SAMPLES: usize = 9;
 /// ball at rest from 23 s of 40) held 14 lobes of the swing, 1.6 to 1.7 s apart, and 43
 /// of the ball at rest, their median gap 0.48 s; each turning point's window then held 7
 /// samples, and none was found (the fit refused the video). Where the windows hold
-/// their samples (every other series), the half swing is the median gap of every lobe,
-/// as it was.
+/// their samples, the half swing is the median gap of every lobe, as it was, unless
+/// those windows find too few turning points to fit: the fit then seeks them again over
+/// the swing's own half swing ([`HalfSwing::SwingLobes`], `fit::measure::measure`).
 pub const LOBE_GAP_SHARE: f64 = 0.1;
 
 /// The half swing of the swing's own lobes ([`LOBE_GAP_SHARE`]), if at least three gaps

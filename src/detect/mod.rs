@@ -265,8 +265,9 @@ impl<'a> FirstLook<'a> {
 /// one before: the first look that finds a pivot (its own or a second pendulum's) more
 /// than [`SECOND_APART`] of the frame's larger side from the one followed has the video
 /// measured again with that pivot given (and the look's region and polarity, for its
-/// own pendulum), and that measurement is kept when its period is seen and is the
-/// pendulum's.
+/// own pendulum), and that
+/// measurement is kept when its period is seen and is the pendulum's, whatever its other
+/// checks say (they are its own verdict: the first measurement followed something else).
 fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
     let FirstLook { input, opts, .. } = looks;
     let length_failed = d.verdict.failed().any(|c| c.check == "length");
@@ -296,9 +297,15 @@ fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
         decodings += look.looks;
         let geo = &look.geo;
         let far = |p: &Pt| (Vector2::new(p.x, p.y) - followed).norm() > SECOND_APART * side;
-        // The look's own pendulum with its region (the look from the start, held, may
-        // take something else through the pivot for the wire: seed 1205's scene 54, a
-        // hand releasing the ball); a second pendulum's pivot alone.
+        // The look's own pendulum with its region and polarity (given only the pivot,
+        // the look from the start, the ball held, took a hand's light edges through it
+        // for the wire: seed 1205's scene 54); a second pendulum's pivot alone. The
+        // look's region holds the angles it saw and 10 deg more (`ROI_MARGIN_DEG`),
+        // which holds what the swing lost since the start: the fastest decay of the
+        // paper's rows (glass fiber fabric, 10 deg to rest in 13 s) loses 5.8 deg by
+        // the last look, at 7.5 s. A region widened further held scene 54's second
+        // string, which kept the look from the start from dropping the held ball's
+        // frames: its angles were 0.023 deg RMS off, not 0.002.
         let polarity = match geo.dark {
             true => crate::config::Polarity::Dark,
             false => crate::config::Polarity::Light,
@@ -338,11 +345,13 @@ fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
                 }
             }
             Ok(a) => {
+                let why = match a.verdict.checks.iter().find(|c| c.check == "length") {
+                    Some(c) => format!("its period is not the pendulum's either ({})", c.reason),
+                    None => format!("no period is seen ({})", a.verdict.label()),
+                };
                 eprintln!(
-                    "{name}: about ({:.1}, {:.1}) px it is {}: the first measurement is kept",
-                    p.x,
-                    p.y,
-                    a.verdict.label()
+                    "{name}: about ({:.1}, {:.1}) px {why}: the first measurement is kept",
+                    p.x, p.y
                 );
                 Detection {
                     decodings: d.decodings + decodings + a.decodings,

@@ -176,7 +176,8 @@ pub struct Detection {
     /// the detection's start to its first streaming pass (the first look, its geometry,
     /// and any look made again before it: a cost fixed per video; with the frames a
     /// reader thread copies ahead meanwhile), and from then to the detection's end (the
-    /// pass, and any pass made again with the look made again for it: on a still camera
+    /// pass, and any pass made again with the look made again for it, and the later
+    /// looks and the measurement again of a failed `length` check: on a still camera
     /// measured once, the cost per frame). None where the clock cannot be read, or
     /// before the detection ends. Not in the JSON: it differs from run to run.
     #[serde(skip)]

@@ -249,7 +249,7 @@ fn a_hand_held_ball_at_rest_is_measured_over_the_swing_own_half_swing() {
     assert_eq!(series.t.len(), 1001);
     let every = crate::signal::find_extremes(&series).unwrap();
     assert!(
-        every.len() < 6,
+        every.len() < MIN_EXTREMES,
         "{} found over every lobe's half swing",
         every.len()
     );

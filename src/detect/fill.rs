@@ -8,6 +8,7 @@ use crate::detect::tuning::{
     BEYOND_SWING_SHARE, FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LEAP_RUN_PERIODS,
     LEAP_SPEED_TIMES, LOSS_EDGE_MIN_DEG, LOSS_EDGE_S, LOSS_FRAMES, OFF_SWING_KEEP_SIGMAS,
     OFF_SWING_MIN_DEG, OFF_SWING_MIN_FIT, OFF_SWING_ROUNDS, OFF_SWING_SIGMAS,
+    STILL_BEYOND_BAND_DEG, STILL_BEYOND_PRIOR_S, STILL_BEYOND_S, STILL_BEYOND_SHARE,
 };
 use std::collections::BTreeMap;
 
@@ -125,6 +126,56 @@ pub(super) fn flag_beyond_swing(rows: &mut [AngleRow]) {
                 r.flag = Some(Flag::Beyond);
             }
         }
+    }
+}
+
+/// Flag the found frames of a track that stands still beyond the swing before it
+/// (`Flag::Beyond`): a stretch of [`STILL_BEYOND_S`] or longer whose found angles lie
+/// within [`STILL_BEYOND_BAND_DEG`] of one another, when the found angles of the
+/// [`STILL_BEYOND_PRIOR_S`] before it swing over at least twice that band and the
+/// stretch's median lies beyond their range by more than [`STILL_BEYOND_SHARE`] of it.
+/// A wire comes to rest inside its last swing (its equilibrium, or its last turning
+/// point); a track that lost the wire (a person walking past) and took a static line
+/// stands where no swing reached. Seed 1's sweep scene 32 (640x480, hand-held,
+/// steadied, a static edge in the room) took the edge as the walker left the wire, 14
+/// deg beyond the swing's extreme, and stood on it, `ok`, for the last 27 s of 40. A
+/// held start has no swing before it, and a ball at rest after the swing lies within
+/// it: neither is flagged.
+pub(super) fn flag_still_beyond(rows: &mut [AngleRow]) {
+    let band = STILL_BEYOND_BAND_DEG.to_radians();
+    let good: Vec<(usize, f64, f64)> = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| Some((i, r.t_s, r.unflagged_angle()?)))
+        .collect();
+    let range = |g: &[(usize, f64, f64)]| {
+        g.iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), g| {
+                (lo.min(g.2), hi.max(g.2))
+            })
+    };
+    let mut j = 0;
+    while j < good.len() {
+        // The longest stretch from `j` within the band.
+        let (mut lo, mut hi, mut end) = (good[j].2, good[j].2, j);
+        while end < good.len() && hi.max(good[end].2) - lo.min(good[end].2) <= band {
+            (lo, hi) = (lo.min(good[end].2), hi.max(good[end].2));
+            end += 1;
+        }
+        let t0 = good[j].1;
+        if good[end - 1].1 - t0 >= STILL_BEYOND_S {
+            let from = good[..j].partition_point(|g| g.1 < t0 - STILL_BEYOND_PRIOR_S);
+            let (lo, hi) = range(&good[from..j]);
+            let mut still: Vec<f64> = good[j..end].iter().map(|g| g.2).collect();
+            let at = crate::numerics::median(&mut still);
+            let margin = STILL_BEYOND_SHARE * (hi - lo);
+            if hi - lo >= 2.0 * band && (at < lo - margin || at > hi + margin) {
+                for &(i, _, _) in &good[j..end] {
+                    rows[i].flag = Some(Flag::Beyond);
+                }
+            }
+        }
+        j = end;
     }
 }
 

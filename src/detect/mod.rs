@@ -74,7 +74,7 @@ use crate::video::{Frame, Roi};
 use anyhow::{bail, ensure, Context, Result};
 use fill::{
     apply_marks, fill_flagged, flag_against_swing, flag_beyond_swing, flag_isolated, flag_jumps,
-    flag_unsteadied,
+    flag_still_beyond, flag_unsteadied,
 };
 use first_look::*;
 use geometry::InitFrames;

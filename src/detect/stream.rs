@@ -204,6 +204,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     flag_isolated(&mut rows);
     flag_jumps(&mut rows);
     flag_beyond_swing(&mut rows);
+    flag_still_beyond(&mut rows);
     flag_against_swing(&mut rows);
     fill_flagged(&mut rows);
     apply_marks(

@@ -317,3 +317,35 @@ fn frames_whose_motion_was_not_measured_are_flagged() {
     let (w, u) = (Some(Flag::Weak), Some(Flag::Unsteadied));
     assert_eq!(flags, [None, None, None, None, w, u, u, None, None, None]);
 }
+
+/// A swing (40 deg held 1.5 s, then 10 deg about 30 deg, period 2 s) lost for a second
+/// at 10 s, after which the track stands on a line at 55 deg, still, to the end (15 deg
+/// beyond the swing's 40 deg release, 5.6 beyond the 8 s before it widened by half its
+/// range): that stretch is flagged. The held start (a still wire with no swing before it), and a
+/// ball that comes to rest within its swing, are not.
+#[test]
+fn a_track_standing_still_beyond_the_swing_before_it_is_flagged() {
+    let beyond = |rows: &[AngleRow]| -> Vec<usize> {
+        (0..rows.len())
+            .filter(|&i| rows[i].flag == Some(Flag::Beyond))
+            .collect()
+    };
+    let mut rows = swinging(600, 1.5);
+    for r in &mut rows[300..330] {
+        r.angle_rad = None;
+        r.status = Status::Missing;
+    }
+    for (k, r) in rows[330..].iter_mut().enumerate() {
+        r.angle_rad = Some((55.0 + 0.1 * (k % 3) as f64).to_radians());
+    }
+    flag_still_beyond(&mut rows);
+    assert_eq!(beyond(&rows), (330..600).collect::<Vec<_>>());
+    // Held for 3 s (no swing before it), and at rest within the swing (30.5 deg, its
+    // last turning points 21 to 39 deg): kept.
+    let mut rows = swinging(600, 3.0);
+    for r in &mut rows[330..] {
+        r.angle_rad = Some(30.5f64.to_radians());
+    }
+    flag_still_beyond(&mut rows);
+    assert!(beyond(&rows).is_empty(), "{:?}", beyond(&rows));
+}

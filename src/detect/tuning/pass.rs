@@ -178,6 +178,27 @@ knobs! {
         what "a short run this far beyond the longer runs' range (as a share of it) is flagged",
         chosen_by "issue 49, seed 7 scene 15 (a walker at a turning point, two frames 42 and 23 deg off called ok, the fit refused): those two frames, and none of the 250 other kept detections of seeds 1, 2 and 7 nor the real clips; at 0.1, 8 frames of one suspect scene, under 0.8 deg off";
 
+    /// A track that stands still (its found angles within `STILL_BEYOND_BAND_DEG` of one
+    /// another) for `STILL_BEYOND_S` or longer, beyond the range of the found angles of
+    /// the `STILL_BEYOND_PRIOR_S` before it by `STILL_BEYOND_SHARE` of that range (a
+    /// swing over at least twice the band), is on something else: a wire comes to rest
+    /// inside its last swing (`fill::flag_still_beyond`).
+    STILL_BEYOND_S: f64 = 2.0, "s",
+        what "a track standing still this long beyond the swing before it is flagged",
+        chosen_by "seed 1's sweep scene 32 (640x480, hand-held, a walker at 11.5 s): the track took a static edge 14 deg beyond the swing and stood on it for 27 s, ok; hand-picked above a turning point's dwell (under 0.5 s within the band); not swept";
+
+    STILL_BEYOND_BAND_DEG: f64 = 1.0, "deg",
+        what "... its found angles within this of one another",
+        chosen_by "the same scene: the edge's angle crept 0.9 deg as the walker left it (at 0.5 deg the stretch broke, and its second part lay within the first's range); not swept";
+
+    STILL_BEYOND_PRIOR_S: f64 = 8.0, "s",
+        what "... beyond the range of the found angles this long before it",
+        chosen_by "kept sweep angles (98 of seeds 1, 2, 7, 1205 and 163 more of seeds 1, 2 and 1205): at 4 s with a share of 0.2 a glass-fiber ball at rest 0.13 deg beyond its last 4 s, its last turning point misread; at 8 s or 0.5 only scene 32 (twice)";
+
+    STILL_BEYOND_SHARE: f64 = 0.5, "share",
+        what "... by more than this share of that range",
+        chosen_by "the same: scene 32 lies 3 deg beyond the 8 s range widened by 0.5 of it, the glass-fiber ball 2.2 deg inside the 4 s one";
+
     LOSS_FRAMES: usize = 3, "frames",
         what "a loss of the wire: this many frames in a row flagged or without an angle",
         chosen_by "27c1bbf: the same walker twin; not swept";

@@ -8,7 +8,8 @@ use crate::detect::tuning::{
     BEYOND_SWING_SHARE, FILL_REACH_S, ISOLATED_RUN, JUMP_MIN_DEG, JUMP_STEPS, LEAP_RUN_PERIODS,
     LEAP_SPEED_TIMES, LOSS_EDGE_MIN_DEG, LOSS_EDGE_S, LOSS_FRAMES, OFF_SWING_KEEP_SIGMAS,
     OFF_SWING_MIN_DEG, OFF_SWING_MIN_FIT, OFF_SWING_ROUNDS, OFF_SWING_SIGMAS,
-    STILL_BEYOND_BAND_DEG, STILL_BEYOND_PRIOR_S, STILL_BEYOND_S, STILL_BEYOND_SHARE,
+    STILL_BEYOND_BAND_DEG, STILL_BEYOND_PRIOR_S, STILL_BEYOND_QUANTILE, STILL_BEYOND_S,
+    STILL_BEYOND_SHARE,
 };
 use std::collections::BTreeMap;
 
@@ -130,17 +131,22 @@ pub(super) fn flag_beyond_swing(rows: &mut [AngleRow]) {
 }
 
 /// Flag the found frames of a track that stands still beyond the swing before it
-/// (`Flag::Beyond`): a stretch of [`STILL_BEYOND_S`] or longer whose found angles lie
-/// within [`STILL_BEYOND_BAND_DEG`] of one another, when the found angles of the
-/// [`STILL_BEYOND_PRIOR_S`] before it swing over at least twice that band and the
-/// stretch's median lies beyond their range by more than [`STILL_BEYOND_SHARE`] of it.
-/// A wire comes to rest inside its last swing (its equilibrium, or its last turning
-/// point); a track that lost the wire (a person walking past) and took a static line
-/// stands where no swing reached. Seed 1's sweep scene 32 (640x480, hand-held,
-/// steadied, a static edge in the room) took the edge as the walker left the wire, 14
-/// deg beyond the swing's extreme, and stood on it, `ok`, for the last 27 s of 40. A
-/// held start has no swing before it, and a ball at rest after the swing lies within
-/// it: neither is flagged.
+/// (`Flag::StillBeyond`): a stretch of [`STILL_BEYOND_S`] or longer whose found angles
+/// lie within [`STILL_BEYOND_BAND_DEG`] of one another, whose median lies beyond the
+/// swing of the [`STILL_BEYOND_PRIOR_S`] before it by more than [`STILL_BEYOND_SHARE`]
+/// of that swing's range. The swing is the found angles there but those within the band
+/// of the stretch's median (its own earlier pieces, broken off by a frame or a creep),
+/// from their [`STILL_BEYOND_QUANTILE`] to their `1 - STILL_BEYOND_QUANTILE` quantile (a
+/// stray frame does not widen it), and must
+/// span twice the band at least. The stretches that follow a flagged one, or lead up to
+/// it, and lie beyond the same bounds are flagged too, however short: the stand goes on
+/// past a break. A wire
+/// comes to rest inside its last swing (its equilibrium, or its last turning point); a
+/// track that lost the wire (a person walking past) and took a static line stands where
+/// no swing reached. Seed 1's sweep scene 32 (640x480, hand-held, steadied, a static
+/// edge in the room) took the edge as the walker left the wire, 14 deg beyond the
+/// swing's extreme, and stood on it, `ok`, for the last 27 s of 40. A held start is
+/// judged only where a swing of twice the band was found in the seconds before it.
 pub(super) fn flag_still_beyond(rows: &mut [AngleRow]) {
     let band = STILL_BEYOND_BAND_DEG.to_radians();
     let good: Vec<(usize, f64, f64)> = rows
@@ -148,34 +154,70 @@ pub(super) fn flag_still_beyond(rows: &mut [AngleRow]) {
         .enumerate()
         .filter_map(|(i, r)| Some((i, r.t_s, r.unflagged_angle()?)))
         .collect();
-    let range = |g: &[(usize, f64, f64)]| {
-        g.iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), g| {
-                (lo.min(g.2), hi.max(g.2))
-            })
-    };
+    // The longest stretches within the band, one after another: `start..end` in `good`
+    // and their median angle.
+    let mut stretches: Vec<(usize, usize, f64)> = Vec::new();
     let mut j = 0;
     while j < good.len() {
-        // The longest stretch from `j` within the band.
-        let (mut lo, mut hi, mut end) = (good[j].2, good[j].2, j);
+        let (mut lo, mut hi, mut end) = (good[j].2, good[j].2, j + 1);
         while end < good.len() && hi.max(good[end].2) - lo.min(good[end].2) <= band {
             (lo, hi) = (lo.min(good[end].2), hi.max(good[end].2));
             end += 1;
         }
+        let mut still: Vec<f64> = good[j..end].iter().map(|g| g.2).collect();
+        stretches.push((j, end, crate::numerics::median(&mut still)));
+        j = end;
+    }
+    // The swing about the stretch at `at` from `j`, as the bounds it must lie beyond.
+    let bounds = |j: usize, at: f64| {
         let t0 = good[j].1;
-        if good[end - 1].1 - t0 >= STILL_BEYOND_S {
-            let from = good[..j].partition_point(|g| g.1 < t0 - STILL_BEYOND_PRIOR_S);
-            let (lo, hi) = range(&good[from..j]);
-            let mut still: Vec<f64> = good[j..end].iter().map(|g| g.2).collect();
-            let at = crate::numerics::median(&mut still);
-            let margin = STILL_BEYOND_SHARE * (hi - lo);
-            if hi - lo >= 2.0 * band && (at < lo - margin || at > hi + margin) {
-                for &(i, _, _) in &good[j..end] {
-                    rows[i].flag = Some(Flag::Beyond);
+        let from = good[..j].partition_point(|g| g.1 < t0 - STILL_BEYOND_PRIOR_S);
+        let mut swing: Vec<f64> = good[from..j]
+            .iter()
+            .map(|g| g.2)
+            .filter(|a| (a - at).abs() > band)
+            .collect();
+        swing.sort_by(f64::total_cmp);
+        let last = swing.len().saturating_sub(1) as f64;
+        let at_share = |q: f64| swing.get((q * last).round() as usize).copied();
+        match (
+            at_share(STILL_BEYOND_QUANTILE),
+            at_share(1.0 - STILL_BEYOND_QUANTILE),
+        ) {
+            (Some(lo), Some(hi)) if hi - lo >= 2.0 * band => {
+                let margin = STILL_BEYOND_SHARE * (hi - lo);
+                Some((lo - margin, hi + margin))
+            }
+            _ => None,
+        }
+    };
+    let outside = |at: f64, (lo, hi): (f64, f64)| at < lo || at > hi;
+    let mut flagged = vec![false; stretches.len()];
+    // The bounds the stand last flagged was judged beyond.
+    let mut beyond: Option<(f64, f64)> = None;
+    for (k, &(j, end, at)) in stretches.iter().enumerate() {
+        let long = good[end - 1].1 - good[j].1 >= STILL_BEYOND_S;
+        let judged = match beyond.filter(|&b| outside(at, b)) {
+            Some(b) => Some(b),
+            None if long => bounds(j, at).filter(|&b| outside(at, b)),
+            None => None,
+        };
+        if let Some(b) = judged {
+            flagged[k] = true;
+            // The stand's first pieces, broken off before it was long enough to judge.
+            for back in (0..k).rev() {
+                if flagged[back] || !outside(stretches[back].2, b) {
+                    break;
                 }
+                flagged[back] = true;
             }
         }
-        j = end;
+        beyond = judged;
+    }
+    for (&(j, end, _), _) in stretches.iter().zip(&flagged).filter(|(_, &f)| f) {
+        for &(i, _, _) in &good[j..end] {
+            rows[i].flag = Some(Flag::StillBeyond);
+        }
     }
 }
 

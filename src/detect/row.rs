@@ -39,6 +39,9 @@ pub enum Flag {
     /// A few frames found beyond every angle the longer runs reached: a swing never
     /// grows (the track took up a person's edge as they passed).
     Beyond,
+    /// The track stands still beyond the swing before it, where a wire does not come to
+    /// rest (after a loss of the wire it took a static line).
+    StillBeyond,
 }
 
 impl Flag {
@@ -56,6 +59,7 @@ impl Flag {
             Flag::OffSwing => "off-swing",
             Flag::Leapt => "leapt",
             Flag::Beyond => "beyond-swing",
+            Flag::StillBeyond => "still-beyond",
         }
     }
 
@@ -73,6 +77,7 @@ impl Flag {
             Flag::OffSwing,
             Flag::Leapt,
             Flag::Beyond,
+            Flag::StillBeyond,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)

@@ -215,9 +215,35 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     );
     let usable = rows.iter().filter(|r| r.status != Status::Missing).count();
     if usable < rows.len() / 2 {
+        // What the frames left out were flagged for, most first: a track that stood on
+        // something else is told from a wire not seen.
+        let mut flags: Vec<(&str, usize)> = Vec::new();
+        for f in rows
+            .iter()
+            .filter(|r| r.status == Status::Missing)
+            .filter_map(|r| r.flag)
+        {
+            match flags.iter_mut().find(|(n, _)| *n == f.as_str()) {
+                Some((_, k)) => *k += 1,
+                None => flags.push((f.as_str(), 1)),
+            }
+        }
+        flags.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        let why = match flags.is_empty() {
+            true => String::new(),
+            false => format!(
+                "; of the frames left out, flagged: {}",
+                flags
+                    .iter()
+                    .map(|(n, k)| format!("{n} {k}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
         bail!(
-            "{}: the wire was found in only {usable} of {} frames (last good frame {}); \
-             check `video.roi`, `video.pivot` and `video.polarity`",
+            "{}: the wire was found in only {usable} of {} frames (last good frame {}{why}); \
+             check `video.roi`, `video.pivot` and `video.polarity`, or measure the frames \
+             where it was found (`video.frames`)",
             name,
             rows.len(),
             rows.iter()

@@ -327,7 +327,7 @@ fn frames_whose_motion_was_not_measured_are_flagged() {
 fn a_track_standing_still_beyond_the_swing_before_it_is_flagged() {
     let beyond = |rows: &[AngleRow]| -> Vec<usize> {
         (0..rows.len())
-            .filter(|&i| rows[i].flag == Some(Flag::Beyond))
+            .filter(|&i| rows[i].flag == Some(Flag::StillBeyond))
             .collect()
     };
     let mut rows = swinging(600, 1.5);
@@ -338,6 +338,13 @@ fn a_track_standing_still_beyond_the_swing_before_it_is_flagged() {
     for (k, r) in rows[330..].iter_mut().enumerate() {
         r.angle_rad = Some((55.0 + 0.1 * (k % 3) as f64).to_radians());
     }
+    let stand = rows.clone();
+    flag_still_beyond(&mut rows);
+    assert_eq!(beyond(&rows), (330..600).collect::<Vec<_>>());
+    // A frame 1.3 deg off early in the stand (0.33 s into it) breaks it: the piece
+    // before it, too short to judge, and the frame itself are flagged with the rest.
+    let mut rows = stand.clone();
+    *rows[340].angle_rad.as_mut().unwrap() += 1.3f64.to_radians();
     flag_still_beyond(&mut rows);
     assert_eq!(beyond(&rows), (330..600).collect::<Vec<_>>());
     // Held for 3 s (no swing before it), and at rest within the swing (30.5 deg, its

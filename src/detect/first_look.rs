@@ -124,6 +124,51 @@ pub(super) struct FirstLook<'a> {
 }
 
 impl<'a> FirstLook<'a> {
+    /// The first looks of a detection with `opts` (its region and frames), none made yet.
+    pub(super) fn new(
+        input: &'a dyn VideoInput,
+        opts: &'a DetectOptions,
+        started: std::time::Instant,
+        pass_from: &'a std::cell::OnceCell<Option<f64>>,
+    ) -> Result<Self> {
+        let info = input.info();
+        let bound = opts.roi.unwrap_or(Roi {
+            x: 0,
+            y: 0,
+            w: info.width,
+            h: info.height,
+        });
+        if bound.x + bound.w > info.width || bound.y + bound.h > info.height {
+            bail!(
+                "{}: `video.roi` = [{}, {}, {}, {}] does not fit in the {}x{} frame",
+                input.name(),
+                bound.x,
+                bound.y,
+                bound.w,
+                bound.h,
+                info.width,
+                info.height
+            );
+        }
+        let (first, last) = match opts.frames {
+            Some([a, b]) => (a, b),
+            None => (0, u64::MAX),
+        };
+        Ok(FirstLook {
+            input,
+            opts,
+            bound,
+            first,
+            last,
+            started,
+            pass_from,
+            moving: false,
+            follow_region: false,
+            held_under_motion: false,
+            little_sweep_kept: false,
+        })
+    }
+
     /// The first look at the working scale that sees the wire best. A frame is shrunk by
     /// whole factors only, so two scales bracket [`WORK_SIDE_PX`]: the coarser (larger side
     /// at most 640 px) and the finer (at least 640 px). With a larger working side asked

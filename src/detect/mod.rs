@@ -208,53 +208,6 @@ fn detect_looked(
     another_pendulum(looks, d)
 }
 
-impl<'a> FirstLook<'a> {
-    /// The first looks of a detection with `opts` (its region and frames), none made yet.
-    fn new(
-        input: &'a dyn VideoInput,
-        opts: &'a DetectOptions,
-        started: std::time::Instant,
-        pass_from: &'a std::cell::OnceCell<Option<f64>>,
-    ) -> Result<Self> {
-        let info = input.info();
-        let bound = opts.roi.unwrap_or(Roi {
-            x: 0,
-            y: 0,
-            w: info.width,
-            h: info.height,
-        });
-        if bound.x + bound.w > info.width || bound.y + bound.h > info.height {
-            bail!(
-                "{}: `video.roi` = [{}, {}, {}, {}] does not fit in the {}x{} frame",
-                input.name(),
-                bound.x,
-                bound.y,
-                bound.w,
-                bound.h,
-                info.width,
-                info.height
-            );
-        }
-        let (first, last) = match opts.frames {
-            Some([a, b]) => (a, b),
-            None => (0, u64::MAX),
-        };
-        Ok(FirstLook {
-            input,
-            opts,
-            bound,
-            first,
-            last,
-            started,
-            pass_from,
-            moving: false,
-            follow_region: false,
-            held_under_motion: false,
-            little_sweep_kept: false,
-        })
-    }
-}
-
 /// Step 4 of [`detect_looked`]: a period that is not the experiment's pendulum's (the
 /// `length` check failed, a pendulum given and neither a pivot nor a region) may be
 /// another pendulum's, one that swung through the first look while the ball was held

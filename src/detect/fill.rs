@@ -137,11 +137,10 @@ pub(super) fn flag_beyond_swing(rows: &mut [AngleRow]) {
 /// of that swing's range. The swing is the found angles there but those within the band
 /// of the stretch's median (its own earlier pieces, broken off by a frame or a creep),
 /// from their [`STILL_BEYOND_QUANTILE`] to their `1 - STILL_BEYOND_QUANTILE` quantile (a
-/// stray frame does not widen it), and must
-/// span twice the band at least. The stretches that follow a flagged one, or lead up to
-/// it, and lie beyond the same bounds are flagged too, however short: the stand goes on
-/// past a break. A wire
-/// comes to rest inside its last swing (its equilibrium, or its last turning point); a
+/// stray frame does not widen it), and must span twice the band at least. The
+/// stretches that follow a flagged one, or lead up to it, and lie beyond the same bounds
+/// are flagged too, however short: the stand goes on past a break. A wire comes to rest
+/// inside its last swing (its equilibrium, or its last turning point); a
 /// track that lost the wire (a person walking past) and took a static line stands where
 /// no swing reached. Seed 1's sweep scene 32 (640x480, hand-held, steadied, a static
 /// edge in the room) took the edge as the walker left the wire, 14 deg beyond the

@@ -218,12 +218,19 @@ fn detect_looked(
 /// one before: the first look that finds a pivot (its own or a second pendulum's) more
 /// than [`SECOND_APART`] of the frame's larger side from the one followed has the video
 /// measured again with that pivot given (and the look's region and polarity, for its
-/// own pendulum), and that
-/// measurement is kept when its period is seen and is the pendulum's, whatever its other
-/// checks say (they are its own verdict: the first measurement followed something else).
+/// own pendulum), and that measurement is kept when its period is seen and is the
+/// pendulum's, whatever its other checks say (they are its own verdict: the first
+/// measurement followed something else).
 fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
     let FirstLook { input, opts, .. } = looks;
-    let length_failed = d.verdict.failed().any(|c| c.check == "length");
+    let length = |d: &Detection| {
+        d.verdict
+            .checks
+            .iter()
+            .find(|c| c.check == "length")
+            .cloned()
+    };
+    let length_failed = length(&d).is_some_and(|c| !c.passed);
     if !length_failed || opts.pivot.is_some() || opts.roi.is_some() {
         return Ok(d);
     }
@@ -286,19 +293,12 @@ fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
         let again =
             FirstLook::new(input, &about, looks.started, looks.pass_from).and_then(detect_scaled);
         return Ok(match again {
-            Ok(a)
-                if a.verdict
-                    .checks
-                    .iter()
-                    .any(|c| c.check == "length" && c.passed) =>
-            {
-                Detection {
-                    decodings: d.decodings + decodings + a.decodings,
-                    ..a
-                }
-            }
+            Ok(a) if length(&a).is_some_and(|c| c.passed) => Detection {
+                decodings: d.decodings + decodings + a.decodings,
+                ..a
+            },
             Ok(a) => {
-                let why = match a.verdict.checks.iter().find(|c| c.check == "length") {
+                let why = match length(&a) {
                     Some(c) => format!("its period is not the pendulum's either ({})", c.reason),
                     None => format!("no period is seen ({})", a.verdict.label()),
                 };

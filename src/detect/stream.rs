@@ -217,17 +217,13 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     if usable < rows.len() / 2 {
         // What the frames left out were flagged for, most first: a track that stood on
         // something else is told from a wire not seen.
-        let mut flags: Vec<(&str, usize)> = Vec::new();
-        for f in rows
-            .iter()
-            .filter(|r| r.status == Status::Missing)
-            .filter_map(|r| r.flag)
-        {
-            match flags.iter_mut().find(|(n, _)| *n == f.as_str()) {
-                Some((_, k)) => *k += 1,
-                None => flags.push((f.as_str(), 1)),
+        let mut counts = std::collections::BTreeMap::<&str, usize>::new();
+        for r in rows.iter().filter(|r| r.status == Status::Missing) {
+            if let Some(f) = r.flag {
+                *counts.entry(f.as_str()).or_default() += 1;
             }
         }
+        let mut flags: Vec<(&str, usize)> = counts.into_iter().collect();
         flags.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
         let why = match flags.is_empty() {
             true => String::new(),

@@ -6,7 +6,7 @@
 mod added;
 mod swing;
 
-use super::{AngleRow, Status};
+use super::{AngleRow, Flag, Status};
 use crate::detect::tuning::{
     BENT_MIN_U, BENT_REL_U, BENT_SIGMAS, BESIDE_MAX_SHARE, BESIDE_MIN_SAMPLES, BESIDE_TOL_DEG,
     CROSSED_MIN, ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, GROWTH_MAX,
@@ -249,10 +249,13 @@ pub fn judge(
 ) -> DetectionVerdict {
     let n = rows.len().max(1);
     let ok_share = rows.iter().filter(|r| r.status == Status::Ok).count() as f64 / n as f64;
-    // The found frames' angles (the filled ones are the detector's guesses).
+    // The found frames' angles (the filled ones are the detector's guesses), and those
+    // found on the wire where something static pulled it (`Flag::Pulled`), filled from
+    // the frames either side: a rod through the fulcrum near the rest angle would
+    // otherwise take the swing's crossings with it.
     let (t, a): (Vec<f64>, Vec<f64>) = rows
         .iter()
-        .filter(|r| r.status == Status::Ok)
+        .filter(|r| r.status == Status::Ok || r.flag == Some(Flag::Pulled))
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
         .unzip();
     let (rest, scale, sw) = swing_about_rest(&t, &a);

@@ -42,6 +42,9 @@ pub enum Flag {
     /// The track stands still beyond the swing before it, where a wire does not come to
     /// rest (after a loss of the wire it took a static line).
     StillBeyond,
+    /// The angle lies where something static in the swing's path (a rod or an edge
+    /// through the pivot) pulls the angles of every swing the same way.
+    Pulled,
 }
 
 impl Flag {
@@ -60,6 +63,7 @@ impl Flag {
             Flag::Leapt => "leapt",
             Flag::Beyond => "beyond-swing",
             Flag::StillBeyond => "still-beyond",
+            Flag::Pulled => "pulled",
         }
     }
 
@@ -78,6 +82,7 @@ impl Flag {
             Flag::Leapt,
             Flag::Beyond,
             Flag::StillBeyond,
+            Flag::Pulled,
         ]
         .into_iter()
         .find(|f| f.as_str() == s)

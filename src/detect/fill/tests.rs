@@ -356,3 +356,79 @@ fn a_track_standing_still_beyond_the_swing_before_it_is_flagged() {
     flag_still_beyond(&mut rows);
     assert!(beyond(&rows).is_empty(), "{:?}", beyond(&rows));
 }
+
+/// A swing of period 2 s about 30 deg, 10 deg decaying by 0.1 deg a second, at 30
+/// frames/s for 40 s, with 0.02 deg of noise, each frame's angle moved by
+/// `spoil(true angle, angular speed)` (deg, deg/s); and the true angles, deg.
+fn spoilt_swing(spoil: impl Fn(f64, f64) -> f64) -> (Vec<AngleRow>, Vec<f64>) {
+    let pi = std::f64::consts::PI;
+    (0..1200u64)
+        .map(|i| {
+            let t = i as f64 / 30.0;
+            let noise = 0.02 * ((i * 7919 % 101) as f64 / 50.0 - 1.0);
+            let amp = 10.0 - 0.1 * t;
+            let truth = 30.0 + amp * (pi * t).cos();
+            let speed = -0.1 * (pi * t).cos() - amp * pi * (pi * t).sin();
+            let deg = truth + spoil(truth, speed) + noise;
+            (AngleRow::found(i, t, deg.to_radians()), truth)
+        })
+        .unzip()
+}
+
+fn pulled(rows: &[AngleRow]) -> Vec<usize> {
+    (0..rows.len())
+        .filter(|&i| rows[i].flag == Some(Flag::Pulled))
+        .collect()
+}
+
+/// A static line at 33 deg, inside the swing, pulls the wire's measured angle towards
+/// it by 0.4 of the distance within 1 deg of it (up to 0.4 deg), at every crossing:
+/// those frames are flagged and filled from the frames either side, and no frame more
+/// than 2 deg from the line is flagged. Without the pull, or with a lag of 4 ms (up to
+/// 0.13 deg, its sign turning with the direction of swing), nothing is flagged.
+#[test]
+fn frames_a_static_line_pulls_on_every_swing_are_flagged_and_filled() {
+    let line = 33.0;
+    let pull = |deg: f64, _: f64| {
+        let d = deg - line;
+        if d.abs() < 1.0 {
+            -0.4 * d
+        } else {
+            0.0
+        }
+    };
+    let (mut rows, truth) = spoilt_swing(pull);
+    let off = |rows: &[AngleRow]| {
+        rows.iter()
+            .zip(&truth)
+            .filter_map(|(r, t)| Some((r.angle_rad?.to_degrees() - t).abs()))
+            .fold(0.0, f64::max)
+    };
+    assert!(off(&rows) > 0.35, "{}", off(&rows));
+    flag_against_swing(&mut rows);
+    let flagged = pulled(&rows);
+    assert!(flagged.len() > 50, "{} flagged", flagged.len());
+    for &i in &flagged {
+        assert!(
+            (truth[i] - line).abs() < 2.0,
+            "frame {i} at {:.2} deg",
+            truth[i]
+        );
+    }
+    for (i, t) in truth.iter().enumerate() {
+        let moved = pull(*t, 0.0).abs();
+        assert!(
+            moved < 0.1 || rows[i].flag.is_some(),
+            "frame {i} at {t:.2} deg, moved {moved:.2} deg, not flagged"
+        );
+    }
+    fill_flagged(&mut rows);
+    assert!(off(&rows) < 0.06, "{}", off(&rows));
+    // Nothing to flag.
+    let (mut rows, _) = spoilt_swing(|_, _| 0.0);
+    flag_against_swing(&mut rows);
+    assert_eq!(pulled(&rows), Vec::<usize>::new());
+    let (mut rows, _) = spoilt_swing(|_, speed| 0.004 * speed);
+    flag_against_swing(&mut rows);
+    assert_eq!(pulled(&rows), Vec::<usize>::new());
+}

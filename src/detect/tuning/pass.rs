@@ -245,6 +245,66 @@ knobs! {
         what "found frames needed to judge a step of the swing",
         chosen_by "hand-picked; not swept";
 
+    /// See `flag_pulled`: the found frames are put in bins of this width by their
+    /// angle, deg ...
+    PULL_BIN_DEG: f64 = 0.25, "deg",
+        what "the bins of angle in which the residuals from the swing's path are averaged",
+        chosen_by "issue 49, seed 1's sweep scene 57 (1280x720, a bright rod through the fulcrum at -61.4 deg inside the swing): its pull spans about 2 deg of measured angle; hand-picked to hold 3 or more frames of each direction of swing at 30 frames/s";
+
+    /// ... and a bin is pulled when, in both directions of swing, its frames' mean
+    /// residual from the swing's path, less the median of the same direction's frames
+    /// `PULL_RING_FROM_DEG` to `PULL_BASE_DEG` away, lies beyond this (deg) ...
+    PULL_MIN_DEG: f64 = 0.05, "deg",
+        what "a bin's mean residual, less its surroundings', beyond this in both directions of swing is a pull",
+        chosen_by "issue 49, 224 kept sweep detections (seeds 1, 2, 7, 1205) and the 21 real clips (the seven, cropped still and moved), prototyped on their CSVs: scene 57's pulled bins lie 0.07 to 0.45 deg off in both directions; the only other pulls found lie in seed 1's scene 23 (three static edges, 0.055 deg either side of -85.25 deg) and seed 2's scene 48 (0.21 deg scatter, suspect, 0.49 deg RMS)";
+
+    /// ... and beyond this many times the swing's robust scatter over the square root
+    /// of the frames averaged ...
+    PULL_SIGMAS: f64 = 4.0, "times",
+        what "... and beyond this many standard errors of the mean",
+        chosen_by "the same; hand-picked";
+
+    /// ... each direction averaging at least this many frames (and its surroundings
+    /// holding as many) ...
+    PULL_MIN_FRAMES: usize = 3, "frames",
+        what "fewest frames of a direction of swing in a bin judged",
+        chosen_by "the same: at 4, scene 57's pull loses its side below the rod (6 and 3 frames); hand-picked";
+
+    /// ... from at least this many half periods (a bin only the first swings reach is
+    /// not judged: the swing's path there rests on few frames).
+    PULL_MIN_PASSES: usize = 3, "half periods",
+        what "fewest half periods of a direction of swing in a bin judged",
+        chosen_by "scene 57: the bins next to its release angle, reached in the first swing only, erred 0.2 to 0.9 deg from the path fitted over it before the swing's span bounded the fit";
+
+    PULL_RING_FROM_DEG: f64 = 1.5, "deg",
+        what "a bin's residual is judged against the same direction's frames from this far away in angle ...",
+        chosen_by "scene 57: beyond its pull (2 deg of measured angle about the rod); hand-picked";
+
+    PULL_BASE_DEG: f64 = 3.0, "deg",
+        what "... to this far",
+        chosen_by "the red-apple clip (a 25 deg swing at 60 frames/s): against the median of the bins within 2 deg, its bins of 3 or 4 frames at the same phase of every swing read 0.1 deg off the fitted path and were flagged, though each lay within 0.01 deg of its neighbours' local path; hand-picked";
+
+    /// At least this many pulled bins, each within `PULL_JOIN_DEG` of the next, make a
+    /// pull.
+    PULL_MIN_BINS: usize = 2, "bins",
+        what "fewest pulled bins that make a pull",
+        chosen_by "the real clips: the red apple's and film 1's lone bins of a few frames each; a line pulls the wire towards it from either side (scene 57: +0.08 deg below the rod, -0.2 above; scene 23: +0.055 and -0.055)";
+
+    /// Pulled bins this close (deg) are one pull, widened by `PULL_MARGIN_DEG` each
+    /// side; its frames are flagged.
+    PULL_JOIN_DEG: f64 = 1.0, "deg",
+        what "pulled bins this close are one pull",
+        chosen_by "scene 57: its pull changes sign across the rod (+0.12 deg at -62 deg, -0.19 at -61), and the bin between reads +0.03; joined, its angle RMS 0.056 -> 0.011 deg (prototype)";
+
+    /// Pulls holding more than this share of the found frames are not flagged.
+    PULL_MAX_SHARE: f64 = 0.2, "share",
+        what "pulls holding more than this share of the found frames are left to the other checks",
+        chosen_by "issue 49: the film-2 clip of the real fixtures (the rope unseen, a ball's edge followed) had 784 of its 1432 found frames in bins pulled the same way; scene 57's pull holds 8 %; hand-picked";
+
+    PULL_MARGIN_DEG: f64 = 0.25, "deg",
+        what "a pull is widened by this each side",
+        chosen_by "scene 57: 0.25 and 0.5 leave the same RMS (0.0114 and 0.0115 deg, prototype); hand-picked";
+
     /// See `flag_leapt`: two found frames whose angles differ by more than this many
     /// times what the swing turns at its fastest over the time between them (and by
     /// `JUMP_MIN_DEG`) part the track into runs.

@@ -328,9 +328,10 @@ struct BinSide {
 /// oblique swing's shape a little, at the same angle on every swing, but smoothly. At
 /// least [`PULL_MIN_BINS`] pulled bins, each within [`PULL_JOIN_DEG`] of the next, make
 /// a pull (a line pulls the wire towards it from either side), widened by
-/// [`PULL_MARGIN_DEG`] each side, and its frames are flagged (none when the pulls hold
-/// more than [`PULL_MAX_SHARE`] of the found frames): the fill then bridges the pull
-/// from the frames either side of it. Noise and a codec's errors do not keep their sign
+/// [`PULL_MARGIN_DEG`] each side, and its frames are flagged where the wire crosses it
+/// within [`FILL_REACH_S`] (a dwell there, at a turning point, is left as found), none
+/// when they are more than [`PULL_MAX_SHARE`] of the found frames: the fill then
+/// bridges each crossing from the frames either side of it. Noise and a codec's errors do not keep their sign
 /// from swing to swing; a lag (a rolling shutter, the exposure) turns its sign with the
 /// direction of swing. A bright rod through the fulcrum of seed 1's sweep scene 57
 /// (1280x720, a dark wire and its shadow 2.1 deg off) pulled the angle by 0.1 to 1.0
@@ -355,13 +356,26 @@ fn flag_pulled(rows: &mut [AngleRow], span: &SwingSpan) {
         return;
     }
     let scatter = crate::numerics::median(&mut scatters);
-    // The frames judged: angle, residual, direction of swing (0 rising, 1 falling).
+    // The frames judged: angle, residual, direction of swing (0 rising, 1 falling),
+    // time; the direction from the found frames either side, when they lie within an
+    // eighth of a period (not across a long loss, beyond a turning point).
     let judged: Vec<(f64, f64, usize, f64)> = (1..t.len().saturating_sub(1))
+        .filter(|&k| t[k + 1] - t[k - 1] <= 0.125 * span.period_s)
         .filter_map(|k| {
             let turn = a[k + 1] - a[k - 1];
             (turn != 0.0).then_some((a[k], res[k]?, usize::from(turn < 0.0), t[k]))
         })
         .collect();
+    // Each direction's residuals in the order of their angles, for the rings.
+    let by_angle: [Vec<(f64, f64)>; 2] = std::array::from_fn(|dir| {
+        let mut v: Vec<(f64, f64)> = judged
+            .iter()
+            .filter(|j| j.2 == dir)
+            .map(|j| (j.0, j.1))
+            .collect();
+        v.sort_by(|x, y| x.0.total_cmp(&y.0));
+        v
+    });
     let bin = PULL_BIN_DEG.to_radians();
     let half = 0.5 * span.period_s;
     let mut bins: BTreeMap<i64, [BinSide; 2]> = BTreeMap::new();
@@ -384,12 +398,14 @@ fn flag_pulled(rows: &mut [AngleRow], span: &SwingSpan) {
                     if s.n < PULL_MIN_FRAMES || s.passes.len() < PULL_MIN_PASSES {
                         return None;
                     }
-                    let mut ring: Vec<f64> = judged
-                        .iter()
-                        .filter(|j| {
-                            j.2 == dir && (ring_from..=ring_to).contains(&(j.0 - centre).abs())
-                        })
-                        .map(|j| j.1)
+                    let v = &by_angle[dir];
+                    let within = |lo: f64, hi: f64| {
+                        v[v.partition_point(|q| q.0 < lo)..v.partition_point(|q| q.0 <= hi)]
+                            .iter()
+                            .map(|q| q.1)
+                    };
+                    let mut ring: Vec<f64> = within(centre - ring_to, centre - ring_from)
+                        .chain(within(centre + ring_from, centre + ring_to))
                         .collect();
                     if ring.len() < PULL_MIN_FRAMES {
                         return None;
@@ -419,9 +435,25 @@ fn flag_pulled(rows: &mut [AngleRow], span: &SwingSpan) {
         .filter(|r| r.2 >= PULL_MIN_BINS)
         .map(|(lo, hi, _)| (lo as f64 * bin - margin, (hi + 1) as f64 * bin + margin))
         .collect();
-    let inside: Vec<usize> = (0..a.len())
-        .filter(|&k| ranges.iter().any(|&(lo, hi)| a[k] >= lo && a[k] < hi))
-        .collect();
+    let within = |k: usize| ranges.iter().any(|&(lo, hi)| a[k] >= lo && a[k] < hi);
+    // The found frames in a pull, by runs one after another; a run longer than the fill
+    // reaches is the wire dwelling at a turning point in the pull's range, not crossing
+    // it, and is left as found.
+    let mut inside: Vec<usize> = Vec::new();
+    let mut k = 0;
+    while k < a.len() {
+        if !within(k) {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < a.len() && within(k) {
+            k += 1;
+        }
+        if t[k - 1] - t[start] <= FILL_REACH_S {
+            inside.extend(start..k);
+        }
+    }
     // A pull is local: residuals that keep their sign over much of the swing are a path
     // the fit does not follow (a track on something else), for the other checks.
     if inside.len() as f64 > PULL_MAX_SHARE * a.len() as f64 {

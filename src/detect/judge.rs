@@ -6,7 +6,7 @@
 mod added;
 mod swing;
 
-use super::{AngleRow, Flag, Status};
+use super::{AngleRow, Status};
 use crate::detect::tuning::{
     BENT_MIN_U, BENT_REL_U, BENT_SIGMAS, BESIDE_MAX_SHARE, BESIDE_MIN_SAMPLES, BESIDE_TOL_DEG,
     CROSSED_MIN, ENVELOPE_MAX_DEG, ENVELOPE_NOISE_FACTOR, ENVELOPE_SHARE, FOUND_MIN, GROWTH_MAX,
@@ -250,12 +250,14 @@ pub fn judge(
     let n = rows.len().max(1);
     let ok_share = rows.iter().filter(|r| r.status == Status::Ok).count() as f64 / n as f64;
     // The found frames' angles (the filled ones are the detector's guesses), and those
-    // found on the wire where something static pulled it (`Flag::Pulled`), filled from
-    // the frames either side: a rod through the fulcrum near the rest angle would
-    // otherwise take the swing's crossings with it.
+    // seen on the wire where something static pulled it, filled from the frames either
+    // side ([`AngleRow::seen_on_wire`]): a rod through the fulcrum near the rest angle
+    // would otherwise take the swing's crossings, and a share of the frames found,
+    // with it.
+    let seen_share = rows.iter().filter(|r| r.seen_on_wire()).count() as f64 / n as f64;
     let (t, a): (Vec<f64>, Vec<f64>) = rows
         .iter()
-        .filter(|r| r.status == Status::Ok || r.flag == Some(Flag::Pulled))
+        .filter(|r| r.seen_on_wire())
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
         .unzip();
     let (rest, scale, sw) = swing_about_rest(&t, &a);
@@ -302,17 +304,17 @@ pub fn judge(
                 .iter()
                 .filter(|r| r.t_s <= end)
                 .fold((0usize, 0usize), |(n, ok), r| {
-                    (n + 1, ok + usize::from(r.status == Status::Ok))
+                    (n + 1, ok + usize::from(r.seen_on_wire()))
                 });
             (
                 ok as f64 / judged.max(1) as f64,
                 format!(
                     " up to {end:.1} s, a period after the swing died out ({:.0} % of all)",
-                    100.0 * ok_share
+                    100.0 * seen_share
                 ),
             )
         }
-        None => (ok_share, String::new()),
+        None => (seen_share, String::new()),
     };
     let mut checks = vec![check(
         "found",

@@ -139,6 +139,13 @@ impl AngleRow {
     pub(crate) fn unflagged_angle(&self) -> Option<f64> {
         self.angle_rad.filter(|_| self.flag.is_none())
     }
+
+    /// Whether the wire was seen in the frame: `ok`, or seen where something static
+    /// pulled its angle (`Flag::Pulled`) and filled from the frames either side. What
+    /// the detection's verdict judges the swing by.
+    pub(crate) fn seen_on_wire(&self) -> bool {
+        self.status == Status::Ok || (self.flag == Some(Flag::Pulled) && self.angle_rad.is_some())
+    }
 }
 
 #[cfg(test)]

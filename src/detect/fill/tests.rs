@@ -384,8 +384,9 @@ fn pulled(rows: &[AngleRow]) -> Vec<usize> {
 /// A static line at 33 deg, inside the swing, pulls the wire's measured angle towards
 /// it by 0.4 of the distance within 1 deg of it (up to 0.4 deg), at every crossing:
 /// those frames are flagged and filled from the frames either side, and no frame more
-/// than 2 deg from the line is flagged. Without the pull, or with a lag of 4 ms (up to
-/// 0.13 deg, its sign turning with the direction of swing), nothing is flagged.
+/// than 2 deg from the line is flagged. Without the pull, with an offset at the line
+/// whose sign turns with the direction of swing (a lag's), or with a fourth harmonic
+/// the swing's path does not hold, nothing is flagged.
 #[test]
 fn frames_a_static_line_pulls_on_every_swing_are_flagged_and_filled() {
     let line = 33.0;
@@ -428,7 +429,19 @@ fn frames_a_static_line_pulls_on_every_swing_are_flagged_and_filled() {
     let (mut rows, _) = spoilt_swing(|_, _| 0.0);
     flag_against_swing(&mut rows);
     assert_eq!(pulled(&rows), Vec::<usize>::new());
-    let (mut rows, _) = spoilt_swing(|_, speed| 0.004 * speed);
+    // An offset at the line that turns with the direction of swing (a lag's, a
+    // rolling shutter's).
+    let (mut rows, _) = spoilt_swing(|deg, speed| {
+        if (deg - line).abs() < 1.0 {
+            0.3 * speed.signum()
+        } else {
+            0.0
+        }
+    });
+    flag_against_swing(&mut rows);
+    assert_eq!(pulled(&rows), Vec::<usize>::new());
+    // A swing the path's harmonics do not hold (a fourth of 0.3 deg), smooth in angle.
+    let (mut rows, _) = spoilt_swing(|deg, _| 0.3 * (4.0 * ((deg - 30.0) / 10.0).acos()).cos());
     flag_against_swing(&mut rows);
     assert_eq!(pulled(&rows), Vec::<usize>::new());
 }

@@ -42,7 +42,7 @@ pub fn still_check(reach_px: f64) -> DetectionCheck {
 pub fn wander_check(rows: &[AngleRow], noise_deg: Option<f64>) -> Option<DetectionCheck> {
     let (t, a): (Vec<f64>, Vec<f64>) = rows
         .iter()
-        .filter(|r| r.status == Status::Ok)
+        .filter(|r| r.seen_on_wire())
         .filter_map(|r| r.angle_rad.map(|a| (r.t_s, a)))
         .unzip();
     let scatter = crate::detect::fill::swing_scatter(&t, &a)?.to_degrees();

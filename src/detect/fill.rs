@@ -337,11 +337,7 @@ struct BinSide {
 /// (1280x720, a dark wire and its shadow 2.1 deg off) pulled the angle by 0.1 to 1.0
 /// deg for four or five frames at each crossing, `ok`, twice a period.
 fn flag_pulled(rows: &mut [AngleRow], span: &SwingSpan) {
-    let (at, (t, a)): (Vec<usize>, (Vec<f64>, Vec<f64>)) = rows
-        .iter()
-        .enumerate()
-        .filter_map(|(k, r)| Some((k, (r.t_s, r.unflagged_angle()?))))
-        .unzip();
+    let (at, t, a) = unflagged(rows);
     let mut res: Vec<Option<f64>> = vec![None; t.len()];
     let mut scatters = Vec::new();
     swing_fits(&t, &a, span, |step, window, r, scatter| {
@@ -490,11 +486,7 @@ fn flag_pulled(rows: &mut [AngleRow], span: &SwingSpan) {
 /// 36) covered it over four frames, the last of them measured on half its cells 0.91
 /// deg off and `ok`.
 fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
-    let (at, (t, a)): (Vec<usize>, (Vec<f64>, Vec<f64>)) = rows
-        .iter()
-        .enumerate()
-        .filter_map(|(k, r)| Some((k, (r.t_s, r.unflagged_angle()?))))
-        .unzip();
+    let (at, t, a) = unflagged(rows);
     let near = near_loss(rows);
     let (min, edge) = (
         OFF_SWING_MIN_DEG.to_radians(),
@@ -511,6 +503,16 @@ fn flag_off_swing(rows: &mut [AngleRow], span: &SwingSpan) {
     for k in off {
         rows[k].flag = Some(Flag::OffSwing);
     }
+}
+
+/// The found frames not flagged: their rows' indices, times and angles.
+fn unflagged(rows: &[AngleRow]) -> (Vec<usize>, Vec<f64>, Vec<f64>) {
+    let (at, (t, a)): (Vec<usize>, (Vec<f64>, Vec<f64>)) = rows
+        .iter()
+        .enumerate()
+        .filter_map(|(k, r)| Some((k, (r.t_s, r.unflagged_angle()?))))
+        .unzip();
+    (at, t, a)
 }
 
 /// Whether each row lies within [`LOSS_EDGE_S`] of a loss of the wire: a row of a run

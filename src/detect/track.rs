@@ -366,15 +366,20 @@ impl Tracker {
                 f.index, self.mad_ref
             );
         }
-        if mad.is_finite() && !duplicate {
+        // A flash (the frame left at its own brightness) is no measure of how real
+        // frames differ, nor what the next frame is compared with: deep flicker read
+        // as flashes had the typical change learnt from them, ten times a frame's, and
+        // every frame after taken for a repeat.
+        if mad.is_finite() && !duplicate && !flash {
             self.mad_ref = Some(match self.mad_ref {
                 Some(r) => 0.95 * r + 0.05 * mad.min(3.0 * r),
                 None => mad,
             });
         }
-
-        self.prev.clear();
-        self.prev.extend(self.small.data_bytes()?.iter().step_by(5));
+        if !flash || self.prev.is_empty() {
+            self.prev.clear();
+            self.prev.extend(self.small.data_bytes()?.iter().step_by(5));
+        }
         if !flash {
             self.mean_level = Some(match self.mean_level {
                 Some(m) => 0.9 * m + 0.1 * level,

@@ -246,7 +246,7 @@ pub fn detect(a: DetectArgs) -> Result<String> {
     eprintln!(
         "{}: {n} frames in {secs:.2} s ({:.0} frames/s, {}, decoded {}, peak memory {}, CPU \
          besides the decoder {}): {} ok, {} corrected, {} manual, {} missing; pivot ({:.1}, \
-         {:.1}) px (swing scale {}), {} wire, ROI {:?}{} -> {}; {}",
+         {:.1}) px (swing scale {}), {} wire, ROI {:?}{}{} -> {}; {}",
         a.video.display(),
         n as f64 / secs,
         d.decoder,
@@ -272,6 +272,10 @@ pub fn detect(a: DetectArgs) -> Result<String> {
             "; the camera moved ({}): {}",
             c.describe(),
             c.steadied()
+        )),
+        d.shutter.map_or(String::new(), |s| format!(
+            "; a rolling shutter: {}",
+            s.describe()
         )),
         a.output.display(),
         describe_verdict(&d.verdict)

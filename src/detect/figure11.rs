@@ -298,6 +298,7 @@ mod tests {
             band_px: [10.0, 80.0],
             decoder: "test".into(),
             decodings: 1,
+            shutter: None,
             cpu_s: None,
             diagnostics: Vec::new(),
             steps: Vec::new(),

@@ -229,6 +229,11 @@ pub struct Detection {
     /// first: see `steady`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<super::steady::CameraMotion>,
+    /// A rolling shutter's readout, fitted to how the moving wire bows, with each angle
+    /// taken to its frame's time (see `shutter::wire`). Absent: none stood clear of the
+    /// bows' noise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shutter: Option<super::shutter::WireReadout>,
     /// The camera, taken as still by the first look, was found moving from the pass's
     /// start: its first frames were not steadied (`detect` measures it again).
     #[serde(skip)]

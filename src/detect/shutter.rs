@@ -26,6 +26,11 @@
 //! as at its own time); as a second term of the same readout it fitted worse (0.049 deg),
 //! and is left out.
 
+mod wire;
+
+pub(super) use wire::take_out as take_out_wire_lag;
+pub use wire::WireReadout;
+
 use super::judge::{paired_fourth_differences, slope_through_origin};
 use super::steady::{Motion, Steadied};
 use super::tuning::{MAX_READOUT, READOUT_SIGNIFICANCE};

@@ -207,6 +207,15 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     flag_still_beyond(&mut rows);
     flag_against_swing(&mut rows);
     fill_flagged(&mut rows);
+    // A rolling shutter's lag on the wire's own motion, taken out of the angles (the
+    // flags judged the angles as measured; the filled ones are taken back too).
+    let interval = frame_interval(&rows);
+    let wire_readout = shutter::take_out_wire_lag(
+        &mut rows,
+        pivot,
+        [f64::from(info.width), f64::from(info.height)],
+        interval,
+    );
     apply_marks(
         &mut rows,
         &opts.marks,
@@ -305,6 +314,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         calibration: opts.calibration.clone(),
         lens,
         camera,
+        shutter: wire_readout,
         moved_from_start,
         moved_later_s,
     })
@@ -342,4 +352,18 @@ fn through_lens_wide(
         .unzip();
     let apart = x.iter().any(|v| *v != x[0]);
     apart.then(|| crate::numerics::linear_fit(&x, &y).slope - 1.0)
+}
+
+/// The frames' interval, s: the median of the steps between consecutive rows' times
+/// (0 with fewer than two rows).
+fn frame_interval(rows: &[AngleRow]) -> f64 {
+    let mut steps: Vec<f64> = rows
+        .windows(2)
+        .map(|w| w[1].t_s - w[0].t_s)
+        .filter(|d| *d > 0.0)
+        .collect();
+    if steps.is_empty() {
+        return 0.0;
+    }
+    crate::numerics::median(&mut steps)
 }

@@ -45,6 +45,10 @@ pub struct DetectionSummary {
     /// each from `from_s` on).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<super::steady::CameraMotion>,
+    /// A rolling shutter's readout, fitted to how the moving wire bows (each angle taken
+    /// to its frame's time), when one stood clear of the bows' noise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shutter: Option<super::shutter::WireReadout>,
     /// The lens the angles were measured through (`video.lens`), if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lens: Option<crate::lens::SeenThrough>,
@@ -91,6 +95,7 @@ impl DetectionSummary {
             swing_scale: d.swing_scale,
             calibration: d.calibration.as_ref().map(Into::into),
             camera: d.camera,
+            shutter: d.shutter,
             lens: d.lens.map(|lens| crate::lens::SeenThrough {
                 lens,
                 band_px: d.band_px,

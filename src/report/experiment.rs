@@ -270,6 +270,9 @@ fn experiment_view(r: &ExperimentResult, m: &Measurement, has_fig11: bool) -> Ex
                 None => "still".into(),
             },
         ));
+        if let Some(s) = &d.shutter {
+            detection.push(kv("rolling shutter", s.describe()));
+        }
         match &d.calibration {
             Some(c) => detection.push(kv(
                 "angles measured in",

@@ -110,6 +110,30 @@ knobs! {
         what "longest rolling shutter readout taken, a share of the frame's interval",
         chosen_by "the rows of a frame are read within its interval";
 
+    /// See `shutter::wire`: the readout fitted to how the moving wire bows compares each
+    /// frame's bow with the other frames' at the same angle, in bins this wide (a lens's
+    /// bow changes little over it) ...
+    WIRE_READOUT_BIN_DEG: f64 = 0.5, "deg",
+        what "bins of angle whose frames' bows are compared for a rolling shutter's readout",
+        chosen_by "hand-picked: a lens's bow changes little over it, and a swing of a few deg fills each bin from both directions; not swept";
+
+    /// ... its uncertainty is the jackknife over this many contiguous blocks of frames (a
+    /// bow's noise follows the swing) ...
+    WIRE_READOUT_BLOCKS: usize = 10, "blocks",
+        what "contiguous blocks of frames of the readout's jackknife",
+        chosen_by "as the lens's fit from the wire's bows (lens::bow); not swept";
+
+    /// ... it is fitted to at least this many frames with a bow ...
+    WIRE_READOUT_MIN_FRAMES: usize = 200, "frames",
+        what "fewest frames with a bow a rolling shutter's readout is fitted to",
+        chosen_by "hand-picked: a few swings at 25 frames/s; not swept";
+
+    /// ... each of whose strips follows at least this share of an offset (see
+    /// `Bowed::response`).
+    WIRE_READOUT_MIN_RESPONSE: f64 = 0.2, "share",
+        what "least share of an offset a frame's strip must follow for its bow to count",
+        chosen_by "as the lens's fit from the wire's bows (lens::bow); not swept";
+
     /// A frame whose alignment leaves the static scene's pixels (weighted) this far off on
     /// average (grey levels RMS, each pixel's weight its Tukey weight) is not taken as
     /// measured.

@@ -28,8 +28,8 @@
 
 use crate::detect::line::unwrap_near;
 use crate::detect::tuning::{
-    FREE_STRIP_FROM, MAX_READOUT, READOUT_SIGNIFICANCE, WIRE_READOUT_BIN_DEG, WIRE_READOUT_BLOCKS,
-    WIRE_READOUT_MIN_FRAMES, WIRE_READOUT_MIN_RESPONSE,
+    FREE_STRIP_FROM, MAX_READOUT, WIRE_READOUT_BIN_DEG, WIRE_READOUT_BLOCKS,
+    WIRE_READOUT_MIN_FRAMES, WIRE_READOUT_MIN_RESPONSE, WIRE_READOUT_SIGNIFICANCE,
 };
 use crate::detect::{AngleRow, Pt, Status};
 use crate::lens::bow::Bowed;
@@ -37,7 +37,7 @@ use crate::lens::bow::Bowed;
 /// A rolling shutter's readout fitted to the wire's bows and taken out of the angles.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WireReadout {
-    /// Rows read out over this, first to last, ms (negative: bottom to top).
+    /// Rows read out over this, top to bottom, ms.
     pub rows_ms: f64,
     /// Its standard uncertainty (the jackknife), ms.
     pub u_rows_ms: f64,
@@ -50,16 +50,9 @@ impl WireReadout {
     /// taken to the middle row's time, by up to 2.8 ms".
     pub fn describe(&self) -> String {
         format!(
-            "its rows read out over {:.1} +- {:.1} ms{} (fitted to how the moving wire \
-             bows); each angle taken to its frame's time, the middle row's, by up to {:.1} ms",
-            self.rows_ms.abs(),
-            self.u_rows_ms,
-            if self.rows_ms < 0.0 {
-                ", bottom to top"
-            } else {
-                ""
-            },
-            self.max_lag_ms
+            "its rows read out over {:.1} +- {:.1} ms (fitted to how the moving wire bows); \
+             each angle taken to its frame's time, the middle row's, by up to {:.1} ms",
+            self.rows_ms, self.u_rows_ms, self.max_lag_ms
         )
     }
 }
@@ -180,7 +173,9 @@ pub(in crate::detect) fn take_out(
             1e3 * interval
         );
     }
-    if z < READOUT_SIGNIFICANCE || t.abs() > MAX_READOUT * interval {
+    // Rows read top to bottom within the interval: a readout fitted the other way is
+    // taken for something else that bows with the swing's speed.
+    if z < WIRE_READOUT_SIGNIFICANCE || t <= 0.0 || t > MAX_READOUT * interval {
         return None;
     }
     // The far strip's effective radius, from the strips' typical ends.
@@ -323,5 +318,15 @@ mod tests {
             assert_eq!(before, after);
             assert!(rms_deg(&rows, &truth) < 0.006);
         }
+    }
+
+    #[test]
+    fn a_readout_fitted_bottom_to_top_is_not_taken() {
+        // Rows read bottom to top bow the wire the other way: fitted negative, which the
+        // bar takes for something else that bows with the swing's speed.
+        let (mut rows, _) = filmed(-0.8 / FPS, 0.0);
+        let before: Vec<Option<f64>> = rows.iter().map(|r| r.angle_rad).collect();
+        assert_eq!(taken_out(&mut rows), None);
+        assert_eq!(before, rows.iter().map(|r| r.angle_rad).collect::<Vec<_>>());
     }
 }

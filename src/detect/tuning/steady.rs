@@ -117,6 +117,12 @@ knobs! {
         what "bins of angle whose frames' bows are compared for a rolling shutter's readout",
         chosen_by "hand-picked: a lens's bow changes little over it, and a swing of a few deg fills each bin from both directions; not swept";
 
+    /// ... it is taken when it stands this many standard errors from none, the rows read
+    /// top to bottom (and within a frame's interval, [`MAX_READOUT`]) ...
+    WIRE_READOUT_SIGNIFICANCE: f64 = 10.0, "standard errors",
+        what "a rolling shutter's readout fitted to the wire's bows is taken when this many standard errors from none",
+        chosen_by "hand-picked: the sweep's rolling shutters fit at 11.8 to 120 standard errors; twins of a 1 px wire with a global shutter (seed 8897's scene 23 and its variants) at 5.2, 5.6 and 12.9 (the last 89 ms, five times the interval)";
+
     /// ... its uncertainty is the jackknife over this many contiguous blocks of frames (a
     /// bow's noise follows the swing) ...
     WIRE_READOUT_BLOCKS: usize = 10, "blocks",

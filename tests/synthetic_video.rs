@@ -1478,18 +1478,7 @@ fn deep_flicker_read_as_flashes_leaves_no_frame_taken_for_a_repeat() {
          wire_width_px: 2\n  wire_contrast: 0.48\n  flicker_hz: 120\n  flicker_depth: 0.148\n  \
          hold_s: 0.94\n  duration_s: 12\n",
     );
-    std::fs::write(d.join("flicker.yaml"), text).unwrap();
-    rollfric_ok(
-        &[
-            "synth",
-            "flicker.yaml",
-            "-o",
-            "flicker.avi",
-            "--truth",
-            "truth.csv",
-        ],
-        d,
-    );
+    twin_rendered(d, &text, "flicker.avi");
     let (_, detected) = rollfric_ok(&["detect", "flicker.avi", "-o", "angles.csv"], d);
     let angles = read(&d.join("angles.csv"), "status");
     let ok = angles.iter().filter(|r| r.tag == "ok").count();

@@ -24,6 +24,16 @@ pub struct Bowed {
     pub response: f64,
 }
 
+impl Bowed {
+    /// Whether its offset, ends and response are finite, and the strip follows at least
+    /// `min_response` of an offset: a bow a fit can use.
+    pub fn usable(&self, min_response: f64) -> bool {
+        self.mid_px.is_finite()
+            && self.response >= min_response
+            && self.ends.iter().flatten().all(|x| x.is_finite())
+    }
+}
+
 /// The coefficient the wire's bows give, and its standard uncertainty.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WireK1 {
@@ -80,11 +90,7 @@ const MIN_RESPONSE: f64 = 0.2;
 /// fewer than [`MIN_FRAMES`] frames, none the lens would bow, or a fit that does not
 /// settle.
 pub fn k1_from_bows(seen: &[Bowed], w: u32, h: u32) -> Option<WireK1> {
-    let seen: Vec<&Bowed> = seen
-        .iter()
-        .filter(|b| b.mid_px.is_finite() && b.response >= MIN_RESPONSE)
-        .filter(|b| b.ends.iter().flatten().all(|x| x.is_finite()))
-        .collect();
+    let seen: Vec<&Bowed> = seen.iter().filter(|b| b.usable(MIN_RESPONSE)).collect();
     let n = seen.len();
     if n < MIN_FRAMES {
         return None;

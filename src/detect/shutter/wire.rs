@@ -12,7 +12,7 @@
 //! row `y_c` (`T` the readout, first row to last, `H` the rows); while the wire turns at
 //! `w` it is seen `r w T (y - y_c) / H` across the wire's line. The part in `r^2`,
 //! `w T d_y / H r^2`, bows the strip: its middle lies `response w T d_y L^2 / (4 H)` to
-//! the left of the chord (`L` the chord's length, [`Bowed::mid_px`], `response` the
+//! the left of the chord (`L` the chord's length, [`Bowed::mid_px`](crate::lens::bow::Bowed::mid_px), `response` the
 //! share of an offset the strip shows). A lens bows the wire too, but by where it lies,
 //! not how fast it turns: each frame's bow is taken against the other frames' at the
 //! same angle (bins of [`WIRE_READOUT_BIN_DEG`]), the wire passing each angle both
@@ -32,7 +32,6 @@ use crate::detect::tuning::{
     WIRE_READOUT_MIN_FRAMES, WIRE_READOUT_MIN_RESPONSE, WIRE_READOUT_SIGNIFICANCE,
 };
 use crate::detect::{AngleRow, Pt, Status};
-use crate::lens::bow::Bowed;
 
 /// A rolling shutter's readout fitted to the wire's bows and taken out of the angles.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -88,12 +87,6 @@ fn velocities(rows: &[AngleRow]) -> Vec<Option<f64>> {
         .collect()
 }
 
-fn usable(b: &Bowed) -> bool {
-    b.mid_px.is_finite()
-        && b.response >= WIRE_READOUT_MIN_RESPONSE
-        && b.ends.iter().flatten().all(|x| x.is_finite())
-}
-
 /// The readout `T` (s) that best explains `seen`'s bows, each bin's own mean taken
 /// out, by least squares.
 fn fit(seen: &[&Seen]) -> Option<f64> {
@@ -130,7 +123,11 @@ pub(in crate::detect) fn take_out(
         .zip(&omega)
         .filter(|(r, _)| r.status == Status::Ok && r.flag.is_none())
         .filter_map(|(r, w)| {
-            let b = r.moments.as_ref()?.bow.filter(usable)?;
+            let b = r
+                .moments
+                .as_ref()?
+                .bow
+                .filter(|b| b.usable(WIRE_READOUT_MIN_RESPONSE))?;
             let (w, a) = ((*w)?, r.angle_rad?);
             let [e0, e1] = b.ends;
             let (dx, dy) = (e1[0] - e0[0], e1[1] - e0[1]);
@@ -207,6 +204,7 @@ pub(in crate::detect) fn take_out(
 mod tests {
     use super::*;
     use crate::detect::row::KeptMoments;
+    use crate::lens::bow::Bowed;
     use crate::rng::Rng;
 
     const FPS: f64 = 30.0;

@@ -859,10 +859,13 @@ fn a_rolling_shutter_s_lag_on_the_moving_wire_is_fitted_from_its_bow_and_taken_o
     let keys = "  s_r_m: 4.445e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  \
                 fps: 30\n  style: dark-wire\n  seed: 7\n  pivot_frac: [0.5, -0.04]\n  \
                 duration_s: 12\n";
-    let Some((detected, rms)) = moving_twin("aluminum", &format!("{keys}  rolling_shutter: 0.9\n"))
-    else {
+    if !need_ffmpeg() {
         return;
-    };
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let text = with_synthetic("aluminum", &format!("{keys}  rolling_shutter: 0.9\n"));
+    let detected = twin_detected(dir.path(), &text);
+    let rms = scatter_deg(&ok_errors_against_truth(dir.path()));
     let said = "a rolling shutter: its rows read out over ";
     let ms: f64 = detected
         .split(said)
@@ -872,9 +875,25 @@ fn a_rolling_shutter_s_lag_on_the_moving_wire_is_fitted_from_its_bow_and_taken_o
         .unwrap_or_else(|| panic!("no readout said: {detected}"));
     assert!((ms - 30.0).abs() < 1.5, "readout {ms} ms: {detected}");
     assert!(rms <= 0.015, "angle RMS {rms:.4} deg: {detected}");
-    let (global, rms) = moving_twin("aluminum", keys).expect("ffmpeg is there");
+    // `detect --json` carries it, as said.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    let shutter = &json["shutter"];
+    assert!(
+        (shutter["rows_ms"].as_f64().unwrap() - ms).abs() < 0.051,
+        "{shutter} against {ms} ms said"
+    );
+    assert!(shutter["u_rows_ms"].as_f64().unwrap() > 0.0, "{shutter}");
+    assert!(shutter["max_lag_ms"].as_f64().unwrap() > 0.0, "{shutter}");
+    let dir = tempfile::tempdir().unwrap();
+    let global = twin_detected(dir.path(), &with_synthetic("aluminum", keys));
+    let rms = scatter_deg(&ok_errors_against_truth(dir.path()));
     assert!(!global.contains("rolling shutter"), "{global}");
     assert!(rms <= 0.015, "angle RMS {rms:.4} deg");
+    let json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(json.get("shutter").is_none(), "{json}");
 }
 
 /// A camera swaying 1.2 px beside a second pendulum (seed 2's sweep, scene 32, cut to

@@ -80,6 +80,10 @@ struct JsonSummary<'a> {
     /// How the camera moved, when it did (each frame steadied).
     #[serde(skip_serializing_if = "Option::is_none")]
     camera: Option<&'a detect::steady::CameraMotion>,
+    /// A rolling shutter's readout, fitted to how the moving wire bows, when one was
+    /// found (each angle taken to its frame's time).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    shutter: Option<&'a detect::shutter::WireReadout>,
     checks: &'a [detect::judge::DetectionCheck],
 }
 
@@ -111,6 +115,7 @@ fn json_summary(video: &std::path::Path, d: &Result<detect::Detection>) -> Resul
             swing_scale: d.swing_scale,
             seen: Some(&d.verdict.seen),
             camera: d.camera.as_ref(),
+            shutter: d.shutter.as_ref(),
             checks: &d.verdict.checks,
         },
         Err(e) => JsonSummary {
@@ -125,6 +130,7 @@ fn json_summary(video: &std::path::Path, d: &Result<detect::Detection>) -> Resul
             swing_scale: None,
             seen: None,
             camera: None,
+            shutter: None,
             checks: &[],
         },
     };

@@ -30,6 +30,7 @@
 //! `rollfric detect` (whole processes, alternating which goes first), and prints each
 //! scene's wall ratio (decode-only / detector, median of its rounds) beside its
 //! detector CPU per frame, then their percentiles (`make bench-sweep`).
+//! `ROBUSTNESS_LIST=1` prints each scene's conditions and keys and renders nothing.
 
 use anyhow::{Context, Result};
 use rollfric::config::Experiment;
@@ -720,6 +721,8 @@ fn main() -> Result<()> {
     let only: Option<usize> = args.get(3).map(|a| a.parse()).transpose()?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let keep = std::env::var_os("ROBUSTNESS_KEEP").map(std::path::PathBuf::from);
+    // `ROBUSTNESS_LIST=1`: each scene's conditions and keys, nothing rendered.
+    let list = std::env::var_os("ROBUSTNESS_LIST").is_some_and(|v| v == "1");
     // `ROBUSTNESS_WORK_SIDE=PX`: the detector's working side (`video.work_side_px`) for
     // every scene; otherwise the default.
     let mut opts = DetectOptions::default();
@@ -775,6 +778,14 @@ fn main() -> Result<()> {
             scene = Scene::draw(&mut rng, seed * 1000 + i as u64);
         }
         if only.is_some_and(|o| o != i) {
+            continue;
+        }
+        if list {
+            println!(
+                "scene {i}: [{}] {}",
+                scene.tags.join(", "),
+                scene.describe()
+            );
             continue;
         }
         let dir = tempfile::tempdir()?;

@@ -949,6 +949,9 @@ fn main() -> Result<()> {
             ))
         );
     }
+    if list {
+        return Ok(());
+    }
     let n = errs.len();
     println!(
         "robustness sweep: {scenes} scenes, seed {seed}, {duration} s each, working side {} px",

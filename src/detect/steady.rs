@@ -666,6 +666,7 @@ pub(super) fn bytes(m: &Mat) -> Result<&[u8]> {
 
 mod align;
 mod follow;
+pub(super) mod jitter;
 #[cfg(test)]
 mod tests;
 

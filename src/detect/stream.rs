@@ -197,8 +197,11 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     let pivot = refined.pivot;
     // A rolling shutter's lean under the camera's motion, taken out of the angles.
     let readout = shutter::take_out(&mut rows, &steadied, f64::from(info.height));
+    // The steadying's own frame-to-frame noise, taken out of the angles.
+    let jitter = steady::jitter::take_out(&mut rows, &steadied);
     let camera = camera.map(|c| steady::CameraMotion {
         readout_ms: readout.map(|s| 1e3 * s),
+        jitter_deg: jitter.map(|j| j.rms_deg),
         ..c
     });
     flag_isolated(&mut rows);

@@ -327,6 +327,10 @@ pub struct CameraMotion {
     /// out of them (see `shutter`). Absent: none stood clear of the angles' noise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub readout_ms: Option<f64>,
+    /// The steadying's own noise taken out of the angles (see `steady::jitter`): the RMS
+    /// of what was taken, deg. Absent: none stood clear of chance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub jitter_deg: Option<f64>,
 }
 
 impl CameraMotion {
@@ -344,11 +348,11 @@ impl CameraMotion {
     }
 
     /// In words, as the reports give it: "RMS 1.20 px and 0.150 deg, at most 3.1 px"
-    /// (and the frames not measurable, if any, and a rolling shutter's readout taken
-    /// out).
+    /// (and the frames not measurable, if any, a rolling shutter's readout taken out,
+    /// and the steadying's noise taken out).
     pub fn describe(&self) -> String {
         format!(
-            "RMS {:.2} px and {:.3} deg, at most {:.1} px{}{}",
+            "RMS {:.2} px and {:.3} deg, at most {:.1} px{}{}{}",
             self.rms_px,
             self.rms_deg,
             self.max_px,
@@ -361,6 +365,13 @@ impl CameraMotion {
                 Some(ms) => format!(
                     "; a rolling shutter read out over {ms:.1} ms, its lean taken out of the \
                      angles"
+                ),
+                None => String::new(),
+            },
+            match self.jitter_deg {
+                Some(deg) => format!(
+                    "; the measurement's frame-to-frame noise taken out of the angles \
+                     ({deg:.4} deg RMS)"
                 ),
                 None => String::new(),
             }
@@ -514,6 +525,7 @@ impl Followed {
             unmeasured: self.unmeasured,
             from_s: None,
             readout_ms: None,
+            jitter_deg: None,
         }
     }
 }

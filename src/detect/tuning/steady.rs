@@ -322,4 +322,32 @@ knobs! {
     HIDDEN_FOLLOW: f64 = 0.01, "share",
         what "how fast the typical loss of a steadied frame follows",
         chosen_by "hand-picked; not swept";
+
+    // From steady/jitter.rs.
+    /// The steadying's noise in the angles is read in each frame's departure from the
+    /// cubic fitted to a window of this many frames (odd) ...
+    JITTER_FRAMES: usize = 9, "frames",
+        what "frames of the window whose cubic the motions' and angles' departures are taken from",
+        chosen_by "seed 8897's sweep scene 55 (960x540, 60 fps, hand-held, plain room): 5 / 7 / 9 / 15 frames 0.0236 / 0.0215 / 0.0200 / 0.0180 deg RMS from 0.0295; a unit test shaking at 3 Hz dilutes the regression at 15 (0.0164 -> 0.0154 deg RMS; 0.0098 at 9); a 25 fps swing departs from the cubic by 0.0002 deg RMS at 9";
+
+    /// ... and taken out of the angles when one of the regression's coefficients stands
+    /// this many standard errors from none ...
+    JITTER_SIGNIFICANCE: f64 = 10.0, "standard errors",
+        what "the steadying's noise is taken out of the angles when this many standard errors from none",
+        chosen_by "as the rolling shutter's readout from the wire's bows (WIRE_READOUT_SIGNIFICANCE); not swept";
+
+    /// ... (a jackknife over this many contiguous blocks of frames) ...
+    JITTER_BLOCKS: usize = 10, "blocks",
+        what "contiguous blocks of frames of the steadying noise's jackknife",
+        chosen_by "as the rolling shutter's readout (WIRE_READOUT_BLOCKS); not swept";
+
+    /// ... fitted to at least this many frames ...
+    JITTER_MIN_FRAMES: usize = 200, "frames",
+        what "fewest steadied frames the steadying's noise is fitted to",
+        chosen_by "hand-picked: a few swings at 25 frames/s; not swept";
+
+    /// ... and explaining at least this share of the angles' departures' sum of squares.
+    JITTER_MIN_SHARE: f64 = 0.05, "share",
+        what "least share of the angles' departures the steadying's noise must explain",
+        chosen_by "hand-picked; not swept";
 }

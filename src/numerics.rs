@@ -78,6 +78,15 @@ pub fn least_squares<const N: usize>(
     c.iter().all(|v| v.is_finite()).then(|| c.into())
 }
 
+/// The jackknife's standard uncertainty from the estimates `leave_out` made with each
+/// of its blocks left out in turn: `sqrt((m - 1) / m * sum (x - mean)^2)` over the `m`
+/// estimates.
+pub fn jackknife_u(leave_out: &[f64]) -> f64 {
+    let m = leave_out.len() as f64;
+    let mean = leave_out.iter().sum::<f64>() / m;
+    ((m - 1.0) / m * leave_out.iter().map(|x| (x - mean).powi(2)).sum::<f64>()).sqrt()
+}
+
 /// Median of `v`: the middle value of an odd count, the mean of the two middle values of
 /// an even count. Sorts `v`; `v` must not be empty.
 pub fn median(v: &mut [f64]) -> f64 {

@@ -701,25 +701,19 @@ fn a_hand_held_twin_is_steadied_onto_its_first_frame() {
 /// motions' frame-to-frame departures explain it, and it is taken out (0.0212).
 #[test]
 fn the_steadying_s_own_noise_is_taken_out_of_the_angles() {
-    if !need_ffmpeg() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let text = with_synthetic(
+    let Some((detected, rms, json)) = twin_summary(
         "glass",
         "  s_r_m: 3.714e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  fps: 60\n  \
          style: oblique\n  seed: 8897055\n  rest_angle_deg: -177.1\n  flicker_hz: 100\n  \
          flicker_depth: 0.088\n  shake: {px: 1.58, deg: 0.059, hz: 0.69}\n  duration_s: 12\n",
-    );
-    let detected = twin_detected(dir.path(), &text);
-    let rms = scatter_deg(&ok_errors_against_truth(dir.path()));
+    ) else {
+        return;
+    };
     assert!(
         detected.contains("frame-to-frame noise taken out of the angles"),
         "{detected}"
     );
     assert!(rms <= 0.024, "angle RMS {rms:.4} deg: {detected}");
-    let json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
     let taken = json["camera"]["jitter_deg"].as_f64().expect("jitter_deg");
     assert!(taken > 0.01 && taken < 0.04, "{taken} deg taken out");
 }
@@ -729,12 +723,19 @@ fn the_steadying_s_own_noise_is_taken_out_of_the_angles() {
 /// said, and the RMS of its `ok` angles' errors against the truth about their mean, deg.
 /// None without ffmpeg.
 fn moving_twin(name: &str, synthetic: &str) -> Option<(String, f64)> {
+    twin_summary(name, synthetic).map(|(detected, rms, _)| (detected, rms))
+}
+
+/// [`moving_twin`], and the summary `detect --json` wrote.
+fn twin_summary(name: &str, synthetic: &str) -> Option<(String, f64, serde_json::Value)> {
     if !need_ffmpeg() {
         return None;
     }
     let dir = tempfile::tempdir().unwrap();
     let detected = twin_detected(dir.path(), &with_synthetic(name, synthetic));
-    Some((detected, scatter_deg(&ok_errors_against_truth(dir.path()))))
+    let rms = scatter_deg(&ok_errors_against_truth(dir.path()));
+    let json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    Some((detected, rms, serde_json::from_str(&json).unwrap()))
 }
 
 /// `text`, an experiment with a twin, written to `d/twin.yaml` and rendered there to
@@ -889,13 +890,11 @@ fn a_rolling_shutter_s_lag_on_the_moving_wire_is_fitted_from_its_bow_and_taken_o
     let keys = "  s_r_m: 4.445e-6\n  psi0_deg: 10\n  width: 960\n  height: 540\n  \
                 fps: 30\n  style: dark-wire\n  seed: 7\n  pivot_frac: [0.5, -0.04]\n  \
                 duration_s: 12\n";
-    if !need_ffmpeg() {
+    let Some((detected, rms, json)) =
+        twin_summary("aluminum", &format!("{keys}  rolling_shutter: 0.9\n"))
+    else {
         return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let text = with_synthetic("aluminum", &format!("{keys}  rolling_shutter: 0.9\n"));
-    let detected = twin_detected(dir.path(), &text);
-    let rms = scatter_deg(&ok_errors_against_truth(dir.path()));
+    };
     let said = "a rolling shutter: its rows read out over ";
     let ms: f64 = detected
         .split(said)
@@ -906,9 +905,6 @@ fn a_rolling_shutter_s_lag_on_the_moving_wire_is_fitted_from_its_bow_and_taken_o
     assert!((ms - 30.0).abs() < 1.5, "readout {ms} ms: {detected}");
     assert!(rms <= 0.015, "angle RMS {rms:.4} deg: {detected}");
     // `detect --json` carries it, as said.
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
-            .unwrap();
     let shutter = &json["shutter"];
     assert!(
         (shutter["rows_ms"].as_f64().unwrap() - ms).abs() < 0.051,
@@ -916,13 +912,9 @@ fn a_rolling_shutter_s_lag_on_the_moving_wire_is_fitted_from_its_bow_and_taken_o
     );
     assert!(shutter["u_rows_ms"].as_f64().unwrap() > 0.0, "{shutter}");
     assert!(shutter["max_lag_ms"].as_f64().unwrap() > 0.0, "{shutter}");
-    let dir = tempfile::tempdir().unwrap();
-    let global = twin_detected(dir.path(), &with_synthetic("aluminum", keys));
-    let rms = scatter_deg(&ok_errors_against_truth(dir.path()));
+    let (global, rms, json) = twin_summary("aluminum", keys).expect("ffmpeg is there");
     assert!(!global.contains("rolling shutter"), "{global}");
     assert!(rms <= 0.015, "angle RMS {rms:.4} deg");
-    let json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert!(json.get("shutter").is_none(), "{json}");
 }
 

@@ -154,12 +154,9 @@ pub fn k1_from_bows(seen: &[Bowed], w: u32, h: u32) -> Option<WireK1> {
             step(rest).map(|(_, dk)| k1 + dk)
         })
         .collect::<Option<_>>()?;
-    let m = blocks as f64;
-    let mean = leave_out.iter().sum::<f64>() / m;
-    let var = (m - 1.0) / m * leave_out.iter().map(|k| (k - mean).powi(2)).sum::<f64>();
     Some(WireK1 {
         k1,
-        u_k1: var.sqrt(),
+        u_k1: crate::numerics::jackknife_u(&leave_out),
         frames: n,
     })
 }

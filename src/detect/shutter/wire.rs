@@ -159,9 +159,7 @@ pub(in crate::detect) fn take_out(
         let rest: Vec<&Seen> = seen[..lo].iter().chain(&seen[hi..]).collect();
         outs.push(fit(&rest)?);
     }
-    let nb = WIRE_READOUT_BLOCKS as f64;
-    let m = outs.iter().sum::<f64>() / nb;
-    let u = ((nb - 1.0) / nb * outs.iter().map(|o| (o - m).powi(2)).sum::<f64>()).sqrt();
+    let u = crate::numerics::jackknife_u(&outs);
     let z = t.abs() / u;
     if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
         eprintln!(

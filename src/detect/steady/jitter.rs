@@ -52,12 +52,12 @@ fn cubic_middle(n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Each row's departure from the cubic fitted to its window of `frames` (odd) rows (the
-/// row in the middle), of a quantity known by row: `None` where any of the window is
-/// unknown (and at the ends).
-fn departures(x: &[Option<f64>], frames: usize) -> Vec<Option<f64>> {
-    let w = cubic_middle(frames);
-    let half = frames / 2;
+/// Each row's departure from the cubic fitted to its window of [`JITTER_FRAMES`] rows
+/// (the row in the middle), of a quantity known by row: `None` where any of the window
+/// is unknown (and at the ends).
+fn departures(x: &[Option<f64>]) -> Vec<Option<f64>> {
+    let w = cubic_middle(JITTER_FRAMES);
+    let half = JITTER_FRAMES / 2;
     (0..x.len())
         .map(|i| {
             let own = x[i]?;
@@ -76,15 +76,7 @@ fn departures(x: &[Option<f64>], frames: usize) -> Vec<Option<f64>> {
 /// The least-squares coefficients of `y` on the three columns of `x`, through the
 /// origin; `None` when they are not fixed.
 fn fit(x: &[[f64; 3]], y: &[f64]) -> Option<[f64; 3]> {
-    let mut a = nalgebra::Matrix3::<f64>::zeros();
-    let mut b = nalgebra::Vector3::<f64>::zeros();
-    for (xi, yi) in x.iter().zip(y) {
-        let v = nalgebra::Vector3::from(*xi);
-        a += v * v.transpose();
-        b += v * *yi;
-    }
-    let c = a.cholesky()?.solve(&b);
-    c.iter().all(|c| c.is_finite()).then(|| [c[0], c[1], c[2]])
+    crate::numerics::least_squares3(x.iter().copied().zip(y.iter().copied()))
 }
 
 /// Takes the steadying's noise out of the angles of `rows` (see the module's text):
@@ -100,11 +92,10 @@ pub(in crate::detect) fn take_out(rows: &mut [AngleRow], steadied: &[Steadied]) 
             .then_some([s.motion.dx, s.motion.dy, s.motion.rot_rad])
     };
     let motions: Vec<Option<[f64; 3]>> = rows.iter().map(motion).collect();
-    let frames = JITTER_FRAMES;
     let cols: Vec<Vec<Option<f64>>> = (0..3)
         .map(|j| {
             let x: Vec<Option<f64>> = motions.iter().map(|m| m.map(|m| m[j])).collect();
-            departures(&x, frames)
+            departures(&x)
         })
         .collect();
     // The fit reads windows of frames the pass took whole.
@@ -115,7 +106,7 @@ pub(in crate::detect) fn take_out(rows: &mut [AngleRow], steadied: &[Steadied]) 
                 .filter(|_| r.flag.is_none() && r.status == Status::Ok)
         })
         .collect();
-    let angle_off = departures(&taken, frames);
+    let angle_off = departures(&taken);
     let mut x = Vec::new();
     let mut y = Vec::new();
     for (i, a) in angle_off.iter().enumerate() {
@@ -141,11 +132,8 @@ pub(in crate::detect) fn take_out(rows: &mut [AngleRow], steadied: &[Steadied]) 
     }
     let z = (0..3)
         .map(|j| {
-            let mean = leave.iter().map(|c| c[j]).sum::<f64>() / blocks as f64;
-            let var = leave.iter().map(|c| (c[j] - mean).powi(2)).sum::<f64>()
-                * (blocks - 1) as f64
-                / blocks as f64;
-            (c[j] / var.sqrt().max(f64::MIN_POSITIVE)).abs()
+            let u = crate::numerics::jackknife_u(&leave.iter().map(|c| c[j]).collect::<Vec<_>>());
+            (c[j] / u.max(f64::MIN_POSITIVE)).abs()
         })
         .fold(0.0, f64::max);
     // The share of the angles' departures the motions explain.

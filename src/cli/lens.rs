@@ -73,6 +73,22 @@ pub fn lens(a: LensArgs) -> Result<String> {
         each(|p| p.rms_px),
         each(|p| p.rms_straight_px),
     );
+    let faint: Vec<f64> = fit
+        .frames
+        .iter()
+        .filter(|(_, p)| p.faint())
+        .map(|(_, p)| p.edge_times)
+        .collect();
+    if let Some(lowest) = faint.iter().copied().reduce(f64::min) {
+        writeln!(
+            out,
+            "  {} of the frames fitted from faint edges (down to {lowest} times the \
+             picture's noise, not {}): a sharper, darker grid fits the lens more surely",
+            faint.len(),
+            plumb::EDGE_TIMES_QUANTILE[0]
+        )
+        .unwrap();
+    }
     if let Some(r) = fit.refused.first() {
         let more = match fit.refused.len() {
             1 => String::new(),

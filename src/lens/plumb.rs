@@ -35,9 +35,14 @@ const K1_MAX: f64 = 0.5;
 const K1_STEP: f64 = 0.05;
 /// Gradient threshold: this many times the picture's fifth-quantile gradient (its noise
 /// and texture: a dense grid's own edges hold most of a picture's gradients above the
-/// median), and at least `EDGE_MIN` grey levels per pixel.
+/// median), and at least `EDGE_MIN` grey levels per pixel. The first of
+/// `EDGE_TIMES_QUANTILE` keeps the sharp edges only; where they hold too few straight
+/// lines, the picture is looked at again under the next. A faint, soft grid (grey lines
+/// 10 px apart, a little out of focus: a sweep twin's sheet at 640x480) has its edges
+/// under six times the noise: one straight line was found at 6, 21 at 3 (`k1` -0.078
+/// fitted as -0.078).
 const EDGE_QUANTILE: f64 = 0.2;
-const EDGE_TIMES_QUANTILE: f64 = 6.0;
+pub const EDGE_TIMES_QUANTILE: [f64; 3] = [6.0, 4.0, 3.0];
 const EDGE_MIN: f64 = 3.0;
 /// The coarse vote's bins: 1 deg of the normal's direction, 2 px of distance.
 const VOTE_DEG: f64 = 1.0;
@@ -97,6 +102,16 @@ pub struct Plumb {
     /// undistorted view (`k1 = 0`), px (RMS): how much the lines bend.
     pub coarse_k1: f64,
     pub rms_straight_px: f64,
+    /// The edges' threshold the lines were found at, times the picture's noise (the
+    /// first of [`EDGE_TIMES_QUANTILE`] that held enough straight lines).
+    pub edge_times: f64,
+}
+
+impl Plumb {
+    /// Its lines were found only among faint edges (under the first threshold).
+    pub fn faint(&self) -> bool {
+        self.edge_times < EDGE_TIMES_QUANTILE[0]
+    }
 }
 
 /// A video's frames fitted each on its own ([`fit_video`]).
@@ -174,9 +189,23 @@ struct Edgel {
     n: [f64; 2],
 }
 
-/// The coefficient that straightens the lines of `pic`.
+/// The coefficient that straightens the lines of `pic`: from its sharpest edges, or
+/// where they hold too few straight lines, from fainter ones ([`EDGE_TIMES_QUANTILE`]);
+/// refused as the faintest were.
 pub fn fit(pic: Grey) -> Result<Plumb> {
-    let edgels = edges(pic);
+    let mut refused = None;
+    for times in EDGE_TIMES_QUANTILE {
+        match fit_edges(pic, &edges(pic, times), times) {
+            Ok(p) => return Ok(p),
+            Err(e) => refused = Some(e),
+        }
+    }
+    Err(refused.expect("a threshold was tried"))
+}
+
+/// The coefficient that straightens the lines of the edge points `edgels` of `pic`
+/// (found over `times` the picture's noise).
+fn fit_edges(pic: Grey, edgels: &[Edgel], times: f64) -> Result<Plumb> {
     let shorter = pic.w.min(pic.h) as f64;
     let lens_of = |k1: f64| Lens::new(k1, 0.0, pic.w as u32, pic.h as u32);
     if edgels.len() < MIN_POINTS * MIN_LINES {
@@ -191,16 +220,16 @@ pub fn fit(pic: Grey) -> Result<Plumb> {
     // in frame widths).
     let corner2 = 0.25 * (1.0 + (pic.h as f64 / pic.w as f64).powi(2));
     let k1_range = (-K1_MAX.min(0.9 / (3.0 * corner2)), K1_MAX);
-    let coarse = coarse_k1(&edgels, &lens_of, shorter * MIN_EXTENT, k1_range);
+    let coarse = coarse_k1(edgels, &lens_of, shorter * MIN_EXTENT, k1_range);
     // Three rounds: the lines found at the coefficient so far (at the coarse one within
     // 1.5 px, then within 1 px), and the coefficient refined on them.
     let mut k1 = coarse;
     let mut lines = Vec::new();
     let mut groups = Vec::new();
     for grow in GROW_PX {
-        lines = find_lines(&edgels, &lens_of(k1), grow, shorter * MIN_EXTENT, 1);
-        drop_bent(&edgels, &lens_of, k1, &mut lines);
-        groups = strokes(&edgels, &lines, &lens_of(k1));
+        lines = find_lines(edgels, &lens_of(k1), grow, shorter * MIN_EXTENT, 1);
+        drop_bent(edgels, &lens_of, k1, &mut lines);
+        groups = strokes(edgels, &lines, &lens_of(k1));
         let n = groups.iter().max().map_or(0, |g| g + 1);
         if n < MIN_LINES {
             bail!(
@@ -209,13 +238,13 @@ pub fn fit(pic: Grey) -> Result<Plumb> {
                  fills the frame"
             );
         }
-        k1 = refine(&edgels, &lines, &lens_of, k1, k1_range);
+        k1 = refine(edgels, &lines, &lens_of, k1, k1_range);
     }
-    let u_k1 = jackknife(&edgels, &lines, &groups, &lens_of, k1, k1_range);
+    let u_k1 = jackknife(edgels, &lines, &groups, &lens_of, k1, k1_range);
     let points: usize = lines.iter().map(Vec::len).sum();
     let rms = |k: f64| {
         let lens = lens_of(k);
-        let ss: f64 = lines.iter().map(|l| line_ss(&edgels, l, &lens)).sum();
+        let ss: f64 = lines.iter().map(|l| line_ss(edgels, l, &lens)).sum();
         (ss / points as f64).sqrt()
     };
     Ok(Plumb {
@@ -226,11 +255,13 @@ pub fn fit(pic: Grey) -> Result<Plumb> {
         rms_px: rms(k1),
         coarse_k1: coarse,
         rms_straight_px: rms(0.0),
+        edge_times: times,
     })
 }
 
-/// The picture's edge points (step 1 of the module's method).
-fn edges(pic: Grey) -> Vec<Edgel> {
+/// The picture's edge points (step 1 of the module's method) whose gradient is over
+/// `times` the picture's fifth-quantile gradient.
+fn edges(pic: Grey, times: f64) -> Vec<Edgel> {
     let (w, h) = (pic.w, pic.h);
     if w < 8 || h < 8 {
         return Vec::new();
@@ -271,7 +302,7 @@ fn edges(pic: Grey) -> Vec<Edgel> {
     }
     let at_q = (inner.len() as f64 * EDGE_QUANTILE) as usize;
     let low = f64::from(*inner.select_nth_unstable_by(at_q, f32::total_cmp).1);
-    let threshold = (EDGE_TIMES_QUANTILE * low).max(EDGE_MIN) as f32;
+    let threshold = (times * low).max(EDGE_MIN) as f32;
     let at = |x: f64, y: f64| -> f64 {
         // Bilinear, inside [2, w-3] x [2, h-3].
         let (x0, y0) = (x.floor() as usize, y.floor() as usize);

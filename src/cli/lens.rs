@@ -114,3 +114,40 @@ pub fn lens(a: LensArgs) -> Result<String> {
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_picture_fitted_from_faint_edges_says_so() {
+        if !crate::require::require(
+            "ffmpeg",
+            crate::require::MAKE_DEPS,
+            crate::video::have_ffmpeg(),
+        ) {
+            return;
+        }
+        // The faint, soft grid of `plumb`'s tests, as a photo of it.
+        let (w, h) = (640, 480);
+        let seen_through = crate::lens::Lens::new(-0.08, 0.0, w as u32, h as u32);
+        let data = plumb::tests::ruled(w, h, &seen_through, (10.0, 0.47), (24.0, 3.0), 3.0, 7);
+        let dir = tempfile::tempdir().unwrap();
+        let photo = dir.path().join("sheet.png");
+        let png = crate::picture::encode(w, h, crate::picture::Layout::Grey, &data).unwrap();
+        std::fs::write(&photo, png).unwrap();
+        let out = lens(LensArgs {
+            video: photo,
+            frames: 5,
+            every: 10,
+            json: false,
+        })
+        .unwrap();
+        assert!(out.contains("1 frame(s) fitted"), "{out}");
+        assert!(
+            out.contains("1 of the frames fitted from faint edges (down to 3 times"),
+            "{out}"
+        );
+        assert!(out.contains("lens: {k1: -0.08"), "{out}");
+    }
+}

@@ -706,4 +706,4 @@ fn strokes(edgels: &[Edgel], lines: &[Vec<usize>], lens: &Lens) -> Vec<usize> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

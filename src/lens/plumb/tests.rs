@@ -19,7 +19,7 @@ fn sheet(
 
 /// [`sheet`]'s grid, its lines `ink` grey levels darker than the paper and fading out
 /// over `soft` px from their middle.
-fn ruled(
+pub(crate) fn ruled(
     w: usize,
     h: usize,
     lens: &Lens,

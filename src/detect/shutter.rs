@@ -125,25 +125,12 @@ mod tests {
             let lean = readout_s / H * theta.sin() * (-theta.sin() * vx);
             let noise = 0.005f64.to_radians() * rng.normal();
             truth.push(theta);
-            rows.push(AngleRow {
-                frame: k,
-                t_s: t,
-                angle_rad: Some(theta + lean + noise),
-                status: Status::Ok,
-                quality: 1.0,
-                flag: None,
-                moments: None,
-            });
-            steadied.push(Steadied {
-                index: k,
-                t_s: t,
-                motion: Motion {
-                    dx,
-                    ..Motion::default()
-                },
-                turn_held: false,
-                measured: true,
-            });
+            rows.push(AngleRow::found(k, t, theta + lean + noise));
+            let motion = Motion {
+                dx,
+                ..Motion::default()
+            };
+            steadied.push(Steadied::measured(k, t, motion));
         }
         (rows, truth, steadied)
     }

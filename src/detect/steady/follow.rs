@@ -414,6 +414,21 @@ pub struct Steadied {
     pub measured: bool,
 }
 
+#[cfg(test)]
+impl Steadied {
+    /// Frame `index` at `t_s` steadied by a measured `motion`, its turn fixed: the unit
+    /// tests' hand-made steadying.
+    pub(crate) fn measured(index: u64, t_s: f64, motion: Motion) -> Self {
+        Self {
+            index,
+            t_s,
+            motion,
+            turn_held: false,
+            measured: true,
+        }
+    }
+}
+
 impl Steadied {
     /// The frame's index and the turn it was steadied by (see [`Turn`]).
     pub fn turn(&self) -> Turn {

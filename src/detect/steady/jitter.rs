@@ -210,26 +210,13 @@ mod tests {
             let err = -ex / 300.0 + er;
             let own = 0.005f64.to_radians() * rng.normal();
             truth.push(theta);
-            rows.push(AngleRow {
-                frame: k,
-                t_s: t,
-                angle_rad: Some(theta + err + own),
-                status: Status::Ok,
-                quality: 1.0,
-                flag: None,
-                moments: None,
-            });
-            steadied.push(Steadied {
-                index: k,
-                t_s: t,
-                motion: Motion {
-                    dx: true_motion.dx + ex,
-                    dy: true_motion.dy + ey,
-                    rot_rad: true_motion.rot_rad - er,
-                },
-                turn_held: false,
-                measured: true,
-            });
+            rows.push(AngleRow::found(k, t, theta + err + own));
+            let measured = Motion {
+                dx: true_motion.dx + ex,
+                dy: true_motion.dy + ey,
+                rot_rad: true_motion.rot_rad - er,
+            };
+            steadied.push(Steadied::measured(k, t, measured));
         }
         (rows, truth, steadied)
     }

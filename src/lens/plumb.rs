@@ -28,6 +28,7 @@
 use super::Lens;
 use crate::video::{FfmpegSource, Frame, FrameSource};
 use anyhow::{bail, Result};
+use edges::{Edgel, Gradients};
 use std::path::Path;
 
 /// The grid of the coarse search: `k1` from `-K1_MAX` to `K1_MAX` in `K1_STEP`.
@@ -182,20 +183,18 @@ pub fn fit_video(path: &Path, frames: usize, every: usize) -> Result<VideoFit> {
     })
 }
 
-/// An edge point: where it is (px) and the unit normal of its edge.
-#[derive(Clone, Copy, Debug)]
-struct Edgel {
-    p: [f64; 2],
-    n: [f64; 2],
-}
-
 /// The coefficient that straightens the lines of `pic`: from its sharpest edges, or
 /// where they hold too few straight lines, from fainter ones ([`EDGE_TIMES_QUANTILE`]);
 /// refused as the faintest were.
 pub fn fit(pic: Grey) -> Result<Plumb> {
+    // The gradients once; the edge points at each threshold.
+    let gradients = Gradients::of(pic);
     let mut refused = None;
     for times in EDGE_TIMES_QUANTILE {
-        match fit_edges(pic, &edges(pic, times), times) {
+        let edgels = gradients
+            .as_ref()
+            .map_or_else(Vec::new, |g| g.edgels(times));
+        match fit_edges(pic, &edgels, times) {
             Ok(p) => return Ok(p),
             Err(e) => refused = Some(e),
         }
@@ -257,89 +256,6 @@ fn fit_edges(pic: Grey, edgels: &[Edgel], times: f64) -> Result<Plumb> {
         rms_straight_px: rms(0.0),
         edge_times: times,
     })
-}
-
-/// The picture's edge points (step 1 of the module's method) whose gradient is over
-/// `times` the picture's fifth-quantile gradient.
-fn edges(pic: Grey, times: f64) -> Vec<Edgel> {
-    let (w, h) = (pic.w, pic.h);
-    if w < 8 || h < 8 {
-        return Vec::new();
-    }
-    // 3x3 binomial smoothing, separable.
-    let mut tmp = vec![0f32; w * h];
-    for y in 0..h {
-        let row = &pic.data[y * w..(y + 1) * w];
-        for x in 1..w - 1 {
-            tmp[y * w + x] =
-                (f32::from(row[x - 1]) + 2.0 * f32::from(row[x]) + f32::from(row[x + 1])) / 4.0;
-        }
-    }
-    let mut s = vec![0f32; w * h];
-    for y in 1..h - 1 {
-        for x in 1..w - 1 {
-            let i = y * w + x;
-            s[i] = (tmp[i - w] + 2.0 * tmp[i] + tmp[i + w]) / 4.0;
-        }
-    }
-    // Gradients by central differences, away from the smoothing's border.
-    let mut gx = vec![0f32; w * h];
-    let mut gy = vec![0f32; w * h];
-    let mut mag = vec![0f32; w * h];
-    for y in 2..h - 2 {
-        for x in 2..w - 2 {
-            let i = y * w + x;
-            gx[i] = (s[i + 1] - s[i - 1]) / 2.0;
-            gy[i] = (s[i + w] - s[i - w]) / 2.0;
-            mag[i] = gx[i].hypot(gy[i]);
-        }
-    }
-    let mut inner: Vec<f32> = Vec::with_capacity((w / 2) * (h / 2));
-    for y in (2..h - 2).step_by(2) {
-        for x in (2..w - 2).step_by(2) {
-            inner.push(mag[y * w + x]);
-        }
-    }
-    let at_q = (inner.len() as f64 * EDGE_QUANTILE) as usize;
-    let low = f64::from(*inner.select_nth_unstable_by(at_q, f32::total_cmp).1);
-    let threshold = (times * low).max(EDGE_MIN) as f32;
-    let at = |x: f64, y: f64| -> f64 {
-        // Bilinear, inside [2, w-3] x [2, h-3].
-        let (x0, y0) = (x.floor() as usize, y.floor() as usize);
-        let (fx, fy) = (x - x0 as f64, y - y0 as f64);
-        let i = y0 * w + x0;
-        let m = |k: usize| f64::from(mag[k]);
-        (1.0 - fy) * ((1.0 - fx) * m(i) + fx * m(i + 1))
-            + fy * ((1.0 - fx) * m(i + w) + fx * m(i + w + 1))
-    };
-    let mut out = Vec::new();
-    for y in 3..h - 3 {
-        for x in 3..w - 3 {
-            let i = y * w + x;
-            let m0 = mag[i];
-            if m0 < threshold {
-                continue;
-            }
-            let (nx, ny) = (f64::from(gx[i] / m0), f64::from(gy[i] / m0));
-            let (xf, yf) = (x as f64, y as f64);
-            let (mm, mp) = (at(xf - nx, yf - ny), at(xf + nx, yf + ny));
-            let m0 = f64::from(m0);
-            if !(m0 >= mm && m0 > mp) {
-                continue;
-            }
-            let den = mm - 2.0 * m0 + mp;
-            let off = if den < 0.0 {
-                (0.5 * (mm - mp) / den).clamp(-0.5, 0.5)
-            } else {
-                0.0
-            };
-            out.push(Edgel {
-                p: [xf + off * nx, yf + off * ny],
-                n: [nx, ny],
-            });
-        }
-    }
-    out
 }
 
 /// The point seen at `p` through `lens`, in the undistorted view scaled back by the
@@ -705,5 +621,6 @@ fn strokes(edgels: &[Edgel], lines: &[Vec<usize>], lens: &Lens) -> Vec<usize> {
         .collect()
 }
 
+mod edges;
 #[cfg(test)]
 pub(crate) mod tests;

@@ -91,7 +91,7 @@ fn a_faint_soft_grid_is_fitted_from_its_fainter_edges() {
     let data = ruled(w, h, &lens, (10.0, 0.47), (24.0, 3.0), 3.0, 7);
     let pic = Grey { data: &data, w, h };
     let sharp = EDGE_TIMES_QUANTILE[0];
-    let e = fit_edges(pic, &edges(pic, sharp), sharp)
+    let e = fit_edges(pic, &Gradients::of(pic).unwrap().edgels(sharp), sharp)
         .unwrap_err()
         .to_string();
     assert!(e.contains("too few"), "{e}");
@@ -166,7 +166,9 @@ fn edge_points_sit_on_the_edge_to_a_tenth_of_a_pixel() {
     let data: Vec<u8> = (0..w * h)
         .map(|i| if i % w <= 40 { 50 } else { 170 })
         .collect();
-    let e = edges(Grey { data: &data, w, h }, EDGE_TIMES_QUANTILE[0]);
+    let e = Gradients::of(Grey { data: &data, w, h })
+        .unwrap()
+        .edgels(EDGE_TIMES_QUANTILE[0]);
     assert!(!e.is_empty());
     for p in &e {
         assert!((p.p[0] - 40.5).abs() < 0.1, "{p:?}");

@@ -4,6 +4,7 @@
 //! line's numbers.
 #![allow(dead_code)]
 
+pub mod outcomes;
 mod require;
 
 pub use require::*;

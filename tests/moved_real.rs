@@ -7,7 +7,9 @@
 //! screen's exposure drift led the alignment astray (the other panel taken).
 //!
 //! The off-screen pivot clip, shrunk to a phone's 960x540 export and moved too, is not
-//! yet measured: whatever the detector makes of it must then not be called `ok`.
+//! yet measured: whatever the detector makes of it must then not be called `ok`. Nor
+//! must the red apple and film 1 moved, whose plain wall cannot steady them; and the
+//! clips whose README asks for a refusal or a `suspect` keep that outcome moved.
 
 mod common;
 

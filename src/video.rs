@@ -84,6 +84,13 @@ pub fn have_ffmpeg() -> bool {
     *HAVE.get_or_init(|| on_path("ffmpeg"))
 }
 
+/// For the unit tests: whether a test that needs ffmpeg may go on (a missing one fails
+/// it under `make test` and CI, and skips it otherwise).
+#[cfg(test)]
+pub(crate) fn need_ffmpeg() -> bool {
+    crate::require::require("ffmpeg", crate::require::MAKE_DEPS, have_ffmpeg())
+}
+
 /// Whether an executable file `name` is in a folder of `PATH` as the program would be
 /// found when started (an empty entry is the working folder; without `PATH`, the
 /// system's default `/bin:/usr/bin`).

@@ -121,11 +121,7 @@ mod tests {
 
     #[test]
     fn a_picture_fitted_from_faint_edges_says_so() {
-        if !crate::require::require(
-            "ffmpeg",
-            crate::require::MAKE_DEPS,
-            crate::video::have_ffmpeg(),
-        ) {
+        if !crate::video::need_ffmpeg() {
             return;
         }
         // The faint, soft grid of `plumb`'s tests, as a photo of it.

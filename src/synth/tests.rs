@@ -74,16 +74,6 @@ fn count_frames(path: &Path) -> usize {
     read_back(path, 320, 240).len()
 }
 
-/// Whether the test may go on: ffmpeg renders and reads back (a missing one fails the
-/// test under `make test` and CI, and skips it otherwise).
-fn need_ffmpeg() -> bool {
-    crate::require::require(
-        "ffmpeg",
-        crate::require::MAKE_DEPS,
-        crate::video::have_ffmpeg(),
-    )
-}
-
 /// Mean absolute difference of two frames, grey levels.
 fn diff(a: &Mat, b: &Mat) -> f64 {
     let mut d = Mat::default();
@@ -99,7 +89,7 @@ fn brightness(a: &Mat) -> f64 {
 
 #[test]
 fn odd_sizes_fall_back_to_mjpg_and_spoiled_frames_look_spoiled() {
-    if !need_ffmpeg() {
+    if !crate::video::need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -144,7 +134,7 @@ fn odd_sizes_fall_back_to_mjpg_and_spoiled_frames_look_spoiled() {
 
 #[test]
 fn one_second_render_has_every_frame_and_its_truth() {
-    if !need_ffmpeg() {
+    if !crate::video::need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -405,11 +395,7 @@ fn yuv_conversion_is_bt601_within_one_level() {
 
 #[test]
 fn ffmpeg_writes_every_frame_the_same_way_twice() {
-    if !crate::require::require(
-        "ffmpeg",
-        crate::require::MAKE_DEPS,
-        crate::video::have_ffmpeg(),
-    ) {
+    if !crate::video::need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -513,7 +499,7 @@ pub(super) fn ffprobe_times(path: &Path) -> Vec<f64> {
 
 #[test]
 fn dropped_frames_leave_gaps_in_the_times_and_the_truth() {
-    if !need_ffmpeg() {
+    if !crate::video::need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

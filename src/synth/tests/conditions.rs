@@ -353,11 +353,7 @@ fn a_fulcrum_above_the_frame_still_shows_most_of_the_wire() {
 
 #[test]
 fn variable_frame_rate_videos_carry_each_frames_own_time() {
-    if !crate::require::require(
-        "ffmpeg",
-        crate::require::MAKE_DEPS,
-        crate::video::have_ffmpeg(),
-    ) {
+    if !crate::video::need_ffmpeg() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -13,17 +13,18 @@
 //! more, then on the measuring scale.
 
 use crate::detect::tuning::{
-    CONVERGED_PX, EST_SIDE, EXPLAINS, EXPLAIN_PX, ITERATIONS, MAX_COARSE_POINTS, MAX_POINTS,
-    MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG, MEASURE_PX, MIN_GRADIENT, PRUNE_MIN_FRAMES,
+    EST_SIDE, EXPLAINS, MAX_COARSE_POINTS, MAX_POINTS, MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG,
+    MAX_WIDEN, MEASURE_PX, MIN_GRADIENT, NOISE_FRAMES, NOISE_SHARE, PRUNE_MIN_FRAMES,
     PRUNE_MIN_KEPT, RESTART, SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
-use align::{align_step, prepare, Hold, Light, Reader, Scratch, Step};
+use align::{align_step, iterate, noise_share, prepare, Hold, Light, Reader, Scratch, Step, Tukey};
 use anyhow::Result;
 use opencv::core::{self, Mat, Scalar, Size};
 use opencv::imgproc;
 use opencv::prelude::*;
 use std::cell::Cell;
+use std::collections::VecDeque;
 
 /// A frame's displacement against the first frame: a point `p` of the first frame is
 /// seen at `c + R(rot) (p - c) + t` in this one (`c` the frame's centre), frame px.
@@ -201,6 +202,11 @@ pub(super) struct Steady {
     changed_of: u32,
     /// Whether a turn the scene fixes poorly is held at none (see [`Steady::steadying`]).
     hold_turn: bool,
+    /// The last steadied frames' median differences from the first, aligned, as a share
+    /// of Tukey's scale (see [`NOISE_SHARE`]), and the widening of that scale their
+    /// lower quartile asks for.
+    noise: VecDeque<f32>,
+    widen: f32,
     /// Whether the turn of the frame last measured was so held.
     turn_held: bool,
     /// The losses of the frame last measured (see [`Steady::losses`]), once reckoned: a
@@ -251,6 +257,8 @@ impl Steady {
             changed: Default::default(),
             changed_of: 0,
             hold_turn: false,
+            noise: VecDeque::new(),
+            widen: 1.0,
             turn_held: false,
             losses: None,
             scratch: Cell::default(),
@@ -307,11 +315,11 @@ impl Steady {
         // previous frame's did (by `RESTART`), from none too, and the one that leaves
         // fewer off is kept: an alignment that went astray (pulled along by the ball
         // over a few frames) is not followed on from frame to frame.
-        let (mut m, mut residual, mut loss, mut held) = self.align_from(self.recent)?;
+        let (mut m, mut residual, mut loss, mut held, mut light) = self.align_from(self.recent)?;
         if self.recent != Motion::default() && (loss.is_nan() || loss > RESTART * self.loss) {
-            let (m0, r0, l0, h0) = self.align_from(Motion::default())?;
+            let (m0, r0, l0, h0, light0) = self.align_from(Motion::default())?;
             if l0 < loss {
-                (m, residual, loss, held) = (m0, r0, l0, h0);
+                (m, residual, loss, held, light) = (m0, r0, l0, h0, light0);
             }
         }
         self.turn_held = held;
@@ -321,14 +329,17 @@ impl Steady {
         if !self.plausible(m, residual) {
             return Ok(None);
         }
+        if self.hold_turn {
+            self.hear_noise(m, light)?;
+        }
         self.recent = m;
         self.loss = loss;
         Ok(Some(m))
     }
 
     /// The alignment of the prepared frame from motion `start`: the motion (none when
-    /// the scene cannot fix it), the weighted RMS difference, Tukey's loss, and whether
-    /// its last step held the turn at none (see [`Steady::steadying`]). Where the
+    /// the scene cannot fix it), the weighted RMS difference, Tukey's loss, whether its
+    /// last step held the turn at none (see [`Steady::steadying`]), and the light fitted. Where the
     /// pendulum's sweep is left out, a turn the coarser scale fixed is kept as it is on
     /// the measuring scale when that does not fix it, not taken back to none: the
     /// coarser scale's pixels hold more of the turn (a hand-held twin turning 0.46 deg
@@ -336,7 +347,7 @@ impl Steady {
     /// measuring scale in four of five, its angles off by 0.106 deg RMS; kept, 0.017).
     /// The first look's alignment, the pendulum not yet left out, holds it at none (kept,
     /// a static edge of a hand-held twin read as a moving line: no wire found).
-    fn align_from(&mut self, start: Motion) -> Result<(Option<Motion>, f64, f64, bool)> {
+    fn align_from(&mut self, start: Motion) -> Result<(Option<Motion>, f64, f64, bool, Light)> {
         let mut light = Light::at(&self.levels[0], &self.coarse, start)?;
         let hold = if self.hold_turn {
             Hold::WhereUnfixed
@@ -345,7 +356,7 @@ impl Steady {
         };
         let coarse = self.at_level(0, start, hold, &mut light)?;
         let Some(m) = coarse.motion else {
-            return Ok((None, coarse.residual, coarse.loss, coarse.held));
+            return Ok((None, coarse.residual, coarse.loss, coarse.held, light));
         };
         // The turn held as it is counts as measured: the coarser scale fixed it.
         let hold = if self.hold_turn && self.swept && coarse.turn_fixed {
@@ -355,7 +366,23 @@ impl Steady {
         };
         let fine = self.at_level(1, m, hold, &mut light)?;
         let at_none = fine.held && !hold.as_is();
-        Ok((fine.motion, fine.residual, fine.loss, at_none))
+        Ok((fine.motion, fine.residual, fine.loss, at_none, light))
+    }
+
+    /// Takes in the noise of a steadied frame aligned at motion `m` (and `light`): the
+    /// frames after it are aligned at Tukey's scale widened for the noise so far (see
+    /// [`NOISE_SHARE`]).
+    fn hear_noise(&mut self, m: Motion, light: Light) -> Result<()> {
+        let u = noise_share(&self.levels[1], &self.smooth, m, light)?;
+        if self.noise.len() == NOISE_FRAMES {
+            self.noise.pop_front();
+        }
+        self.noise.push_back(u);
+        let mut recent: Vec<f32> = self.noise.iter().copied().collect();
+        let k = recent.len() / 4;
+        let n = *recent.select_nth_unstable_by(k, f32::total_cmp).1;
+        self.widen = (n / NOISE_SHARE).clamp(1.0, MAX_WIDEN);
+        Ok(())
     }
 
     /// The alignment at level `k` from motion `start`: the motion reached, and what its
@@ -364,7 +391,15 @@ impl Steady {
     fn at_level(&self, k: usize, start: Motion, hold: Hold, light: &mut Light) -> Result<Step> {
         let img = if k == 0 { &self.coarse } else { &self.smooth };
         let mut scratch = self.scratch.take();
-        let step = iterate(&self.levels[k], img, start, hold, light, &mut scratch);
+        let step = iterate(
+            &self.levels[k],
+            img,
+            start,
+            hold,
+            light,
+            self.widen,
+            &mut scratch,
+        );
         self.scratch.set(scratch);
         step
     }
@@ -539,7 +574,16 @@ impl Steady {
         let scratch = self.scratch.get_mut();
         let mut loss = |m: Motion| -> Result<f64> {
             let mut light = Light::at(level, img, m)?;
-            Ok(align_step(level, img, m, EXPLAIN_PX, &mut light, Hold::No, scratch)?.loss)
+            Ok(align_step(
+                level,
+                img,
+                m,
+                Tukey::explaining(),
+                &mut light,
+                Hold::No,
+                scratch,
+            )?
+            .loss)
         };
         let (moved, still) = (loss(self.recent)?, loss(Motion::default())?);
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
@@ -578,46 +622,6 @@ impl Steady {
         f.data.copy_from_slice(self.warped.data_bytes()?);
         Ok(())
     }
-}
-
-/// The alignment at `level` (of the prepared frame `img`) from motion `start`: see
-/// [`Steady::at_level`].
-fn iterate(
-    level: &Level,
-    img: &Mat,
-    start: Motion,
-    mut hold: Hold,
-    light: &mut Light,
-    scratch: &mut Scratch,
-) -> Result<Step> {
-    let mut m = start;
-    let mut last = None;
-    for _ in 0..ITERATIONS {
-        let step = align_step(level, img, m, MEASURE_PX, light, hold, scratch)?;
-        let Some(d) = step.motion else {
-            return Ok(step);
-        };
-        if step.held {
-            hold = hold.kept();
-        }
-        m.dx += d.dx;
-        m.dy += d.dy;
-        m.rot_rad += d.rot_rad;
-        let at_level = Motion {
-            dx: d.dx / level.shrink,
-            dy: d.dy / level.shrink,
-            ..d
-        };
-        let done = at_level.reach(f64::from(level.w), f64::from(level.h)) < CONVERGED_PX;
-        last = Some(Step {
-            motion: Some(m),
-            ..step
-        });
-        if done {
-            break;
-        }
-    }
-    Ok(last.expect("at least one iteration"))
 }
 
 /// Keeps the items of `v` whose `keep` is true (one flag per item).

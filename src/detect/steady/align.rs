@@ -1,10 +1,11 @@
-//! The alignment's arithmetic: a frame prepared for it, one Gauss-Newton step, the
-//! frame's light against the first's, and the reading of a frame through a motion.
+//! The alignment's arithmetic: a frame prepared for it, one Gauss-Newton step and the
+//! steps at one scale, the frame's light against the first's, the reading of a frame
+//! through a motion, and the noise left once aligned.
 
 use super::{Level, Motion, Point};
 use crate::detect::tuning::{
-    EXPLAIN_PX, LEVEL_SPREAD, LIGHT_LEVELS, LIGHT_ROUNDS, MAX_GAIN, MIN_INFO, SMOOTH_PX,
-    TUKEY_LEVELS,
+    CONVERGED_PX, EXPLAIN_PX, ITERATIONS, LEVEL_SPREAD, LIGHT_LEVELS, LIGHT_ROUNDS, MAX_GAIN,
+    MEASURE_PX, MIN_INFO, SMOOTH_PX, TUKEY_LEVELS,
 };
 use crate::video::Frame;
 use anyhow::Result;
@@ -130,7 +131,7 @@ pub(super) fn align_step(
     level: &Level,
     img: &Mat,
     m: Motion,
-    tolerance_px: f32,
+    tukey: Tukey,
     light: &mut Light,
     hold: Hold,
     scratch: &mut Scratch,
@@ -150,7 +151,7 @@ pub(super) fn align_step(
         r.i[n] = i as u32;
         r.grey[n] = grey;
         r.e[n] = light.gain * grey + light.offset - p.grey;
-        r.w[n] = TUKEY_LEVELS + tolerance_px * p.gradient;
+        r.w[n] = tukey.times * (TUKEY_LEVELS + tukey.px * p.gradient);
         n += 1;
     }
     let (i, grey, e) = (&r.i[..n], &r.grey[..n], &r.e[..n]);
@@ -276,6 +277,73 @@ pub(super) fn align_step(
         held,
         turn_fixed: fixed == 3 && !held,
     })
+}
+
+/// The alignment at `level` (of the prepared frame `img`) from motion `start`: see
+/// [`super::Steady::at_level`]; Tukey's scale widened `widen` times.
+pub(super) fn iterate(
+    level: &Level,
+    img: &Mat,
+    start: Motion,
+    mut hold: Hold,
+    light: &mut Light,
+    widen: f32,
+    scratch: &mut Scratch,
+) -> Result<Step> {
+    let mut m = start;
+    let mut last = None;
+    for _ in 0..ITERATIONS {
+        let step = align_step(level, img, m, Tukey::measuring(widen), light, hold, scratch)?;
+        let Some(d) = step.motion else {
+            return Ok(step);
+        };
+        if step.held {
+            hold = hold.kept();
+        }
+        m.dx += d.dx;
+        m.dy += d.dy;
+        m.rot_rad += d.rot_rad;
+        let at_level = Motion {
+            dx: d.dx / level.shrink,
+            dy: d.dy / level.shrink,
+            ..d
+        };
+        let done = at_level.reach(f64::from(level.w), f64::from(level.h)) < CONVERGED_PX;
+        last = Some(Step {
+            motion: Some(m),
+            ..step
+        });
+        if done {
+            break;
+        }
+    }
+    Ok(last.expect("at least one iteration"))
+}
+
+/// Tukey's scale of a step of the alignment ([`align_step`]): `times` ([`TUKEY_LEVELS`]
+/// widened by `px` times the pixel's gradient).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Tukey {
+    pub(super) px: f32,
+    pub(super) times: f32,
+}
+
+impl Tukey {
+    /// The measurement's ([`MEASURE_PX`]), widened `times` for a noisy scene.
+    pub(super) fn measuring(times: f32) -> Self {
+        Self {
+            px: MEASURE_PX,
+            times,
+        }
+    }
+
+    /// Whether the camera moved ([`EXPLAIN_PX`]).
+    pub(super) fn explaining() -> Self {
+        Self {
+            px: EXPLAIN_PX,
+            times: 1.0,
+        }
+    }
 }
 
 /// The pixels of a level a step of the alignment read (see [`align_step`]), kept
@@ -548,4 +616,25 @@ impl<'a> Reader<'a> {
         let bottom = q[wu] + fx * (q[wu + 1] - q[wu]);
         Some(top + fy * (bottom - top))
     }
+}
+
+/// The median of the first frame's pixels' differences from the frame, read through
+/// motion `m` at `light`, each as a share of its Tukey scale at [`MEASURE_PX`] (see
+/// [`crate::detect::tuning::NOISE_SHARE`]).
+pub(super) fn noise_share(level: &Level, img: &Mat, m: Motion, light: Light) -> Result<f32> {
+    let at = Reader::new(level, img, m)?;
+    let mut u: Vec<f32> = level
+        .points
+        .iter()
+        .filter_map(|p| {
+            let g = at.grey(p)?;
+            let e = light.gain * g + light.offset - p.grey;
+            Some(e.abs() / (TUKEY_LEVELS + MEASURE_PX * p.gradient))
+        })
+        .collect();
+    if u.is_empty() {
+        return Ok(0.0);
+    }
+    let k = u.len() / 2;
+    Ok(*u.select_nth_unstable_by(k, f32::total_cmp).1)
 }

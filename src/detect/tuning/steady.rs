@@ -88,6 +88,36 @@ knobs! {
         what "a pixel off by more than this, aligned, weighs nothing",
         chosen_by "f48638b: hand-picked; not swept";
 
+    /// A steadied frame's pixels, aligned, differ from the first frame's by a median
+    /// share of their Tukey scale (`TUKEY_LEVELS` widened by `MEASURE_PX`); past this
+    /// share the scale of the frames after widens in proportion: the noise of the scene,
+    /// not something that moved, leaves the pixels off. The noise the scale was set for
+    /// (`TUKEY_LEVELS` at Tukey's 95 % efficiency, 4.685 standard deviations; a Gaussian
+    /// noise's median size 0.6745 of one) gives at most 0.144, and the moving twins of
+    /// `make test` and seed 1206 give 0.14 to 0.17: past 0.2 the noise is more than the
+    /// scale was set for. A 1080p hand-held twin of a plain plate (CRF 34) gives 0.49,
+    /// its alignment crawling to the iterations' cap and its angles 0.314 deg RMS off
+    /// (0.126 widened). At 0.144 it read 0.091, but a rolling shutter's twin at 0.17,
+    /// widened a few hundredths, lost its readout's fit (0.048 -> 0.125 deg RMS).
+    NOISE_SHARE: f32 = 0.2, "share of Tukey's scale",
+        what "the steadied frames' median difference, aligned, past which Tukey's scale widens",
+        chosen_by "the noise the scale was set for gives at most 0.144, the moving twins 0.14-0.17; seed 1206's scene 14 (0.49): 0.314 -> 0.126 deg RMS";
+
+    /// ... at most this many times ...
+    MAX_WIDEN: f32 = 4.0, "ratio",
+        what "most widening of Tukey's scale for a noisy scene",
+        chosen_by "seed 1206's scene 14 asks 3.4 at its median frame; hand-picked";
+
+    /// ... the share taken as its lower quartile over the last this many frames: a
+    /// person walking through lifts a frame's share (to 5 on a 1080p twin), not the
+    /// scene's noise. Averaged over 10 frames, the scale widened 4 times while they
+    /// passed and let them pull the alignment (two hand-held twins with a walker, 0.004
+    /// and 0.011 deg RMS, went to 0.024 and 0.038); the median over 101 frames still
+    /// widened it 4 times while one passed for 100 frames.
+    NOISE_FRAMES: usize = 301, "frames",
+        what "the steadied frames' median difference is the lower quartile over this many frames",
+        chosen_by "seed 1206's scenes 43 and 58 (a person walking through); hand-picked";
+
     /// A direction of motion along which the scene's pixels hold less information than
     /// this (the weighted mean of the squared gradient along it, grey levels squared per px
     /// squared, on the measuring scale) is not measured: the frame is not moved along it. A

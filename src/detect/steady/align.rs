@@ -4,8 +4,9 @@
 
 use super::{Level, Motion, Point};
 use crate::detect::tuning::{
-    CONVERGED_PX, EXPLAIN_PX, ITERATIONS, LEVEL_SPREAD, LIGHT_LEVELS, LIGHT_ROUNDS, MAX_GAIN,
-    MEASURE_PX, MIN_INFO, SMOOTH_PX, TUKEY_LEVELS,
+    AHEAD_AITKEN, AHEAD_COS, AHEAD_MAX, AHEAD_RATIO, CONVERGED_PX, EXPLAIN_PX, ITERATIONS,
+    LEVEL_SPREAD, LIGHT_LEVELS, LIGHT_ROUNDS, MAX_GAIN, MEASURE_PX, MIN_INFO, SMOOTH_PX,
+    TUKEY_LEVELS,
 };
 use crate::video::Frame;
 use anyhow::Result;
@@ -291,18 +292,57 @@ pub(super) fn iterate(
     scratch: &mut Scratch,
 ) -> Result<Step> {
     let mut m = start;
-    let mut last = None;
+    let mut last: Option<Step> = None;
+    // A frame steadied goes further along a run of steps that keep their direction
+    // (see [`AHEAD_COS`]); a glance steps as it is.
+    let extrapolate = hold != Hold::No;
+    let (mut before, mut ahead) = (None, 0.0);
+    // Where a step went further: the motion it reached itself, the loss where it began.
+    let mut went: Option<(Motion, f64)> = None;
     for _ in 0..ITERATIONS {
         let step = align_step(level, img, m, Tukey::measuring(widen), light, hold, scratch)?;
         let Some(d) = step.motion else {
             return Ok(step);
         };
+        // Going further that left more pixels off than where the step started is taken
+        // back (a hand-held twin: 0.0196 deg RMS, 0.0249 not taken back).
+        if let Some((back, loss)) = went.take() {
+            if step.loss > loss {
+                m = back;
+                if let Some(l) = last.as_mut() {
+                    l.motion = Some(back);
+                }
+                before = None;
+                ahead = 0.0;
+                continue;
+            }
+        }
         if step.held {
             hold = hold.kept();
         }
-        m.dx += d.dx;
-        m.dy += d.dy;
-        m.rot_rad += d.rot_rad;
+        let v = nalgebra::Vector3::new(
+            d.dx / level.shrink,
+            d.dy / level.shrink,
+            d.rot_rad * 0.5 * f64::from(level.w).hypot(f64::from(level.h)),
+        );
+        ahead = match before {
+            Some(u) if extrapolate => further(&v, &u, ahead),
+            _ => 0.0,
+        };
+        before = Some(v);
+        if ahead > 0.0 {
+            went = Some((
+                Motion {
+                    dx: m.dx + d.dx,
+                    dy: m.dy + d.dy,
+                    rot_rad: m.rot_rad + d.rot_rad,
+                },
+                step.loss,
+            ));
+        }
+        m.dx += d.dx * (1.0 + ahead);
+        m.dy += d.dy * (1.0 + ahead);
+        m.rot_rad += d.rot_rad * (1.0 + ahead);
         let at_level = Motion {
             dx: d.dx / level.shrink,
             dy: d.dy / level.shrink,
@@ -318,6 +358,25 @@ pub(super) fn iterate(
         }
     }
     Ok(last.expect("at least one iteration"))
+}
+
+/// How much further than step `v` (px of the level, the turn as the shift it gives at
+/// the corners) to go after step `u` went `ahead` times further than itself: where the
+/// steps keep their direction ([`AHEAD_COS`]) and shrink, the rest of their geometric
+/// run (Aitken's extrapolation, at most [`AHEAD_AITKEN`] times); where they do not
+/// shrink, twice as far as the last went (at most [`AHEAD_MAX`] times); where they
+/// turn, none.
+pub(super) fn further(v: &nalgebra::Vector3<f64>, u: &nalgebra::Vector3<f64>, ahead: f64) -> f64 {
+    let (nv, nu) = (v.norm(), u.norm());
+    if v.dot(u) <= AHEAD_COS * nv * nu {
+        return 0.0;
+    }
+    let ratio = nv / nu.max(1e-12);
+    if ratio < AHEAD_RATIO {
+        (ratio / (1.0 - ratio)).min(AHEAD_AITKEN)
+    } else {
+        (2.0 * ahead).clamp(1.0, AHEAD_MAX)
+    }
 }
 
 /// Tukey's scale of a step of the alignment ([`align_step`]): `times` ([`TUKEY_LEVELS`]

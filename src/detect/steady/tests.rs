@@ -627,3 +627,22 @@ fn a_noisy_plate_is_steadied_at_a_scale_widened_for_its_noise() {
     assert!(shift < 0.4, "{shift} px RMS");
     assert!(turn < 0.06, "{turn} deg RMS");
 }
+
+/// A steadied frame's alignment goes further along a run of steps: to the end of a
+/// geometric run that shrinks, twice as far each step along one that does not, and not
+/// at all where the steps turn.
+#[test]
+fn a_run_of_steps_is_taken_further_only_while_it_keeps_its_direction() {
+    use nalgebra::Vector3;
+    let u = Vector3::new(1.0, 0.0, 0.0);
+    // Halving: the rest of the run (1/2 + 1/4 + ...) is once the last step.
+    assert!((align::further(&Vector3::new(0.5, 0.0, 0.0), &u, 0.0) - 1.0).abs() < 1e-12);
+    // A fifth of the way shorter each step: four times, the cap.
+    assert_eq!(align::further(&Vector3::new(0.8, 0.0, 0.0), &u, 0.0), 4.0);
+    // The same step again: once, then twice as far as the last went, up to eight.
+    assert_eq!(align::further(&u, &u, 0.0), 1.0);
+    assert_eq!(align::further(&u, &u, 3.0), 6.0);
+    assert_eq!(align::further(&u, &u, 6.0), 8.0);
+    // A step that turns (here by 45 deg) goes as it is.
+    assert_eq!(align::further(&Vector3::new(0.5, 0.5, 0.0), &u, 2.0), 0.0);
+}

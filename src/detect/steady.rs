@@ -207,6 +207,8 @@ pub(super) struct Steady {
     /// lower quartile asks for.
     noise: VecDeque<f32>,
     widen: f32,
+    /// Room for a frame's shares, then for the last frames' (see [`Steady::hear_noise`]).
+    shares: Vec<f32>,
     /// Whether the turn of the frame last measured was so held.
     turn_held: bool,
     /// The losses of the frame last measured (see [`Steady::losses`]), once reckoned: a
@@ -259,6 +261,7 @@ impl Steady {
             hold_turn: false,
             noise: VecDeque::new(),
             widen: 1.0,
+            shares: Vec::new(),
             turn_held: false,
             losses: None,
             scratch: Cell::default(),
@@ -339,10 +342,10 @@ impl Steady {
 
     /// The alignment of the prepared frame from motion `start`: the motion (none when
     /// the scene cannot fix it), the weighted RMS difference, Tukey's loss, whether its
-    /// last step held the turn at none (see [`Steady::steadying`]), and the light fitted. Where the
-    /// pendulum's sweep is left out, a turn the coarser scale fixed is kept as it is on
-    /// the measuring scale when that does not fix it, not taken back to none: the
-    /// coarser scale's pixels hold more of the turn (a hand-held twin turning 0.46 deg
+    /// last step held the turn at none (see [`Steady::steadying`]), and the light
+    /// fitted. Where the pendulum's sweep is left out, a turn the coarser scale fixed is
+    /// kept as it is on the measuring scale when that does not fix it, not taken back to
+    /// none: the coarser scale's pixels hold more of the turn (a hand-held twin turning 0.46 deg
     /// had its turn fixed on the coarser scale in each frame and held at none on the
     /// measuring scale in four of five, its angles off by 0.106 deg RMS; kept, 0.017).
     /// The first look's alignment, the pendulum not yet left out, holds it at none (kept,
@@ -373,12 +376,14 @@ impl Steady {
     /// frames after it are aligned at Tukey's scale widened for the noise so far (see
     /// [`NOISE_SHARE`]).
     fn hear_noise(&mut self, m: Motion, light: Light) -> Result<()> {
-        let u = noise_share(&self.levels[1], &self.smooth, m, light)?;
+        let u = noise_share(&self.levels[1], &self.smooth, m, light, &mut self.shares)?;
         if self.noise.len() == NOISE_FRAMES {
             self.noise.pop_front();
         }
         self.noise.push_back(u);
-        let mut recent: Vec<f32> = self.noise.iter().copied().collect();
+        let recent = &mut self.shares;
+        recent.clear();
+        recent.extend(self.noise.iter().copied());
         let k = recent.len() / 4;
         let n = *recent.select_nth_unstable_by(k, f32::total_cmp).1;
         self.widen = (n / NOISE_SHARE).clamp(1.0, MAX_WIDEN);

@@ -366,9 +366,25 @@ fn frames_whose_turn_was_held_are_suspect_when_the_others_turn() {
         .map(|&(k, t)| (k, t.map(|r| r / 100.0)))
         .collect();
     assert!(turn_check(&rows, &small).expect("judged").passed);
-    // Every turn held: nothing measured to reckon the held ones by, nor to regress on.
+    // Every turn held: nothing measured to reckon the held ones by, nor to regress on;
+    // the angles carry a turn of a size not known.
     let none: Vec<_> = turns.iter().map(|&(k, _)| (k, None)).collect();
-    assert!(turn_check(&rows, &none).is_none());
+    let c = turn_check(&rows, &none).expect("judged");
+    assert!(!c.passed && c.value == 1.0, "{}", c.reason);
+    assert!(
+        c.reason
+            .contains(&format!("every steadied frame ({})", rows.len())),
+        "{}",
+        c.reason
+    );
+    // The first frame, steadied onto itself, measured at exactly none: still unknown.
+    let mut first = none.clone();
+    first[0].1 = Some(0.0);
+    assert!(!turn_check(&rows, &first).expect("judged").passed);
+    // One frame's turn measured, and small: the held ones are reckoned by it.
+    let mut one = none.clone();
+    one[0].1 = Some(1e-7);
+    assert!(turn_check(&rows, &one).expect("judged").passed);
 }
 
 #[test]

@@ -570,39 +570,30 @@ impl Steady {
         self.losses()
     }
 
-    /// The loss of the frame last measured at its motion and at none, at Tukey's scale
-    /// for whether the camera moved ([`Tukey::explaining`]) widened for the frame's own
-    /// noise: under heavy compression the noise leaves most pixels off aligned or not.
-    /// A hand-held 640x480 twin under CRF 38 (3.8 px and 0.37 deg at 5 Hz) explained
-    /// 0.53 to 0.92 of its glances' pixels, two of twelve under [`EXPLAINS`]: the first
-    /// look took it for still, its static edges for moving lines, and the pass, steadied
-    /// only after, erred 0.85 deg RMS; widened 1.8 to 4 times, 0.37 to 0.82, five of
-    /// twelve, steadied from the start: 0.18 deg RMS. A clean scene's noise leaves the
-    /// scale as it was.
+    /// The loss of the frame last measured at its motion and at none.
     fn losses(&mut self) -> Result<(f64, f64)> {
         if let Some(l) = self.losses {
             return Ok(l);
         }
         let (level, img) = (&self.levels[1], &self.smooth);
-        // The scale widened for the frame's own noise, as a steadied frame's is (see
-        // [`NOISE_SHARE`]), from how its pixels differ at the motion measured.
-        let light = Light::at(level, img, self.recent)?;
-        let u = noise_share(level, img, self.recent, light, &mut self.shares)?;
-        let widen = (u / NOISE_SHARE).clamp(1.0, MAX_WIDEN);
-        let tukey = Tukey {
-            times: widen,
-            ..Tukey::explaining()
-        };
         let scratch = self.scratch.get_mut();
         let mut loss = |m: Motion| -> Result<f64> {
             let mut light = Light::at(level, img, m)?;
-            Ok(align_step(level, img, m, tukey, &mut light, Hold::No, scratch)?.loss)
+            Ok(align_step(
+                level,
+                img,
+                m,
+                Tukey::explaining(),
+                &mut light,
+                Hold::No,
+                scratch,
+            )?
+            .loss)
         };
         let (moved, still) = (loss(self.recent)?, loss(Motion::default())?);
         if std::env::var_os("ROLLFRIC_DEBUG").is_some() {
             eprintln!(
-                "steady: {:?}: the frame's loss {moved:.3} aligned, {still:.3} not ({:.2}), \
-                 the scale widened {widen:.2} times",
+                "steady: {:?}: the frame's loss {moved:.3} aligned, {still:.3} not ({:.2})",
                 self.recent,
                 moved / still
             );

@@ -126,9 +126,7 @@ knobs! {
     /// scale was set for. A 1080p hand-held twin of a plain plate (CRF 34) gives 0.49,
     /// its alignment crawling to the iterations' cap and its angles 0.314 deg RMS off
     /// (0.126 widened). At 0.144 it read 0.091, but a rolling shutter's twin at 0.17,
-    /// widened a few hundredths, lost its readout's fit (0.048 -> 0.125 deg RMS). Whether
-    /// a glance's motion explains the frame (`EXPLAINS`) is judged at the scale widened
-    /// alike for that frame's own share (see `Steady::losses`).
+    /// widened a few hundredths, lost its readout's fit (0.048 -> 0.125 deg RMS).
     NOISE_SHARE: f32 = 0.2, "share of Tukey's scale",
         what "the steadied frames' median difference, aligned, past which Tukey's scale widens",
         chosen_by "the noise the scale was set for gives at most 0.144, the moving twins 0.14-0.17; seed 1206's scene 14 (0.49): 0.314 -> 0.126 deg RMS";

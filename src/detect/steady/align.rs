@@ -298,6 +298,7 @@ pub(super) fn iterate(
     let (mut before, mut ahead) = (None, 0.0);
     // Where a step went further: the motion it reached itself, the loss where it began.
     let mut went: Option<(Motion, f64)> = None;
+    let (w, h) = (f64::from(level.w), f64::from(level.h));
     for _ in 0..ITERATIONS {
         let step = align_step(level, img, m, Tukey::measuring(widen), light, hold, scratch)?;
         let Some(d) = step.motion else {
@@ -316,11 +317,13 @@ pub(super) fn iterate(
         if step.held {
             hold = hold.kept();
         }
-        let v = nalgebra::Vector3::new(
-            d.dx / level.shrink,
-            d.dy / level.shrink,
-            d.rot_rad * 0.5 * f64::from(level.w).hypot(f64::from(level.h)),
-        );
+        // The step in the level's px, its turn as the shift it gives at the corners.
+        let at_level = Motion {
+            dx: d.dx / level.shrink,
+            dy: d.dy / level.shrink,
+            ..d
+        };
+        let v = nalgebra::Vector3::new(at_level.dx, at_level.dy, d.rot_rad * 0.5 * w.hypot(h));
         ahead = match before {
             Some(u) if extrapolate => further(&v, &u, ahead),
             _ => 0.0,
@@ -339,12 +342,7 @@ pub(super) fn iterate(
         m.dx += d.dx * (1.0 + ahead);
         m.dy += d.dy * (1.0 + ahead);
         m.rot_rad += d.rot_rad * (1.0 + ahead);
-        let at_level = Motion {
-            dx: d.dx / level.shrink,
-            dy: d.dy / level.shrink,
-            ..d
-        };
-        let done = at_level.reach(f64::from(level.w), f64::from(level.h)) < CONVERGED_PX;
+        let done = at_level.reach(w, h) < CONVERGED_PX;
         last = Some(Step {
             motion: Some(m),
             ..step

@@ -59,11 +59,21 @@ pub struct DetectionCheck {
     /// `rest`, `envelope`, `decays`, `still`, `turn`, `polarity`, `lens`, `bent`, `pivot`
     /// or `length`.
     pub check: String,
+    /// The measured figure; infinite where it has no finite size (a noise of zero, a
+    /// swing of none). JSON has no infinity: such a figure is written as `null` and
+    /// read back as infinite, so that a detection's summary reads back whole.
+    #[serde(deserialize_with = "null_is_infinite")]
     pub value: f64,
     pub limit: f64,
     pub passed: bool,
     /// One line: what was measured against what.
     pub reason: String,
+}
+
+/// A check's figure as JSON holds it: a number, or `null` for the infinite figure
+/// `serde_json` writes so (see [`DetectionCheck::value`]).
+fn null_is_infinite<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// A detection's verdict: `suspect` when a check failed.

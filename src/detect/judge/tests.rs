@@ -635,3 +635,18 @@ fn a_swing_that_grows_is_suspect() {
     assert_eq!(failed(&v), ["decays"], "{:?}", v.checks);
     assert_eq!(v.verdict, Verdict::Suspect);
 }
+
+#[test]
+fn a_verdict_with_an_infinite_figure_reads_back_from_its_json() {
+    // A noise of zero makes the wander figure infinite; `serde_json` writes it as
+    // `null`, and a cached summary holding it must read back (else it is detected
+    // again on every build, and `rollfric check` cannot read the reports' summary).
+    let c = wander_check(&swinging(), Some(0.0)).expect("judged");
+    assert_eq!(c.value, f64::INFINITY, "{c:?}");
+    let mut v = judge(&swinging(), [100.0, 20.0], None, None);
+    v.checks.push(c);
+    let json = serde_json::to_string(&v).unwrap();
+    assert!(json.contains("\"value\":null"), "{json}");
+    let back: DetectionVerdict = serde_json::from_str(&json).expect("reads back");
+    assert_eq!(back, v);
+}

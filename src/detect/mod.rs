@@ -478,6 +478,8 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
         let n = |d: &Detection| d.verdict.seen.noise_deg.unwrap_or(0.0);
         (n(a).powi(2) - n(&d).powi(2)).max(0.0).sqrt()
     };
+    // Measured again about the look's region (found moving late, or its scene off).
+    let about_region = again.is_some() && !from_start;
     if let Some(why) = again {
         eprintln!(
             "{name}: {why} (measured so, {}): measuring again with every frame steadied",
@@ -551,16 +553,20 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
         }
     }
     if !look_steadied && !looks.moving {
-        d = looked_again_steadied(looks, shrink, d);
+        d = looked_again_steadied(looks, shrink, about_region, d);
     }
     Ok(d)
 }
 
 /// A measurement from a look that took the camera for still (then found moving by the
-/// pass, or its static scene off, and measured again about the look's region; or never
-/// found moving): when what is kept still jitters (`smooth`) or bears out no pivot
-/// (`pivot`), the look's geometry, or its judgement that the camera stood still, is in
-/// doubt, and the video is measured once more from a look steadied throughout. That
+/// pass, or its static scene off, and measured again about the look's region:
+/// `about_region`; or never found moving): when what is kept still jitters (`smooth`),
+/// or, measured about the region, bears out no pivot (`pivot`), the look's geometry, or
+/// its judgement that the camera stood still, is in doubt, and the video is measured
+/// once more from a look steadied throughout. A still camera's pivot that the lines do
+/// not bear out is left to the other working scale ([`detect_scaled`]: a light 1 px
+/// wire whose dark shadow the shrunk look took, steadied, read 0.03 px of motion and
+/// was kept for failing fewer checks, the finer look never made). That
 /// measurement is kept when it is `ok`, or fails a part of the checks `d` failed and no
 /// other (see [`DetectionVerdict::fails_a_part_of`]).
 ///
@@ -574,13 +580,16 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
 /// both are `ok`, 0.018 and 0.028 deg RMS off. Measured so whatever they were, 7 of 28
 /// sweep scenes found moving late came nearer the truth and 7 went further (one, 3.5 %
 /// off, called `ok`): none of those 7 failed `smooth` or `pivot`.
-fn looked_again_steadied(looks: &mut FirstLook, shrink: u32, mut d: Detection) -> Detection {
+fn looked_again_steadied(
+    looks: &mut FirstLook,
+    shrink: u32,
+    about_region: bool,
+    mut d: Detection,
+) -> Detection {
     let name = looks.input.name();
-    if !d
-        .verdict
-        .failed()
-        .any(|c| c.check == "smooth" || c.check == "pivot")
-    {
+    let in_doubt =
+        |c: &judge::DetectionCheck| c.check == "smooth" || (about_region && c.check == "pivot");
+    if !d.verdict.failed().any(in_doubt) {
         return d;
     }
     eprintln!(

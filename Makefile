@@ -92,12 +92,15 @@ bench: build snakemake
 # besides the decoder, and on each its pace against decoding alone (BENCH_SWEEP_ROUNDS
 # paired rounds of `ffmpeg -f null` and `rollfric detect`), with their percentiles.
 # Part of `make bench` (about an hour on two cores); BENCH_SWEEP_SCENES=0 leaves it out.
+# The lens is given as `make robustness` gives it (ROBUSTNESS_LENS), so that the
+# accuracy lines are the sweep's own.
 BENCH_SWEEP_SCENES ?= 64
 BENCH_SWEEP_SEED ?= 1
 BENCH_SWEEP_ROUNDS ?= 3
 bench-sweep: build
 	$(CARGO) build --release --locked --example robustness
-	ROBUSTNESS_PACE=$(BENCH_SWEEP_ROUNDS) $(or $(CARGO_TARGET_DIR),target)/release/examples/robustness \
+	ROBUSTNESS_PACE=$(BENCH_SWEEP_ROUNDS) ROBUSTNESS_LENS=$(ROBUSTNESS_LENS) \
+	  $(or $(CARGO_TARGET_DIR),target)/release/examples/robustness \
 	  $(BENCH_SWEEP_SCENES) $(BENCH_SWEEP_SEED) 40
 
 # The detector's CPU on the video benchmark's twins (still cameras) against the build of

@@ -432,8 +432,10 @@ fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
 }
 
 /// The streaming pass from `look`, measured again with every frame steadied when the pass
-/// found the camera moving (or its static scene off) where the look took it for still;
-/// `looks` learns what the camera does.
+/// found the camera moving (or its static scene off) where the look took it for still,
+/// and once more from a look steadied throughout when what is kept from a look that took
+/// it for still is in doubt ([`looked_again_steadied`]); `looks` learns what the camera
+/// does.
 fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
     let name = looks.input.name();
     let (shrink, look_steadied) = (look.shrink, look.moving);

@@ -570,7 +570,7 @@ fn measure(looks: &mut FirstLook, look: Located) -> Result<Detection> {
 /// wire whose dark shadow the shrunk look took, steadied, read 0.03 px of motion and
 /// was kept for failing fewer checks, the finer look never made). That
 /// measurement is kept when it is `ok`, or fails a part of the checks `d` failed and no
-/// other (see [`DetectionVerdict::fails_a_part_of`]).
+/// other (see [`judge::DetectionVerdict::fails_a_part_of`]).
 ///
 /// A hand-held camera shaking at 7.5 Hz (1.84 px and 0.18 deg, 640x480, a plain room;
 /// seed 2's sweep scene 54) is seen at a random phase at each of the glances, 2 s apart,

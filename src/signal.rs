@@ -179,14 +179,21 @@ pub const STOP_REST_BAND: f64 = 0.25;
 ///   zero may then lie up to [`STOP_ZERO_AFTER_GAP`] half swings after the last turning
 ///   point (the very last may be lost in the noise).
 /// * **Out of rhythm**: only when the extremes as a whole are not one half swing apart
-///   (the fit would refuse them, [`half_swings`]) and no gap told the stop. The extremes
+///   (the fit would refuse them, [`half_swings`]), at their own half swing or at the
+///   swing's (the median gap of the first four), and no gap told the stop. The extremes
 ///   after the last turning point are not one half swing apart either, and each lies
 ///   nearer the equilibrium than the last turning point did (the ball cannot swing
 ///   wider after it). A camera that sways slowly makes the angle of a ball at rest
 ///   wander as far as the last turning points swung, every half to one and a half half
 ///   swings: a copper sweep twin (a tripod's sway of 0.8 px at 0.46 Hz) stopped at
 ///   22.7 s, 0.48 deg from its equilibrium, then wandered 0.24 deg either side of its
-///   rest for 18 s, and the fit was refused.
+///   rest for 18 s, and the fit was refused. Where the wander outnumbers the swing's
+///   turning points, their own half swing (the upper median gap) is the wander's, and
+///   the whole may fall in its rhythm: a sweep twin (seed 2026's scene 36, a tripod's
+///   sway of 0.07 deg at 0.39 Hz) swung five half swings of 1.6 s, then its ball at
+///   rest wandered 0.3 deg every 0.8 to 1.1 s, 14 extremes; at 1.14 s the whole counted
+///   as one rhythm, the stop was not looked for, and the fit refused the model's
+///   turning points.
 ///
 /// A turning point lost mid-motion leaves the envelope above zero; a convex decay (air,
 /// a string) fitted with a line may reach zero there, but its later turning points
@@ -199,8 +206,13 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     let stop_by =
         |rule: Rest| (3..n - 1).find_map(|i| stop_after(extremes, i, rule).map(|t| (i, t)));
     let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| {
-        in_rhythm(extremes)
-            .is_none()
+        let mut first: Vec<f64> = extremes
+            .windows(2)
+            .take(3)
+            .map(|w| w[1].t - w[0].t)
+            .collect();
+        let swing = median(&mut first);
+        (in_rhythm(extremes).is_none() || half_swings(extremes, swing).is_none())
             .then(|| stop_by(Rest::OutOfRhythm))
             .flatten()
     })?;

@@ -118,6 +118,52 @@ fn a_ball_at_rest_that_wanders_out_of_rhythm_after_the_stop_is_dropped() {
     assert_eq!(e, kept);
 }
 
+/// The turning points and the ball's wander at rest after them of a sweep twin (seed
+/// 2026's scene 36: five half swings of 1.6 s, the one at 6.3 s hidden by a walker, then
+/// a tripod's sway making the ball at rest wander every 0.8 to 1.1 s), in deg: the
+/// wander outnumbers the swing, its upper median gap (1.14 s) is the wander's, and the
+/// whole counts as one rhythm at it. The stop is told at the swing's own half swing.
+#[test]
+fn a_wander_at_rest_that_outnumbers_the_swing_is_dropped() {
+    let found = [
+        (1.594, 16.007),
+        (3.165, -7.697),
+        (4.750, 11.907),
+        (7.897, 7.890),
+        (9.559, 0.688),
+    ];
+    let wander = [
+        (11.072, 4.017),
+        (12.027, 3.685),
+        (12.857, 4.042),
+        (13.885, 3.615),
+        (19.963, 4.046),
+        (20.973, 3.683),
+        (21.812, 4.000),
+        (22.749, 3.564),
+        (23.892, 4.155),
+        (30.670, 3.989),
+        (31.679, 3.580),
+        (32.741, 4.211),
+        (38.619, 3.650),
+        (39.607, 4.013),
+    ];
+    let mut e: Vec<Extreme> = found
+        .iter()
+        .chain(&wander)
+        .enumerate()
+        .map(|(k, &(t, a)): (usize, &(f64, f64))| {
+            ex(t, a.to_radians(), if k % 2 == 0 { 1.0 } else { -1.0 })
+        })
+        .collect();
+    assert!(in_rhythm(&e).is_some(), "the whole in the wander's rhythm");
+    let stop = drop_after_stop(&mut e).expect("a stop");
+    assert_eq!((stop.dropped, e.len()), (wander.len(), found.len()));
+    // The envelope's zero, 1.2 half swings after the last turning point.
+    assert!((11.0..12.0).contains(&stop.t_s), "{}", stop.t_s);
+    assert_eq!(in_rhythm(&e), Some(vec![0, 1, 2, 4, 5]));
+}
+
 #[test]
 fn a_turning_point_lost_mid_motion_is_not_a_stop() {
     // Amplitude 0.2 - 0.02 t, turning points every second from t = 1 to 8, the one

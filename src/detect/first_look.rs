@@ -564,7 +564,6 @@ impl<'a> FirstLook<'a> {
         };
         super::debug_timing("geometry done", started, "");
         let init_bg = geometry::extreme_frame(&init, geo.dark)?;
-        let noise = geometry::pass_noise_map(&init, &noise);
         let init_tmap =
             geometry::threshold_map(&init, &noise, 0.5 * opts.threshold_sigma, PASS_FLOOR)?;
         let init_reference = geometry::frame_mat(&init, 0)?;

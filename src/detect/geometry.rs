@@ -237,43 +237,15 @@ fn frame_lines(
 /// than a flat wall.
 pub fn noise_map(init: &InitFrames) -> Vec<u8> {
     let mut med = vec![0u8; init.w * init.h];
+    // A running median: one grey level towards each new value (branch-free, so that
+    // it vectorises).
     for pair in init.data.windows(2) {
-        median_step(&mut med, &pair[0], &pair[1]);
-    }
-    med
-}
-
-/// One step of the streaming median of each pixel's change from `a` to `b`: a grey
-/// level towards it (branch-free, so that it vectorises).
-fn median_step(med: &mut [u8], a: &[u8], b: &[u8]) {
-    for ((m, a), b) in med.iter_mut().zip(a).zip(b) {
-        let d = a.abs_diff(*b);
-        *m = *m + u8::from(d > *m) - u8::from(d < *m);
-    }
-}
-
-/// The streaming pass's noise: [`noise_map`] (`forward`) where the same median streamed
-/// backwards over the look's frames stands within a grey level of it or above it, the
-/// backward one where the forward one stands higher. The streaming median steps a
-/// level towards each change, so that changes in the look's last frames (the wire, its
-/// shadow or the ball crossing the pixel there) leave it that many levels high, with
-/// no frames after them to come back down: the look's last wire positions read as the
-/// noisiest pixels of the region, and a faint wire lost its evidence there for the
-/// whole pass (a sweep twin's 1 px wire beside its soft shadow, shrunk twice: its
-/// threshold along the angles it crossed last stood at 16 to 20 grey levels against 9
-/// to 13 along its shadow's). The look keeps the forward median: its lines were chosen
-/// with it, and a lower threshold there let film 1's look take noise for lines.
-pub fn pass_noise_map(init: &InitFrames, forward: &[u8]) -> Vec<u8> {
-    let mut back = vec![0u8; init.w * init.h];
-    for pair in init.data.windows(2).rev() {
-        median_step(&mut back, &pair[1], &pair[0]);
-    }
-    for (b, &f) in back.iter_mut().zip(forward) {
-        if f <= b.saturating_add(1) {
-            *b = f;
+        for ((m, a), b) in med.iter_mut().zip(&pair[0]).zip(&pair[1]) {
+            let d = a.abs_diff(*b);
+            *m = *m + u8::from(d > *m) - u8::from(d < *m);
         }
     }
-    back
+    med
 }
 
 /// Per-pixel detection threshold, `sigmas` above each pixel's noise ([`noise_map`]),

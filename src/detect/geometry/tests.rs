@@ -100,35 +100,3 @@ fn a_frames_lines_leave_out_one_along_its_edge() {
     assert_eq!(at_edge.len(), 1);
     assert!(slope(&at_edge[0]) > 5.0);
 }
-
-/// A pixel whose frame-to-frame change is 2 grey levels throughout reads 2; one crossed
-/// by a soft dark line (a wire's shadow) in the look's last four frames reads 2 too in
-/// the pass's noise, where the look's (the forward median) reads 6 (a level up at each
-/// frame of the crossing, and no frames after it to come back down); one crossed so in
-/// its first four frames reads 2 in both.
-#[test]
-fn the_pass_noise_is_not_raised_by_a_crossing_at_either_end_of_the_look() {
-    let (w, h, n) = (3usize, 1usize, 40usize);
-    let shadow = [20u8, 45, 60, 35];
-    let data: Vec<Vec<u8>> = (0..n)
-        .map(|f| {
-            let wall = 100 + 2 * (f % 2) as u8;
-            let crossed = |from: usize| match f.checked_sub(from) {
-                Some(k) if k < shadow.len() => wall - shadow[k],
-                _ => wall,
-            };
-            vec![wall, crossed(n - shadow.len()), crossed(0)]
-        })
-        .collect();
-    let init = InitFrames {
-        w,
-        h,
-        shrink: 1.0,
-        x0: 0.0,
-        y0: 0.0,
-        data,
-    };
-    let forward = noise_map(&init);
-    assert_eq!(forward, vec![2, 6, 2]);
-    assert_eq!(pass_noise_map(&init, &forward), vec![2, 2, 2]);
-}

@@ -206,13 +206,7 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
     let stop_by =
         |rule: Rest| (3..n - 1).find_map(|i| stop_after(extremes, i, rule).map(|t| (i, t)));
     let (i, t_zero) = stop_by(Rest::AfterGap).or_else(|| {
-        let mut first: Vec<f64> = extremes
-            .windows(2)
-            .take(3)
-            .map(|w| w[1].t - w[0].t)
-            .collect();
-        let swing = median(&mut first);
-        (in_rhythm(extremes).is_none() || half_swings(extremes, swing).is_none())
+        out_of_rhythm(extremes)
             .then(|| stop_by(Rest::OutOfRhythm))
             .flatten()
     })?;
@@ -221,6 +215,19 @@ pub fn drop_after_stop(extremes: &mut Vec<Extreme>) -> Option<Stop> {
         t_s: t_zero,
         dropped: n - i - 1,
     })
+}
+
+/// Whether the extremes as a whole are not one half swing apart, at their own half swing
+/// ([`in_rhythm`]) or at the swing's: the median gap of the first four, which are the
+/// swing's where a ball at rest wanders more often than the swing turned
+/// ([`drop_after_stop`]).
+fn out_of_rhythm(extremes: &[Extreme]) -> bool {
+    let mut first: Vec<f64> = extremes
+        .windows(2)
+        .take(3)
+        .map(|w| w[1].t - w[0].t)
+        .collect();
+    in_rhythm(extremes).is_none() || half_swings(extremes, median(&mut first)).is_none()
 }
 
 /// How [`drop_after_stop`] tells the ball at rest after a turning point.

@@ -125,14 +125,14 @@ fn a_ball_at_rest_that_wanders_out_of_rhythm_after_the_stop_is_dropped() {
 /// whole counts as one rhythm at it. The stop is told at the swing's own half swing.
 #[test]
 fn a_wander_at_rest_that_outnumbers_the_swing_is_dropped() {
-    let found = [
+    let found: [(f64, f64); 5] = [
         (1.594, 16.007),
         (3.165, -7.697),
         (4.750, 11.907),
         (7.897, 7.890),
         (9.559, 0.688),
     ];
-    let wander = [
+    let wander: [(f64, f64); 14] = [
         (11.072, 4.017),
         (12.027, 3.685),
         (12.857, 4.042),
@@ -152,9 +152,7 @@ fn a_wander_at_rest_that_outnumbers_the_swing_is_dropped() {
         .iter()
         .chain(&wander)
         .enumerate()
-        .map(|(k, &(t, a)): (usize, &(f64, f64))| {
-            ex(t, a.to_radians(), if k % 2 == 0 { 1.0 } else { -1.0 })
-        })
+        .map(|(k, &(t, a))| ex(t, a.to_radians(), if k % 2 == 0 { 1.0 } else { -1.0 }))
         .collect();
     assert!(in_rhythm(&e).is_some(), "the whole in the wander's rhythm");
     let stop = drop_after_stop(&mut e).expect("a stop");

@@ -1,6 +1,8 @@
 //! The camera's motion measured on textured frames moved by hand-set motions.
 
 use super::*;
+use opencv::core::Size;
+use opencv::imgproc;
 
 mod late;
 

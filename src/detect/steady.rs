@@ -19,8 +19,9 @@ use crate::detect::tuning::{
     SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
-use align::{align_step, iterate, noise_share, prepare, Hold, Light, Reader, Scratch, Step, Tukey};
+use align::{align_step, iterate, noise_share, prepare, Hold, Reader, Scratch, Step, Tukey};
 use anyhow::Result;
+use light::Light;
 use opencv::core::Mat;
 use opencv::prelude::*;
 use std::cell::Cell;
@@ -682,6 +683,7 @@ fn retain_by<T>(v: &mut Vec<T>, keep: &[bool]) {
 mod align;
 mod follow;
 pub(super) mod jitter;
+mod light;
 #[cfg(test)]
 mod tests;
 mod warp;

@@ -1,7 +1,7 @@
 //! The frame's light against the first frame's, fitted for each alignment.
 
 use super::align::{biweight, Reader};
-use super::{Level, Motion, Point};
+use super::{Level, Motion};
 use crate::detect::tuning::{EXPLAIN_PX, LIGHT_LEVELS, LIGHT_ROUNDS, MAX_GAIN};
 use anyhow::Result;
 use opencv::core::Mat;
@@ -23,13 +23,22 @@ impl Light {
     /// motion `m`, as the offset (gain 1).
     pub(super) fn at(level: &Level, img: &Mat, m: Motion) -> Result<Self> {
         let at = Reader::new(level, img, m)?;
-        // Each pixel read once: the frame's grey and the first frame's, where it shows.
-        let read: Vec<(f32, &Point)> = level
-            .points
-            .iter()
-            .filter_map(|p| at.grey(p).map(|g| (g, p)))
-            .collect();
-        let mut d: Vec<f32> = read.iter().map(|&(g, p)| p.grey - g).collect();
+        // Each pixel read once: the frame's grey, the first frame's, and the tolerance of
+        // their difference, where it shows.
+        let n = level.points.len();
+        let (mut g, mut r, mut tol) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        for p in &level.points {
+            if let Some(grey) = at.grey(p) {
+                g.push(grey);
+                r.push(p.grey);
+                tol.push(LIGHT_LEVELS + EXPLAIN_PX * p.gradient);
+            }
+        }
+        let mut d: Vec<f32> = g.iter().zip(&r).map(|(&g, &r)| r - g).collect();
         let offset = if d.is_empty() {
             0.0
         } else {
@@ -38,14 +47,17 @@ impl Light {
         };
         let mut light = Self { gain: 1.0, offset };
         // Then the gain and offset refitted on the pixels within a wide tolerance (the
-        // frame not yet aligned) of the line.
+        // frame not yet aligned) of the line: each round's weights in one pass (the
+        // division in lanes), then their sums in the pixels' order.
+        let mut w = d;
         for _ in 0..LIGHT_ROUNDS {
+            for (((w, &g), &r), &t) in w.iter_mut().zip(&g).zip(&r).zip(&tol) {
+                let v = biweight(light.gain * g + light.offset - r, t);
+                *w = v * v;
+            }
             let mut sums = Sums::default();
-            for &(g, p) in &read {
-                let e = light.gain * g + light.offset - p.grey;
-                let v = biweight(e, LIGHT_LEVELS + EXPLAIN_PX * p.gradient);
-                let (w, g, r) = (f64::from(v * v), f64::from(g), f64::from(p.grey));
-                sums.add(w, g, r);
+            for ((&w, &g), &r) in w.iter().zip(&g).zip(&r) {
+                sums.add(f64::from(w), f64::from(g), f64::from(r));
             }
             light.refit(&sums);
         }

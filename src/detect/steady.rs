@@ -13,10 +13,9 @@
 //! more, then on the measuring scale.
 
 use crate::detect::tuning::{
-    COARSE_SETTLED_PX, CONVERGED_PX, EST_SIDE, EXPLAINS, MAX_COARSE_POINTS, MAX_POINTS,
-    MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG, MAX_WIDEN, MEASURE_PX, MIN_GRADIENT, NOISE_FRAMES,
-    NOISE_SHARE, PRUNE_MIN_FRAMES, PRUNE_MIN_KEPT, RESTART, SAME_BASIN_PX, SWEEP_MARGIN_DEG,
-    SWEEP_REACH, TUKEY_LEVELS,
+    EST_SIDE, EXPLAINS, MAX_COARSE_POINTS, MAX_POINTS, MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG,
+    MAX_WIDEN, MEASURE_PX, MIN_GRADIENT, NOISE_FRAMES, NOISE_SHARE, PRUNE_MIN_FRAMES,
+    PRUNE_MIN_KEPT, RESTART, SAME_BASIN_PX, SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
 use align::{align_step, iterate, noise_share, prepare, Hold, Reader, Scratch, Step, Tukey};
@@ -103,9 +102,6 @@ struct Level {
     /// How many of the scale's strongest pixels each point read stands for (every k-th
     /// kept: k), so that the information the scene holds is reckoned as from them all.
     each: f64,
-    /// A steadied frame's alignment at this scale stops when a step moves the corners
-    /// less than this, px of the scale (see [`COARSE_SETTLED_PX`]).
-    settled: f64,
 }
 
 /// A pixel of a [`Level`].
@@ -170,7 +166,6 @@ impl Level {
             shrink,
             points,
             each: each as f64,
-            settled: CONVERGED_PX,
         })
     }
 }
@@ -247,10 +242,7 @@ impl Steady {
             &mut coarse,
         )?;
         let levels = [
-            Level {
-                settled: COARSE_SETTLED_PX,
-                ..Level::new(&coarse, 2.0 * shrink, sweep, MAX_COARSE_POINTS)?
-            },
+            Level::new(&coarse, 2.0 * shrink, sweep, MAX_COARSE_POINTS)?,
             Level::new(&smooth, shrink, sweep, MAX_POINTS)?,
         ];
         Ok(Self {

@@ -342,12 +342,7 @@ pub(super) fn iterate(
         m.dx += d.dx * (1.0 + ahead);
         m.dy += d.dy * (1.0 + ahead);
         m.rot_rad += d.rot_rad * (1.0 + ahead);
-        let done = at_level.reach(w, h)
-            < if extrapolate {
-                level.settled
-            } else {
-                CONVERGED_PX
-            };
+        let done = at_level.reach(w, h) < CONVERGED_PX;
         last = Some(Step {
             motion: Some(m),
             ..step

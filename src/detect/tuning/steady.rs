@@ -11,13 +11,6 @@ knobs! {
         what "a frame is measured shrunk to at most this side",
         chosen_by "f48638b: hand-picked; not swept";
 
-    /// ... but a steadied frame's alignment on the coarser scale stops at this, px of
-    /// that scale: the measuring scale goes on from where it stops, and the coarser
-    /// scale's own best lies up to 0.08 of its px from the measuring scale's.
-    COARSE_SETTLED_PX: f64 = 0.05, "px",
-        what "a steadied frame's coarser scale stops when a step moves the corners less than this",
-        chosen_by "a hand-held 960x540 sweep twin (seed 2026's scene 16): its restarts' coarser scale ended 0.004 to 0.08 of its px from the measuring scale's end";
-
     /// The measured frames are brought to this spread of their grey levels between the
     /// quartiles (whatever the exposure and the scene's own contrast) ...
     LEVEL_SPREAD: f64 = 40.0, "grey levels",

@@ -15,7 +15,7 @@
 use crate::detect::tuning::{
     EST_SIDE, EXPLAINS, MAX_COARSE_POINTS, MAX_POINTS, MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG,
     MAX_WIDEN, MEASURE_PX, MIN_GRADIENT, NOISE_FRAMES, NOISE_SHARE, PRUNE_MIN_FRAMES,
-    PRUNE_MIN_KEPT, RESTART, SAME_BASIN_PX, SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
+    PRUNE_MIN_KEPT, RESTART, SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
 };
 use crate::video::Frame;
 use align::{align_step, iterate, noise_share, prepare, Hold, Reader, Scratch, Step, Tukey};
@@ -170,10 +170,6 @@ impl Level {
     }
 }
 
-/// An alignment's outcome: the motion (none when the scene cannot fix it), the weighted
-/// RMS difference, Tukey's loss, whether the turn was held at none, and the light fitted.
-type Aligned = (Option<Motion>, f64, f64, bool, Light);
-
 /// The first frame's scales and the scratch the measurement reuses.
 pub(super) struct Steady {
     size: (usize, usize),
@@ -321,17 +317,12 @@ impl Steady {
         // From the previous frame's motion; when that leaves more pixels off than the
         // previous frame's did (by `RESTART`), from none too, and the one that leaves
         // fewer off is kept: an alignment that went astray (pulled along by the ball
-        // over a few frames) is not followed on from frame to frame. A restart whose
-        // coarser scale lands where the first alignment ended (`SAME_BASIN_PX`) has
-        // found it again, and is not taken on to the measuring scale.
-        let (mut m, mut residual, mut loss, mut held, mut light) = self
-            .align_from(self.recent, None)?
-            .expect("no basin to stop at");
+        // over a few frames) is not followed on from frame to frame.
+        let (mut m, mut residual, mut loss, mut held, mut light) = self.align_from(self.recent)?;
         if self.recent != Motion::default() && (loss.is_nan() || loss > RESTART * self.loss) {
-            if let Some((m0, r0, l0, h0, light0)) = self.align_from(Motion::default(), m)? {
-                if l0 < loss {
-                    (m, residual, loss, held, light) = (m0, r0, l0, h0, light0);
-                }
+            let (m0, r0, l0, h0, light0) = self.align_from(Motion::default())?;
+            if l0 < loss {
+                (m, residual, loss, held, light) = (m0, r0, l0, h0, light0);
             }
         }
         self.turn_held = held;
@@ -359,9 +350,7 @@ impl Steady {
     /// measuring scale in four of five, its angles off by 0.106 deg RMS; kept, 0.017).
     /// The first look's alignment, the pendulum not yet left out, holds it at none (kept,
     /// a static edge of a hand-held twin read as a moving line: no wire found).
-    /// None when the coarser scale lands within [`SAME_BASIN_PX`] of `basin`, where an
-    /// alignment made before ended.
-    fn align_from(&mut self, start: Motion, basin: Option<Motion>) -> Result<Option<Aligned>> {
+    fn align_from(&mut self, start: Motion) -> Result<(Option<Motion>, f64, f64, bool, Light)> {
         let mut light = Light::at(&self.levels[0], &self.coarse, start)?;
         let hold = if self.hold_turn {
             Hold::WhereUnfixed
@@ -370,25 +359,8 @@ impl Steady {
         };
         let coarse = self.at_level(0, start, hold, &mut light)?;
         let Some(m) = coarse.motion else {
-            return Ok(Some((
-                None,
-                coarse.residual,
-                coarse.loss,
-                coarse.held,
-                light,
-            )));
+            return Ok((None, coarse.residual, coarse.loss, coarse.held, light));
         };
-        if let Some(b) = basin {
-            let apart = Motion {
-                dx: m.dx - b.dx,
-                dy: m.dy - b.dy,
-                rot_rad: m.rot_rad - b.rot_rad,
-            };
-            let (w, h) = (self.size.0 as f64, self.size.1 as f64);
-            if apart.reach(w, h) < SAME_BASIN_PX * self.shrink {
-                return Ok(None);
-            }
-        }
         // The turn held as it is counts as measured: the coarser scale fixed it.
         let hold = if self.hold_turn && self.swept && coarse.turn_fixed {
             Hold::AsIs
@@ -397,13 +369,7 @@ impl Steady {
         };
         let fine = self.at_level(1, m, hold, &mut light)?;
         let at_none = fine.held && !hold.as_is();
-        Ok(Some((
-            fine.motion,
-            fine.residual,
-            fine.loss,
-            at_none,
-            light,
-        )))
+        Ok((fine.motion, fine.residual, fine.loss, at_none, light))
     }
 
     /// Takes in the noise of a steadied frame aligned at motion `m` (and `light`): the

@@ -87,36 +87,6 @@ fn a_shift_and_a_turn_are_measured_and_undone() {
 }
 
 #[test]
-fn a_restart_that_finds_the_first_alignment_again_stops_on_the_coarser_scale() {
-    let (w, h) = (320, 240);
-    let first = textured(w, h, Motion::default(), 0);
-    let mut s = Steady::new(&first, None).unwrap();
-    let m = Motion {
-        dx: 2.6,
-        dy: -1.3,
-        rot_rad: 0.2f64.to_radians(),
-    };
-    let got = s.measure(&textured(w, h, m, 1)).unwrap().unwrap();
-    // From no motion, the coarser scale lands where the frame's alignment ended...
-    assert!(s
-        .align_from(Motion::default(), Some(got))
-        .unwrap()
-        .is_none());
-    // ... and not where one 3 px away ended: that restart is taken to its end.
-    let away = Motion {
-        dx: got.dx + 3.0,
-        ..got
-    };
-    let again = s.align_from(Motion::default(), Some(away)).unwrap();
-    let found = again.expect("aligned again").0.expect("a motion");
-    assert!(found.reach(w as f64, h as f64) > 2.0, "{found:?}");
-    assert!(
-        (found.dx - got.dx).abs() < 0.05,
-        "{found:?} against {got:?}"
-    );
-}
-
-#[test]
 fn a_strip_thinner_than_the_factor_is_prepared_without_error() {
     // 1500x2 px: a factor of 3.1 for the long side, more than the short side holds.
     let f = textured(1500, 2, Motion::default(), 0);

@@ -94,13 +94,6 @@ knobs! {
         what "restart from no motion when the previous start aligns this much worse",
         chosen_by "96db5d0: hand-picked; not swept";
 
-    /// ... and that restart stops after its coarser scale when it lands within this
-    /// many px (of the measuring scale, the turn as the shift it gives at the corners)
-    /// of where the first alignment ended: it has found the same alignment again.
-    SAME_BASIN_PX: f64 = 0.5, "px",
-        what "a restart whose coarser scale lands this near the first alignment stops there",
-        chosen_by "a hand-held 960x540 sweep twin (seed 2026's scene 16): of 696 restarts, 693 ended within 0.0001 px of the first alignment, their coarser scale 0.015 to 0.33 px of it (of the measuring scale, 0.15 at most); the three that went elsewhere landed 1.6 and 2.4 px away, and one of 0.16 px whose loss differed by 0.0001";
-
     /// Whether the camera moved is judged with Tukey's scale widened by what this much
     /// misalignment changes a pixel's grey by along its gradient, px: an edge a little
     /// misaligned is not yet an outlier.

@@ -1,5 +1,6 @@
-//! The alignment's arithmetic: a frame prepared for it, its steps at one scale, its light
-//! against the first's, its reading through a motion, and the noise left once aligned.
+//! The alignment's arithmetic: a frame prepared for it, its steps at one scale (the
+//! light refitted at each, see `light.rs`), its reading through a motion, and the noise
+//! left once aligned.
 
 use super::light::{Light, Sums};
 use super::{Level, Motion, Point};

@@ -121,6 +121,8 @@ pub(super) struct FirstLook<'a> {
     /// the still start judged under the camera's motion dropped none of it or did not
     /// see it sweep more.
     pub(super) little_sweep_kept: bool,
+    /// The look is made against the median alone ([`geometry::Asked::median_only`]).
+    pub(super) median_only: bool,
 }
 
 impl<'a> FirstLook<'a> {
@@ -166,6 +168,7 @@ impl<'a> FirstLook<'a> {
             follow_region: false,
             held_under_motion: false,
             little_sweep_kept: false,
+            median_only: false,
         })
     }
 
@@ -278,6 +281,7 @@ impl<'a> FirstLook<'a> {
             moving: known_moving,
             held_under_motion,
             little_sweep_kept,
+            median_only,
             ..
         } = *self;
         let info = input.info();
@@ -467,9 +471,12 @@ impl<'a> FirstLook<'a> {
                 &noise,
                 info.width,
                 info.height,
-                opts.polarity,
-                opts.pivot.map(|[x, y]| Pt::new(x, y)),
-                opts.roi,
+                geometry::Asked {
+                    polarity: opts.polarity,
+                    pivot: opts.pivot.map(|[x, y]| Pt::new(x, y)),
+                    roi: opts.roi,
+                    median_only,
+                },
             )
             .map(|geo| (geo, noise))
         };

@@ -314,18 +314,36 @@ enum Background {
     Median,
 }
 
+/// What the first look is given ([`find`]): the experiment's polarity, pivot and
+/// region, and whether it looks against the median alone.
+#[derive(Clone, Copy, Debug)]
+pub struct Asked {
+    pub polarity: Polarity,
+    pub pivot: Option<Pt>,
+    pub roi: Option<Roi>,
+    /// Against the median only, never the running extreme: a detection from a look
+    /// against the extreme followed something that does not swing as a wire does (a
+    /// large bob's stripes, whose trail the extreme keeps; see `detect_scaled`).
+    pub median_only: bool,
+}
+
 /// Find polarity, pivot, band and ROI from the first seconds' frames: against the
 /// running extreme first, which sees the most of the wire; when that finds no wire, or
-/// lines no pendulum makes (a sweep wider than [`MAX_SWEEP_DEG`]), against the median.
+/// lines no pendulum makes (a sweep wider than [`MAX_SWEEP_DEG`]), against the median
+/// (against the median alone when [`Asked::median_only`]).
 pub fn find(
     init: &InitFrames,
     noise: &[u8],
     full_w: u32,
     full_h: u32,
-    polarity: Polarity,
-    pivot_given: Option<Pt>,
-    roi_given: Option<Roi>,
+    asked: Asked,
 ) -> Result<WireGeometry> {
+    let Asked {
+        polarity,
+        pivot: pivot_given,
+        roi: roi_given,
+        median_only,
+    } = asked;
     if init.data.len() < 5 {
         bail!("too few frames ({}) to find the wire", init.data.len());
     }
@@ -365,7 +383,7 @@ pub fn find(
             pivot_given,
             roi_given,
         };
-        match look_both(&look, &plausible) {
+        match look_both(&look, &plausible, median_only) {
             Ok(g) => {
                 return Ok(WireGeometry {
                     stage: 2 * t + g.stage,
@@ -434,9 +452,19 @@ const LOOK_THRESHOLDS: [(f64, f64, usize); 2] = [
 const NO_WIRE: &str = "no moving wire found";
 
 /// One threshold's look against the extreme, then (no wire, or an implausible one)
-/// against the median.
-fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<WireGeometry> {
-    let first = match find_against(look, Background::Extreme) {
+/// against the median; against the median alone when `median_only`.
+fn look_both(
+    look: &Look,
+    plausible: &dyn Fn(&WireGeometry) -> bool,
+    median_only: bool,
+) -> Result<WireGeometry> {
+    let first = match median_only {
+        true => Err(anyhow::anyhow!(
+            "{NO_WIRE}: not looked at against the extreme"
+        )),
+        false => find_against(look, Background::Extreme),
+    };
+    let first = match first {
         Ok(g) if plausible(&g) => return Ok(WireGeometry { stage: 0, ..g }),
         first => first,
     };
@@ -451,7 +479,9 @@ fn look_both(look: &Look, plausible: &dyn Fn(&WireGeometry) -> bool) -> Result<W
     }
     match (find_against(look, Background::Median), first) {
         (Ok(g), _) if plausible(&g) => Ok(WireGeometry { stage: 1, ..g }),
-        // Neither look found a wire: the first one's reason.
+        // Neither look found a wire: the first one's reason (the median's when it
+        // was the only one).
+        (Err(m), Err(_)) if median_only => Err(m),
         (Err(_), Err(e)) => Err(e),
         (Ok(g), _) | (Err(_), Ok(g)) if g.jumps > MAX_JUMPS => bail!(
             "the moving lines jump back and forth across {:.0} deg between frames ({} times), \

@@ -60,8 +60,8 @@ mod track;
 pub mod tuning;
 
 use crate::detect::tuning::{
-    INIT_SECONDS, LENGTH_LOOKS, LOOK_MAX_FRAMES, LOOK_SWING_AGREE, LOOK_SWING_APART, PER_SIDE,
-    SECOND_APART, STILL_AGAIN_NOISE_MAX_DEG, SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
+    INIT_SECONDS, LENGTH_LOOKS, LOOK_MAX_FRAMES, PER_SIDE, SECOND_APART, STILL_AGAIN_NOISE_MAX_DEG,
+    SWING_SCALE_RETRY, WORK_MAX_PIXELS, WORK_SIDE_PX,
 };
 pub use figure11::{figure11_frame, figure11_png, Figure11};
 pub use input::{MemoryVideo, VideoFile, VideoInput};
@@ -336,8 +336,11 @@ fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
     // 1. Geometry from the first seconds, at the working scale that sees the wire best.
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale (measured again steadied when the camera was
-    // found moving).
-    let d = measure(&mut looks, look)?;
+    // found moving), and again from a look against the median alone when a look against
+    // the running extreme followed something that is not a wire.
+    let (stage, shrink) = (look.geo.stage, look.shrink);
+    let first = measure(&mut looks, look);
+    let d = choose::against_median(&looks, stage, shrink, first)?;
     // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the
     // wire's direction turns more or less than its angle about the pivot) is the look's
     // at a scale that saw something else as the wire (a 2 px wire and its blurred shadow
@@ -620,65 +623,6 @@ fn looked_again_steadied(
     d
 }
 
-/// What chooses between a pass and the other working scale's ([`detect_from`]).
-#[derive(Clone, Copy, Debug)]
-struct Pass {
-    /// How far its swing scale lies from 1 (`None`: not measured).
-    off: Option<f64>,
-    /// The detection's checks it fails.
-    fails: usize,
-    /// Its look's sweep and its track's first amplitude, deg.
-    look_sweep_deg: f64,
-    amplitude_deg: Option<f64>,
-}
-
-impl Pass {
-    fn of(d: &Detection) -> Self {
-        Pass {
-            off: d.swing_scale.map(|s| (s - 1.0).abs()),
-            fails: d.verdict.failed().count(),
-            look_sweep_deg: d.look_sweep_deg,
-            amplitude_deg: d.verdict.seen.amplitude_start_deg,
-        }
-    }
-
-    /// How far its look's sweep lies from its track's swing (twice its first amplitude),
-    /// as the log of their ratio, either way.
-    fn apart(self) -> Option<f64> {
-        let a = self.amplitude_deg.filter(|a| *a > 0.0)?;
-        Some((self.look_sweep_deg / (2.0 * a)).ln().abs())
-    }
-
-    /// Whether the other scale's pass `other` replaces this one, measured again because
-    /// its swing scale lay more than `SWING_SCALE_RETRY` from 1 (`by_scale`: the nearer is
-    /// kept), or because its motion is not a pendulum's. Then `other` is kept when its
-    /// look agrees with its own swing and this one's does not: a sweep within
-    /// `LOOK_SWING_AGREE` of twice the first amplitude, against one beyond
-    /// `LOOK_SWING_APART` (a look whose lines swept far more or less than its track swings
-    /// saw something else than the pass followed). Else when its swing scale is nearer 1
-    /// and it fails fewer of the detection's checks. Film 1 (the real off-screen pivot
-    /// clip) moved by hand was measured first on its wire, its look sweeping 24.3 deg and
-    /// its track 24.4, its lines turning 0.998 times as much; at the other scale on the
-    /// ball's beads, their look 88 deg and their track 7, their lines 1.002 times, failing
-    /// four checks to the wire's five in its first 12 s.
-    fn replaced_by(self, other: Pass, by_scale: bool) -> bool {
-        let Some(off) = other.off else {
-            return false;
-        };
-        let nearer = off < self.off.unwrap_or(0.0);
-        if by_scale {
-            return nearer;
-        }
-        let agrees = |x: f64| x <= LOOK_SWING_AGREE.ln();
-        let apart = |x: f64| x > LOOK_SWING_APART.ln();
-        match (other.apart(), self.apart()) {
-            (Some(x), Some(y)) if agrees(x) && apart(y) => true,
-            (Some(x), Some(y)) if agrees(y) && apart(x) => false,
-            _ => nearer && other.fails < self.fails,
-        }
-    }
-}
-
 /// The working scale [`FirstLook::at_best_scale`] did not keep: its look (when it found a
 /// wire), or its shrink factor (not looked at).
 enum Other<'a> {
@@ -689,10 +633,12 @@ enum Other<'a> {
     Finer(u32),
 }
 
+mod choose;
 mod pass_source;
 mod stream;
 #[cfg(test)]
 mod tests;
 
+use choose::Pass;
 use pass_source::{Continued, CropSource, PassSource};
 use stream::streaming_pass;

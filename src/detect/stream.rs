@@ -248,7 +248,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
                     .join(", ")
             ),
         };
-        bail!(
+        return Err(FoundTooFew(format!(
             "{}: the wire was found in only {usable} of {} frames (last good frame {}{why}); \
              check `video.roi`, `video.pivot` and `video.polarity`, or measure the frames \
              where it was found (`video.frames`)",
@@ -258,7 +258,8 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
                 .rev()
                 .find(|r| r.status == Status::Ok)
                 .map_or(0, |r| r.frame)
-        );
+        ))
+        .into());
     }
     if let Some(c) = &opts.calibration {
         ensure!(
@@ -370,3 +371,17 @@ fn frame_interval(rows: &[AngleRow]) -> f64 {
     }
     crate::numerics::median(&mut steps)
 }
+
+/// A pass's refusal for finding the wire in too few frames (its message says how many
+/// and why the others were left out): the look may have taken something else for the
+/// wire (see `choose::against_median`).
+#[derive(Debug)]
+pub(super) struct FoundTooFew(String);
+
+impl std::fmt::Display for FoundTooFew {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for FoundTooFew {}

@@ -132,10 +132,11 @@ fn a_hand_held_splitscreen_clip_swings_as_the_still_one() {
 /// The off-screen pivot clip (`bartekpacia_film1_fhd.mp4`, README: period about 1.02 s,
 /// about +-11.75 deg at the start, +-10.2 at 25 s) shrunk to 960x540 (its first 12 s):
 /// its wire is a line 1 px wide, about 150 px of it visible above a ball 95 px across.
-/// Still, the first look finds no pivot the wire's lines bear out and takes the ball's
-/// edges (a pivot at (587, 168) px, amplitudes of 1.3 to 9.1 deg); hand-held too, the
-/// track loses the wire in half the frames (24.72 deg peak to peak over 4 s against
-/// 24.34 with the pivot given). Both are `suspect`. A detection called `ok` must have
+/// Still, the first look against the running extreme takes the ball's edges (a pivot
+/// at (592, 168) px, 3.8 deg peak to peak over 4 s); the look against the median alone
+/// finds the wire's pivot, (494, -315) px, but the track loses the wire in many frames
+/// (24.46 deg peak to peak, `suspect (found, crossed, period)`). Hand-held too (24.89
+/// deg against 24.34 with the pivot given). Both are `suspect`. A detection called `ok` must have
 /// measured the wire: the README's period within 2 % and its amplitudes within 1.5 deg
 /// (at the start; at 12 s, 11.0 deg by the README's linear decay); one not `ok` is
 /// `suspect` with its angles written (exit 0), or refused (exit 1), as a CI job reads it.

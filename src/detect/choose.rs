@@ -116,14 +116,16 @@ impl Pass {
         Some((self.look_sweep_deg / (2.0 * a)).ln().abs())
     }
 
-    /// Whether the other scale's pass `other` replaces this one, measured again because
+    /// Whether the other scale's pass `other` (or the look against the median alone's,
+    /// [`against_median`]) replaces this one, measured again because
     /// its swing scale lay more than `SWING_SCALE_RETRY` from 1 (`by_scale`: the nearer is
     /// kept), or because its motion is not a pendulum's. Then `other` is kept when its
     /// look agrees with its own swing and this one's does not: a sweep within
     /// `LOOK_SWING_AGREE` of twice the first amplitude, against one beyond
     /// `LOOK_SWING_APART` (a look whose lines swept far more or less than its track swings
-    /// saw something else than the pass followed). Else when its swing scale is nearer 1
-    /// and it fails fewer of the detection's checks. Film 1 (the real off-screen pivot
+    /// saw something else than the pass followed), or when its look agrees and this one
+    /// never swung (too few turning points for an amplitude). Else when its swing scale
+    /// is nearer 1 and it fails fewer of the detection's checks. Film 1 (the real off-screen pivot
     /// clip) moved by hand was measured first on its wire, its look sweeping 24.3 deg and
     /// its track 24.4, its lines turning 0.998 times as much; at the other scale on the
     /// ball's beads, their look 88 deg and their track 7, their lines 1.002 times, failing
@@ -141,6 +143,9 @@ impl Pass {
         match (other.apart(), self.apart()) {
             (Some(x), Some(y)) if agrees(x) && apart(y) => true,
             (Some(x), Some(y)) if agrees(y) && apart(x) => false,
+            // This pass never swung (too few turning points to give an amplitude), and
+            // the other's look agrees with its own swing: the other followed a pendulum.
+            (Some(x), None) if agrees(x) => true,
             _ => nearer && other.fails < self.fails,
         }
     }

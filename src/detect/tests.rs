@@ -123,4 +123,15 @@ fn the_other_scales_pass_replaces_the_first_by_its_look_then_by_its_lines_and_ch
     // A pass whose swing scale was not measured replaces nothing.
     let unmeasured = Pass { off: None, ..near };
     assert!(!far.replaced_by(unmeasured, false));
+    // Film 1 jittered by hand: the first pass followed a static line and never turned
+    // (no amplitude; `turns` and `beside` failed), the look against the median found
+    // the wire (its look 24.5 deg, its swing 24.4; `smooth` and `envelope` failed). The
+    // swing is kept though it fails as many checks, and only when its look agrees.
+    let still_line = Pass {
+        amplitude_deg: None,
+        ..pass(0.0006, 2, 24.7, 1.0)
+    };
+    assert!(still_line.replaced_by(pass(0.002, 2, 24.5, 12.2), false));
+    assert!(!still_line.replaced_by(pass(0.002, 2, 41.0, 12.2), false));
+    assert!(!pass(0.002, 2, 24.5, 12.2).replaced_by(still_line, false));
 }

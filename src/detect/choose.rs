@@ -9,17 +9,21 @@ use super::{measure, Detection};
 use crate::detect::tuning::{LOOK_SWING_AGREE, LOOK_SWING_APART};
 use anyhow::Result;
 
-/// Step 2 of `detect_scaled`, continued: a look against the running extreme (the first
-/// look's `stage` 0 or 2) keeps the trail of whatever passed, and a large bob's stripes
-/// or rim, turning with it, can make the lines that meet in its pivot. When its pass
-/// `first` does not swing as a wire does (it never turns back, its period varies from
-/// swing to swing, or its angle jitters: `turns`, `period` or `smooth` failed) or found
-/// the wire in too few frames ([`FoundTooFew`]), the look is made again at the same
-/// scale (`shrink`) against the median alone, which holds no trails, and measured
-/// afresh (what the camera does judged anew, as for a finer scale's look). It replaces
-/// `first` when [`Pass::replaced_by`] says so (its look agrees with its own swing and
-/// the first's does not; else a swing scale nearer 1 and fewer failed checks), or when
-/// `first` measured nothing.
+/// Step 4 of `detect_looked`: a look against the running extreme (the first look's
+/// `stage` 0 or 2) keeps the trail of whatever passed, and a large bob's stripes or rim,
+/// turning with it, can make the lines that meet in its pivot. When the pass kept from
+/// it and the other working scale (`first`) does not swing as a wire does (its period
+/// is not timed or varies from swing to swing: `period` failed; or its track swung far
+/// more or less than its look swept, beyond [`LOOK_SWING_APART`] either way) or found
+/// the wire in too few frames ([`FoundTooFew`]), the look is made again at
+/// the first look's scale (`shrink`) against the median alone, which holds no trails,
+/// and measured afresh (what the camera does judged anew, as for a finer scale's look).
+/// It replaces `first` when [`Pass::replaced_by`] says so (its look agrees with its own
+/// swing and the first's does not, or the first never swung; else a swing scale nearer
+/// 1 and fewer failed checks), or when `first` measured nothing. An angle that only
+/// jitters (`smooth`) is not enough: hand-held sweep twins whose steadying left it
+/// noisy (seed 1206's scenes 14, 47 and 56) were measured again to no gain, one of
+/// them (1920x1080, measured eight times over already) at 33 ms a frame.
 ///
 /// Film 1 (the real off-screen pivot clip) cropped by 8 px a side: against the extreme
 /// its look took the bob's stripes, seven lines meeting beside the bob at (1174, 328) px
@@ -29,6 +33,27 @@ use anyhow::Result;
 /// the extreme saw only four lines meet, and went on to the median by itself). Moved by
 /// a slow sway (1.5 px at 0.8 Hz, 0.1 deg), film 1 was refused (the wire found in 567
 /// of 1535 frames, about a pivot at (763, 334) px); against the median it is `ok`.
+/// A pass's swing, deg: twice its first amplitude, or, with too few turning points to
+/// give one, the range of the angles it saw the wire at; `None` when that is nothing.
+fn swing_deg(d: &Detection) -> Option<f64> {
+    let seen = || {
+        let (lo, hi) = d
+            .rows
+            .iter()
+            .filter(|r| r.seen_on_wire())
+            .filter_map(|r| r.angle_rad)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), a| {
+                (lo.min(a), hi.max(a))
+            });
+        (hi - lo).to_degrees()
+    };
+    let swing = match d.verdict.seen.amplitude_start_deg {
+        Some(a) => 2.0 * a,
+        None => seen(),
+    };
+    (swing > 0.0).then_some(swing)
+}
+
 pub(super) fn against_median(
     looks: &FirstLook,
     stage: usize,
@@ -36,9 +61,9 @@ pub(super) fn against_median(
     first: Result<Detection>,
 ) -> Result<Detection> {
     let unlike = |d: &Detection| {
-        d.verdict
-            .failed()
-            .any(|c| matches!(c.check.as_str(), "turns" | "period" | "smooth"))
+        d.verdict.failed().any(|c| c.check == "period")
+            || swing_deg(d)
+                .is_some_and(|s| (d.look_sweep_deg / s).ln().abs() > LOOK_SWING_APART.ln())
     };
     let why = match &first {
         _ if !matches!(stage, 0 | 2) || looks.median_only => return first,

@@ -332,15 +332,25 @@ fn another_pendulum(looks: FirstLook, d: Detection) -> Result<Detection> {
 
 /// Steps 1 to 3 of [`detect_looked`] from `looks`.
 fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
-    let FirstLook { input, .. } = looks;
     // 1. Geometry from the first seconds, at the working scale that sees the wire best.
     let (look, other) = looks.at_best_scale()?;
     // 2. The streaming pass at that scale (measured again steadied when the camera was
-    // found moving), and again from a look against the median alone when a look against
-    // the running extreme followed something that is not a wire.
+    // found moving).
     let (stage, shrink) = (look.geo.stage, look.shrink);
-    let first = measure(&mut looks, look);
-    let d = choose::against_median(&looks, stage, shrink, first)?;
+    let kept = match measure(&mut looks, look) {
+        Ok(d) => Ok(other_scale(looks, d, other)),
+        Err(e) => Err(e),
+    };
+    // 4. What is kept still does not swing as a wire does, or found it in too few
+    // frames, from a look against the running extreme: measured again from a look
+    // against the median alone.
+    choose::against_median(&looks, stage, shrink, kept)
+}
+
+/// Step 3 of [`detect_looked`]: the pass `d` at the first look's scale, or the other
+/// scale's (`other`), as [`Pass::replaced_by`] chooses.
+fn other_scale(looks: FirstLook, d: Detection, other: Option<Other>) -> Detection {
+    let FirstLook { input, .. } = looks;
     // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the
     // wire's direction turns more or less than its angle about the pivot) is the look's
     // at a scale that saw something else as the wire (a 2 px wire and its blurred shadow
@@ -357,7 +367,7 @@ fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
             .any(|c| c.check == "period" || c.check == "smooth")
     };
     let Some(other) = other.filter(|_| off(&d) > SWING_SCALE_RETRY || unlike(&d)) else {
-        return Ok(d);
+        return d;
     };
     let by_scale = off(&d) > SWING_SCALE_RETRY;
     let scale = match other {
@@ -431,7 +441,7 @@ fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
             d
         }
     };
-    Ok(kept)
+    kept
 }
 
 /// The streaming pass from `look`, measured again with every frame steadied when the pass

@@ -9,30 +9,12 @@ use super::{measure, Detection};
 use crate::detect::tuning::{LOOK_SWING_AGREE, LOOK_SWING_APART};
 use anyhow::Result;
 
-/// Step 4 of `detect_looked`: a look against the running extreme (the first look's
-/// `stage` 0 or 2) keeps the trail of whatever passed, and a large bob's stripes or rim,
-/// turning with it, can make the lines that meet in its pivot. When the pass kept from
-/// it and the other working scale (`first`) does not swing as a wire does (its period
-/// is not timed or varies from swing to swing: `period` failed; or its track swung far
-/// more or less than its look swept, beyond [`LOOK_SWING_APART`] either way) or found
-/// the wire in too few frames ([`FoundTooFew`]), the look is made again at
-/// the first look's scale (`shrink`) against the median alone, which holds no trails,
-/// and measured afresh (what the camera does judged anew, as for a finer scale's look).
-/// It replaces `first` when [`Pass::replaced_by`] says so (its look agrees with its own
-/// swing and the first's does not, or the first never swung; else a swing scale nearer
-/// 1 and fewer failed checks), or when `first` measured nothing. An angle that only
-/// jitters (`smooth`) is not enough: hand-held sweep twins whose steadying left it
-/// noisy (seed 1206's scenes 14, 47 and 56) were measured again to no gain, one of
-/// them (1920x1080, measured eight times over already) at 33 ms a frame.
-///
-/// Film 1 (the real off-screen pivot clip) cropped by 8 px a side: against the extreme
-/// its look took the bob's stripes, seven lines meeting beside the bob at (1174, 328) px
-/// and sweeping 87 deg, and its pass swung 7 deg, `suspect (found, decays, period,
-/// smooth, still)`; against the median, seven lines through (981, -644) px sweeping
-/// 24.3 deg, `ok`, its swing 24.4 deg as the clip cropped by 4 px (whose look against
-/// the extreme saw only four lines meet, and went on to the median by itself). Moved by
-/// a slow sway (1.5 px at 0.8 Hz, 0.1 deg), film 1 was refused (the wire found in 567
-/// of 1535 frames, about a pivot at (763, 334) px); against the median it is `ok`.
+/// How far a look's sweep lies from a track's swing (both deg), as the log of their
+/// ratio, either way.
+fn look_against_swing(sweep_deg: f64, swing_deg: f64) -> f64 {
+    (sweep_deg / swing_deg).ln().abs()
+}
+
 /// A pass's swing, deg: twice its first amplitude, or, with too few turning points to
 /// give one, the range of the angles it saw the wire at; `None` when that is nothing.
 fn swing_deg(d: &Detection) -> Option<f64> {
@@ -54,6 +36,30 @@ fn swing_deg(d: &Detection) -> Option<f64> {
     (swing > 0.0).then_some(swing)
 }
 
+/// The end of step 3 of `detect_looked`: a look against the running extreme (the first
+/// look's `stage` 0 or 2) keeps the trail of whatever passed, and a large bob's stripes
+/// or rim, turning with it, can make the lines that meet in its pivot. When the pass
+/// kept from it and the other working scale (`first`) does not swing as a wire does
+/// (its period is not timed or varies from swing to swing: `period` failed; or its
+/// track swung far more or less than its look swept, beyond [`LOOK_SWING_APART`] either
+/// way) or found the wire in too few frames ([`FoundTooFew`]), the look is made again at
+/// the first look's scale (`shrink`) against the median alone, which holds no trails,
+/// and measured afresh (what the camera does judged anew, as for a finer scale's look).
+/// It replaces `first` when [`Pass::replaced_by`] says so (its look agrees with its own
+/// swing and the first's does not, or the first never swung; else a swing scale nearer
+/// 1 and fewer failed checks), or when `first` measured nothing. An angle that only
+/// jitters (`smooth`) is not enough: hand-held sweep twins whose steadying left it
+/// noisy (seed 1206's scenes 14, 47 and 56) were measured again to no gain, one of
+/// them (1920x1080, measured eight times over already) at 33 ms a frame.
+///
+/// Film 1 (the real off-screen pivot clip) cropped by 8 px a side: against the extreme
+/// its look took the bob's stripes, seven lines meeting beside the bob at (1174, 328) px
+/// and sweeping 87 deg, and its pass swung 7 deg, `suspect (found, decays, period,
+/// smooth, still)`; against the median, seven lines through (981, -644) px sweeping
+/// 24.3 deg, `ok`, its swing 24.4 deg as the clip cropped by 4 px (whose look against
+/// the extreme saw only four lines meet, and went on to the median by itself). Moved by
+/// a slow sway (1.5 px at 0.8 Hz, 0.1 deg), film 1 was refused (the wire found in 567
+/// of 1535 frames, about a pivot at (763, 334) px); against the median it is `ok`.
 pub(super) fn against_median(
     looks: &FirstLook,
     stage: usize,
@@ -63,7 +69,7 @@ pub(super) fn against_median(
     let unlike = |d: &Detection| {
         d.verdict.failed().any(|c| c.check == "period")
             || swing_deg(d)
-                .is_some_and(|s| (d.look_sweep_deg / s).ln().abs() > LOOK_SWING_APART.ln())
+                .is_some_and(|s| look_against_swing(d.look_sweep_deg, s) > LOOK_SWING_APART.ln())
     };
     let why = match &first {
         _ if !matches!(stage, 0 | 2) || looks.median_only => return first,
@@ -138,23 +144,23 @@ impl Pass {
     /// as the log of their ratio, either way.
     fn apart(self) -> Option<f64> {
         let a = self.amplitude_deg.filter(|a| *a > 0.0)?;
-        Some((self.look_sweep_deg / (2.0 * a)).ln().abs())
+        Some(look_against_swing(self.look_sweep_deg, 2.0 * a))
     }
 
     /// Whether the other scale's pass `other` (or the look against the median alone's,
-    /// [`against_median`]) replaces this one, measured again because
-    /// its swing scale lay more than `SWING_SCALE_RETRY` from 1 (`by_scale`: the nearer is
-    /// kept), or because its motion is not a pendulum's. Then `other` is kept when its
+    /// [`against_median`]) replaces this one, measured again because its swing scale lay
+    /// more than `SWING_SCALE_RETRY` from 1 (`by_scale`: the nearer is kept), or because
+    /// its motion is not a pendulum's. Then `other` is kept when its
     /// look agrees with its own swing and this one's does not: a sweep within
     /// `LOOK_SWING_AGREE` of twice the first amplitude, against one beyond
     /// `LOOK_SWING_APART` (a look whose lines swept far more or less than its track swings
     /// saw something else than the pass followed), or when its look agrees and this one
     /// never swung (too few turning points for an amplitude). Else when its swing scale
-    /// is nearer 1 and it fails fewer of the detection's checks. Film 1 (the real off-screen pivot
-    /// clip) moved by hand was measured first on its wire, its look sweeping 24.3 deg and
-    /// its track 24.4, its lines turning 0.998 times as much; at the other scale on the
-    /// ball's beads, their look 88 deg and their track 7, their lines 1.002 times, failing
-    /// four checks to the wire's five in its first 12 s.
+    /// is nearer 1 and it fails fewer of the detection's checks. Film 1 (the real
+    /// off-screen pivot clip) moved by hand was measured first on its wire, its look
+    /// sweeping 24.3 deg and its track 24.4, its lines turning 0.998 times as much; at the
+    /// other scale on the ball's beads, their look 88 deg and their track 7, their lines
+    /// 1.002 times, failing four checks to the wire's five in its first 12 s.
     pub(super) fn replaced_by(self, other: Pass, by_scale: bool) -> bool {
         let Some(off) = other.off else {
             return false;

@@ -337,18 +337,15 @@ fn detect_scaled(mut looks: FirstLook) -> Result<Detection> {
     // 2. The streaming pass at that scale (measured again steadied when the camera was
     // found moving).
     let (stage, shrink) = (look.geo.stage, look.shrink);
-    let kept = match measure(&mut looks, look) {
-        Ok(d) => Ok(other_scale(looks, d, other)),
-        Err(e) => Err(e),
-    };
-    // 4. What is kept still does not swing as a wire does, or found it in too few
+    let kept = measure(&mut looks, look).map(|d| other_scale(looks, d, other));
+    // 3, last: what is kept still does not swing as a wire does, or found it in too few
     // frames, from a look against the running extreme: measured again from a look
     // against the median alone.
     choose::against_median(&looks, stage, shrink, kept)
 }
 
-/// Step 3 of [`detect_looked`]: the pass `d` at the first look's scale, or the other
-/// scale's (`other`), as [`Pass::replaced_by`] chooses.
+/// Step 3 of [`detect_looked`], but its end: the pass `d` at the first look's scale, or
+/// the other scale's (`other`), as [`Pass::replaced_by`] chooses.
 fn other_scale(looks: FirstLook, d: Detection, other: Option<Other>) -> Detection {
     let FirstLook { input, .. } = looks;
     // 3. A pivot the pass's own lines do not bear out (a swing scale far from 1: the

@@ -6,7 +6,7 @@
 use super::first_look::FirstLook;
 use super::stream::FoundTooFew;
 use super::{measure, Detection};
-use crate::detect::tuning::{LOOK_SWING_AGREE, LOOK_SWING_APART};
+use crate::detect::tuning::{LOOK_SWING_AGREE, LOOK_SWING_APART, TURNS_LONG_S};
 use anyhow::Result;
 
 /// How far a look's sweep lies from a track's swing (both deg), as the log of their
@@ -36,13 +36,24 @@ fn swing_deg(d: &Detection) -> Option<f64> {
     (swing > 0.0).then_some(swing)
 }
 
+/// Whether `d`'s video is long enough ([`TURNS_LONG_S`], first row to last) that a wire
+/// swinging in it turns back `TURNS_MIN` times or more.
+fn long(d: &Detection) -> bool {
+    match (d.rows.first(), d.rows.last()) {
+        (Some(a), Some(b)) => b.t_s - a.t_s >= TURNS_LONG_S,
+        _ => false,
+    }
+}
+
 /// The end of step 3 of `detect_looked`: a look against the running extreme (the first
 /// look's `stage` 0 or 2) keeps the trail of whatever passed, and a large bob's stripes
 /// or rim, turning with it, can make the lines that meet in its pivot. When the pass
 /// kept from it and the other working scale (`first`) does not swing as a wire does
 /// (its period is not timed or varies from swing to swing: `period` failed; or its
 /// track swung far more or less than its look swept, beyond [`LOOK_SWING_APART`] either
-/// way) or found the wire in too few frames ([`FoundTooFew`]), the look is made again at
+/// way; or it turned back too seldom for a wire in a video of [`TURNS_LONG_S`] or
+/// more: `turns` failed there) or found the wire in too few frames ([`FoundTooFew`]),
+/// the look is made again at
 /// the first look's scale (`shrink`) against the median alone, which holds no trails,
 /// and measured afresh (what the camera does judged anew, as for a finer scale's look).
 /// It replaces `first` when [`Pass::replaced_by`] says so (its look agrees with its own
@@ -50,7 +61,12 @@ fn swing_deg(d: &Detection) -> Option<f64> {
 /// 1 and fewer failed checks), or when `first` measured nothing. An angle that only
 /// jitters (`smooth`) is not enough: hand-held sweep twins whose steadying left it
 /// noisy (seed 1206's scenes 14, 47 and 56) were measured again to no gain, one of
-/// them (1920x1080, measured eight times over already) at 33 ms a frame.
+/// them (1920x1080, measured eight times over already) at 33 ms a frame. Nor are too
+/// few turning points in a short video (an 8 s twin held for 1.5 s turns back three
+/// times): film 1 under a jittery hand (shifts of 0.8 to 1.5 px at 2.3 to 6.1 Hz, turns
+/// of 0.1 deg) took the light polarity, a static line the jitter made move, and its
+/// track lay on it for seconds at a time and on the wire between, turning back 0 times
+/// in 25.6 s; against the median it follows the wire.
 ///
 /// Film 1 (the real off-screen pivot clip) cropped by 8 px a side: against the extreme
 /// its look took the bob's stripes, seven lines meeting beside the bob at (1174, 328) px
@@ -67,7 +83,9 @@ pub(super) fn against_median(
     first: Result<Detection>,
 ) -> Result<Detection> {
     let unlike = |d: &Detection| {
-        d.verdict.failed().any(|c| c.check == "period")
+        d.verdict
+            .failed()
+            .any(|c| c.check == "period" || (c.check == "turns" && long(d)))
             || swing_deg(d)
                 .is_some_and(|s| look_against_swing(d.look_sweep_deg, s) > LOOK_SWING_APART.ln())
     };

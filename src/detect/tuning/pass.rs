@@ -163,6 +163,14 @@ knobs! {
         what "a look's sweep beyond this ratio of its pass's swing saw something else",
         chosen_by "film 1 (real) moved by hand: the ball's beads' look 88 deg, their swing 7; hand-picked";
 
+    /// A track that turned back fewer than `TURNS_MIN` times over a video this long did
+    /// not follow a pendulum's wire: one whose period is 10 s turns back four times in 20
+    /// s. Such a pass is measured again from a look against the median alone
+    /// (`choose::against_median`); a shorter video's few turns may be a wire held first.
+    TURNS_LONG_S: f64 = 20.0, "s",
+        what "a video this long whose track turned back too seldom followed no wire",
+        chosen_by "film 1 (real) under a jittery hand: 0 turning points in 25.6 s, a static line followed; an 8 s twin held 1.5 s turns back 3 times; seed 1206's sweep: no scene fails turns";
+
     // From fill.rs.
     /// Good frames in a run shorter than this, between two losses of the wire, are
     /// flagged `Flag::Isolated`.

@@ -105,6 +105,10 @@ pub struct KeptMoments {
     /// How the whole strip, re-centred, bows (the `bent` check's evidence); `None`
     /// when it was not re-centred.
     pub bow: Option<crate::lens::bow::Bowed>,
+    /// Through a lens (`video.lens`), the same two strips' moments with each pixel
+    /// taken into the undistorted view (the working scale's pixels of it): the wire's
+    /// free lines there, whatever the weights along it (`Tracker::refine_pivot`).
+    pub plate: Option<[[f64; 6]; 2]>,
 }
 
 impl std::ops::Index<usize> for KeptMoments {

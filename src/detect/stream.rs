@@ -71,6 +71,11 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
         look.shrink as f64,
         look.bound,
     )?;
+    let lens = opts.lens.map(|l| {
+        let info = input.info();
+        crate::lens::Lens::new(l.k1, l.u_k1, info.width, info.height)
+    });
+    tracker.through(lens);
     // The header's count, within the frames asked for (the header may be wrong: the
     // last report below gives the frames actually measured).
     let total = info
@@ -189,11 +194,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
     }
     flag_repeats(&mut rows);
     flag_unsteadied(&mut rows, &steadied);
-    let lens = opts.lens.map(|l| {
-        let info = input.info();
-        crate::lens::Lens::new(l.k1, l.u_k1, info.width, info.height)
-    });
-    let refined = tracker.refine_pivot(&mut rows, lens.as_ref());
+    let refined = tracker.refine_pivot(&mut rows, lens.as_ref(), true);
     let pivot = refined.pivot;
     // A rolling shutter's lean under the camera's motion, taken out of the angles.
     let readout = shutter::take_out(&mut rows, &steadied, f64::from(info.height));
@@ -271,7 +272,7 @@ pub(super) fn streaming_pass<'a>(looks: FirstLook<'a>, mut look: Located<'a>) ->
             pivot.y
         );
     }
-    let swing_scale = tracker.swing_scale(&rows, pivot, lens.as_ref());
+    let swing_scale = tracker.swing_scale(&rows, pivot, lens.as_ref(), true);
     let figure11 = keeper.take(&rows);
     let mut verdict = judge::judge(&rows, [pivot.x, pivot.y], refined.u_px, refined.drift_deg);
     // The checks beyond the angles', in this order. `wander` is judged on steadied
@@ -338,7 +339,7 @@ fn through_lens_wide(
 ) -> Option<f64> {
     let measured = |lens: Option<&crate::lens::Lens>| -> Vec<Option<f64>> {
         let mut again = rows.to_vec();
-        let p = tracker.refine_pivot(&mut again, lens).pivot;
+        let p = tracker.refine_pivot(&mut again, lens, false).pivot;
         let found: Vec<Option<f64>> = again
             .iter()
             .map(|r| r.unflagged_angle().filter(|_| r.status == Status::Ok))

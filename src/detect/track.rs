@@ -51,6 +51,8 @@ pub(super) struct Tracker {
     scale: f64,
     roi_x: f64,
     roi_y: f64,
+    /// The lens the video is measured through (`video.lens`), set by [`Self::through`].
+    lens: Option<crate::lens::Lens>,
     /// Pivot and band in the scaled region's pixels.
     piv: Pt,
     r_lo: f64,
@@ -125,6 +127,12 @@ pub(super) struct Tracker {
 }
 
 impl Tracker {
+    /// Measured through `lens`: each strip's pixels are also kept in the undistorted
+    /// view ([`KeptMoments::plate`](crate::detect::row::KeptMoments::plate)).
+    pub(super) fn through(&mut self, lens: Option<crate::lens::Lens>) {
+        self.lens = lens;
+    }
+
     pub(super) fn new(
         geo: &WireGeometry,
         opts: &DetectOptions,
@@ -181,6 +189,7 @@ impl Tracker {
             scale: shrink,
             roi_x: roi.x as f64,
             roi_y: roi.y as f64,
+            lens: None,
             piv: full_to_shrunk(geo.pivot, Pt::new(roi.x as f64, roi.y as f64), shrink),
             r_lo: geo.r_lo / shrink,
             r_hi: geo.r_hi / shrink,

@@ -266,6 +266,7 @@ mod tests {
                         mid_px: mid,
                         response: 0.8,
                     }),
+                    plate: None,
                 }),
             });
         }

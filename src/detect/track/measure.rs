@@ -20,7 +20,7 @@ use crate::detect::tuning::{
     RIVAL_WIDER_GATED, SELECT_STRIP_NARROW, SELECT_STRIP_WIDE, STRIP_HALF, STRIP_REFITS,
     UNDECIDED_MAX_FRAMES, WIDTH_STRIP,
 };
-use crate::detect::{shrunk_to_full, Pt};
+use crate::detect::{full_to_shrunk, shrunk_to_full, Pt};
 use anyhow::Result;
 use band::*;
 use opencv::prelude::*;
@@ -273,10 +273,12 @@ impl Tracker {
         // strip's pixels): the far strip's pixels are the whole one's from `from` out,
         // taken from the one walk ([`Self::strip_beyond`]).
         let Some(free) = free_line_within(&fallback, &ends) else {
+            let plate = self.plate_moments(&b.sel).map(|m| [m; 2]);
             return Ok(KeptMoments {
                 moments: [fallback; 2],
                 free: [false; 2],
                 bow: None,
+                plate,
             });
         };
         self.strip_pixels_from(&free, FREE_STRIP_HALF, self.r_lo, &mut b.strip)?;
@@ -304,16 +306,41 @@ impl Tracker {
         let bow = whole
             .1
             .and_then(|walked| self.strip_bow(&walked, &b.strip, &mut b.bins, &mut b.devs));
+        // Each strip's pixels behind its moments: its last walk's when re-centred
+        // (`recentred_moments` walks at least once more), else the first strip's.
+        let pixels = |walked: bool, b: &Scratch| -> Option<[f64; 6]> {
+            self.plate_moments(if walked { &b.strip } else { &b.sel })
+        };
+        let whole_plate = pixels(whole.1.is_some(), b);
         let far = if split {
             recentre(far_first, from, b)?
         } else {
             whole
         };
+        let far_plate = if split {
+            pixels(far.1.is_some(), b)
+        } else {
+            whole_plate
+        };
         Ok(KeptMoments {
             moments: [whole.0, far.0],
             free: [whole.1.is_some(), far.1.is_some()],
             bow,
+            plate: whole_plate.zip(far_plate).map(|(w, f)| [w, f]),
         })
+    }
+
+    /// Through the pass's lens, the moments of the strip's pixels `pts` each taken
+    /// into the undistorted view (its point at the working scale); `None` without a
+    /// lens.
+    fn plate_moments(&self, pts: &[(Pt, f64)]) -> Option<[f64; 6]> {
+        let lens = self.lens.as_ref()?;
+        let origin = Pt::new(self.roi_x, self.roi_y);
+        Some(moments_of(pts.iter().map(|&(p, w)| {
+            let f = shrunk_to_full(p, origin, self.scale);
+            let u = lens.undistort([f.x, f.y]);
+            (full_to_shrunk(Pt::new(u[0], u[1]), origin, self.scale), w)
+        })))
     }
 
     /// The strip's moments from the radius `from` out, re-centred on the wire's free

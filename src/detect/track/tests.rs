@@ -193,6 +193,7 @@ fn a_frame_beside_one_restated_on_its_shadow_s_ridge_is_refused_with_it() {
                     moments: [[0.0; 6]; 2],
                     free: [true; 2],
                     bow: None,
+                    plate: None,
                 };
                 (o, 1.0, moments)
             }),

@@ -198,36 +198,42 @@ fn the_off_screen_pivot_clip_shrunk_is_never_called_ok_unless_measured() {
 /// clip swings as it does cropped by 4 px a side, `ok`.
 #[test]
 fn the_off_screen_pivot_clip_cropped_wider_is_measured_about_its_pivot() {
-    if !need_ffmpeg() {
-        return;
-    }
-    let Some(src) = fixture("bartekpacia_film1_fhd.mp4") else {
+    let Some((v, b, a)) = film1_about_its_pivot("crop=iw-16:ih-16:8:8") else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let (wider, still) = (dir.path().join("wider.mp4"), dir.path().join("still.mp4"));
-    encode(&src, "crop=iw-16:ih-16:8:8", &wider);
-    encode(&src, STILL, &still);
-    let (v, out, csv) = detect_json(&wider, &[], dir.path());
-    assert!(out.status.success(), "{}", v["reason"]);
-    let pivot = &v["seen"]["pivot_px"];
-    let (x, y) = (pivot[0].as_f64().unwrap(), pivot[1].as_f64().unwrap());
-    assert_eq!(
-        v["verdict"], "ok",
-        "pivot ({x:.1}, {y:.1}) px: {}",
-        v["reason"]
-    );
-    // The README's pivot, (990, -640) px give or take 10 and 30, 8 px up and left.
-    assert!(
-        (x - 982.0).abs() <= 15.0 && (y + 648.0).abs() <= 40.0,
-        "pivot ({x:.1}, {y:.1}) px"
-    );
-    let (_, a) = swing(&still, &[]);
-    let b = peak_to_peak(&csv);
+    assert_eq!(v["verdict"], "ok", "{}", v["reason"]);
     assert!(
         (a - b).abs() <= 0.2,
         "{b:.2} deg peak to peak, {a:.2} cropped by 4 px"
     );
+}
+
+/// Film 1 made by the ffmpeg filter `made` (within a crop of 8 px a side), detected
+/// with no options: its detection (JSON), once its pivot is checked to lie about the
+/// README's, and the peak-to-peak angle (deg) of its first 4 s and of the clip cropped
+/// still by 4 px a side. `None` without ffmpeg or the clip.
+fn film1_about_its_pivot(made: &str) -> Option<(serde_json::Value, f64, f64)> {
+    if !need_ffmpeg() {
+        return None;
+    }
+    let src = fixture("bartekpacia_film1_fhd.mp4")?;
+    let dir = tempfile::tempdir().unwrap();
+    let (video, still) = (dir.path().join("made.mp4"), dir.path().join("still.mp4"));
+    encode(&src, made, &video);
+    encode(&src, STILL, &still);
+    let (v, out, csv) = detect_json(&video, &[], dir.path());
+    assert!(out.status.success(), "{}", v["reason"]);
+    let pivot = &v["seen"]["pivot_px"];
+    let (x, y) = (pivot[0].as_f64().unwrap(), pivot[1].as_f64().unwrap());
+    // The README's pivot, (990, -640) px give or take 10 and 30, 8 px up and left.
+    assert!(
+        (x - 982.0).abs() <= 15.0 && (y + 648.0).abs() <= 40.0,
+        "pivot ({x:.1}, {y:.1}) px: {} {}",
+        v["verdict"],
+        v["reason"]
+    );
+    let (_, a) = swing(&still, &[]);
+    Some((v, peak_to_peak(&csv), a))
 }
 
 /// A jittery hand: shifts of 0.8 to 1.5 px at 2.3 to 6.1 Hz each way and turns of 0.1
@@ -244,28 +250,9 @@ const JITTERY: &str = "rotate=(0.12*sin(2*PI*3.1*t)+0.1*sin(2*PI*5.9*t+1))*PI/18
 /// wire about the off-screen pivot and swings as the clip cropped still.
 #[test]
 fn the_off_screen_pivot_clip_under_a_jittery_hand_follows_its_wire() {
-    if !need_ffmpeg() {
-        return;
-    }
-    let Some(src) = fixture("bartekpacia_film1_fhd.mp4") else {
+    let Some((v, b, a)) = film1_about_its_pivot(JITTERY) else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let (moved, still) = (dir.path().join("moved.mp4"), dir.path().join("still.mp4"));
-    encode(&src, JITTERY, &moved);
-    encode(&src, "crop=iw-16:ih-16:8:8", &still);
-    let (v, out, csv) = detect_json(&moved, &[], dir.path());
-    assert!(out.status.success(), "{}", v["reason"]);
-    let pivot = &v["seen"]["pivot_px"];
-    let (x, y) = (pivot[0].as_f64().unwrap(), pivot[1].as_f64().unwrap());
-    assert!(
-        (x - 982.0).abs() <= 15.0 && (y + 648.0).abs() <= 40.0,
-        "pivot ({x:.1}, {y:.1}) px: {} {}",
-        v["verdict"],
-        v["reason"]
-    );
-    let (_, a) = swing(&still, &[]);
-    let b = peak_to_peak(&csv);
     assert!(
         (a - b).abs() <= 0.2,
         "{b:.2} deg peak to peak moved, {a:.2} still ({} {})",

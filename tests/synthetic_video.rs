@@ -317,6 +317,19 @@ fn ok_errors_against_truth(d: &Path) -> Vec<f64> {
     diffs
 }
 
+/// The swing's scale: the angles of `d/angles.csv` (its `ok` frames) regressed on the
+/// true ones of `truth`.
+fn swing_scale_against(truth: &[Row], d: &Path) -> f64 {
+    let a = read(&d.join("angles.csv"), "status");
+    let (x, y): (Vec<f64>, Vec<f64>) = truth
+        .iter()
+        .zip(&a)
+        .filter(|(_, de)| de.tag == "ok")
+        .map(|(tr, de)| (tr.angle.unwrap(), de.angle.unwrap()))
+        .unzip();
+    rollfric::numerics::linear_fit(&x, &y).slope
+}
+
 /// A pivot off by a few pixels is refined onto the wire, not part of the way. Each
 /// frame's free line was fitted to the strip about the line through the pivot given,
 /// whose noise and cut flanks pulled it towards that pivot: a pivot 3.4 px off along
@@ -354,15 +367,7 @@ fn a_pivot_given_a_few_pixels_off_is_refined_onto_the_wire() {
             (got.0 - want.0).abs() <= 0.25 && (got.1 - want.1).abs() <= 0.25,
             "{what}: given {given}, refined to {got:?} px, rendered at {want:?}"
         );
-        // The swing's scale: detected angles regressed on the true ones.
-        let a = read(&d.join("angles.csv"), "status");
-        let (x, y): (Vec<f64>, Vec<f64>) = truth
-            .iter()
-            .zip(&a)
-            .filter(|(_, de)| de.tag == "ok")
-            .map(|(tr, de)| (tr.angle.unwrap(), de.angle.unwrap()))
-            .unzip();
-        let slope = rollfric::numerics::linear_fit(&x, &y).slope;
+        let slope = swing_scale_against(&truth, d);
         // Within the detector's stated scale uncertainty (the budget's Type B part).
         assert!(
             (slope - 1.0).abs() <= rollfric::uncertainty::DETECTOR_SCALE_REL,
@@ -1402,19 +1407,11 @@ fn a_pivot_beyond_the_edge_of_a_wide_lens_is_refined_onto_the_wire() {
         (got.0 - want.0).abs() <= 0.25 && (got.1 - want.1).abs() <= 0.25,
         "refined to {got:?} px, rendered at {want:?}"
     );
-    let truth = read(&d.join("truth.csv"), "spoiled");
-    let a = read(&d.join("angles.csv"), "status");
-    let (x, y): (Vec<f64>, Vec<f64>) = truth
-        .iter()
-        .zip(&a)
-        .filter(|(_, de)| de.tag == "ok")
-        .map(|(tr, de)| (tr.angle.unwrap(), de.angle.unwrap()))
-        .unzip();
-    let slope = rollfric::numerics::linear_fit(&x, &y).slope;
+    let slope = swing_scale_against(&read(&d.join("truth.csv"), "spoiled"), d);
     assert!(
-        (slope.abs() - 1.0).abs() <= rollfric::uncertainty::DETECTOR_SCALE_REL,
+        (slope - 1.0).abs() <= rollfric::uncertainty::DETECTOR_SCALE_REL,
         "the swing measured {:+.3} % of its size",
-        100.0 * (slope.abs() - 1.0)
+        100.0 * (slope - 1.0)
     );
 }
 

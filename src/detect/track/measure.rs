@@ -336,9 +336,12 @@ impl Tracker {
     fn plate_moments(&self, pts: &[(Pt, f64)]) -> Option<[f64; 6]> {
         let lens = self.lens.as_ref()?;
         let origin = Pt::new(self.roi_x, self.roi_y);
+        // Each pixel's Newton steps start from the one before's (they lie along a line).
+        let mut guess = None;
         Some(moments_of(pts.iter().map(|&(p, w)| {
             let f = shrunk_to_full(p, origin, self.scale);
-            let u = lens.undistort([f.x, f.y]);
+            let (u, k) = lens.undistort_from([f.x, f.y], guess);
+            guess = Some(k);
             (full_to_shrunk(Pt::new(u[0], u[1]), origin, self.scale), w)
         })))
     }

@@ -35,9 +35,10 @@ impl Tracker {
     /// [`SWING_SCALE_FRAMES`] accepted frames or a swing under
     /// [`SWING_SCALE_SPREAD_DEG`].
     ///
-    /// Through a lens, both are the undistorted view's: the free line that of the
-    /// strip's pixels taken into it (`pixels`, the pass's own lens) or taken into it by
-    /// two of its points, the angle about the pivot by [`Lens::plate_angle`].
+    /// Through a lens, both are the undistorted view's: the free line fitted to the
+    /// strip's pixels each taken into it (`pixels`: `lens` is the pass's own), else the
+    /// image's free line taken into it by two of its points; the angle about the pivot
+    /// by [`Lens::plate_angle`].
     ///
     /// [`KeptMoments::free`]: crate::detect::row::KeptMoments::free
     pub(in crate::detect) fn swing_scale(

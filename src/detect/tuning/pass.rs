@@ -169,7 +169,7 @@ knobs! {
     /// (`choose::against_median`); a shorter video's few turns may be a wire held first.
     TURNS_LONG_S: f64 = 20.0, "s",
         what "a video this long whose track turned back too seldom followed no wire",
-        chosen_by "film 1 (real) under a jittery hand: 0 turning points in 25.6 s, a static line followed; an 8 s twin held 1.5 s turns back 3 times; seed 1206's sweep: no scene fails turns";
+        chosen_by "film 1 (real) under a jittery hand: 0 turning points in 25.6 s, a static line followed; an 8 s twin held 1.5 s turns back 3 times; the sweeps of seeds 1 and 1206: no scene fails turns";
 
     // From fill.rs.
     /// Good frames in a run shorter than this, between two losses of the wire, are

@@ -79,17 +79,27 @@ impl Lens {
             return p;
         }
         let target = rho / self.zoom;
-        let mut r = target;
+        let r = self.radius(target, target, None);
+        let k = r / rho;
+        [self.centre[0] + k * dx, self.centre[1] + k * dy]
+    }
+
+    /// The undistorted radius (frame widths) seen at `target` / zoom: at most eight of
+    /// Newton's steps from `r`, and fewer once a step moves it by less than `stop`.
+    fn radius(&self, target: f64, mut r: f64, stop: Option<f64>) -> f64 {
         for _ in 0..8 {
             let f = r * (1.0 + self.k1 * r * r) - target;
             let df = 1.0 + 3.0 * self.k1 * r * r;
             if df.abs() < 1e-9 {
                 break;
             }
-            r -= f / df;
+            let step = f / df;
+            r -= step;
+            if stop.is_some_and(|s| step.abs() < s) {
+                break;
+            }
         }
-        let k = r / rho;
-        [self.centre[0] + k * dx, self.centre[1] + k * dy]
+        r
     }
 
     /// [`Self::undistort`] by Newton's method started from `guess`, the ratio of the
@@ -105,19 +115,7 @@ impl Lens {
             return (p, 1.0);
         }
         let target = rho / self.zoom;
-        let mut r = guess.map_or(target, |k| k * rho);
-        for _ in 0..8 {
-            let f = r * (1.0 + self.k1 * r * r) - target;
-            let df = 1.0 + 3.0 * self.k1 * r * r;
-            if df.abs() < 1e-9 {
-                break;
-            }
-            let step = f / df;
-            r -= step;
-            if step.abs() < 1e-14 {
-                break;
-            }
-        }
+        let r = self.radius(target, guess.map_or(target, |k| k * rho), Some(1e-14));
         let k = r / rho;
         ([self.centre[0] + k * dx, self.centre[1] + k * dy], k)
     }

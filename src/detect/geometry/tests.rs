@@ -30,6 +30,59 @@ fn median_background_ignores_what_passes_briefly() {
     assert!(m.iter().enumerate().all(|(i, &v)| v == 100 + (i % 7) as u8));
 }
 
+#[test]
+fn the_median_is_each_pixel_s_middle_value_to_the_byte() {
+    // Every count of frames from 1 to 9 and a look's largest (300), odd and even, on
+    // runs of pixels longer and shorter than the median's own (1024): noise over the
+    // whole byte range with its ends, and a few grey levels repeated many times.
+    let mut rng = crate::rng::Rng::new(5);
+    for (n, pixels) in [
+        (1, 7),
+        (2, 1500),
+        (3, 1024),
+        (4, 1025),
+        (5, 3000),
+        (6, 9),
+        (7, 2100),
+        (8, 300),
+        (9, 2049),
+        (300, 1030),
+    ] {
+        for kind in 0..2 {
+            let data: Vec<Vec<u8>> = (0..n)
+                .map(|_| {
+                    (0..pixels)
+                        .map(|_| match kind {
+                            0 => [0, 255, (256.0 * rng.uniform()) as u8]
+                                [(3.0 * rng.uniform()) as usize % 3],
+                            _ => 100 + (4.0 * rng.uniform()) as u8,
+                        })
+                        .collect()
+                })
+                .collect();
+            let expected: Vec<u8> = (0..pixels)
+                .map(|i| {
+                    let mut v: Vec<u8> = data.iter().map(|d| d[i]).collect();
+                    v.sort_unstable();
+                    v[n / 2]
+                })
+                .collect();
+            let init = InitFrames {
+                w: pixels,
+                h: 1,
+                shrink: 1.0,
+                x0: 0.0,
+                y0: 0.0,
+                data,
+            };
+            assert!(
+                median_frame(&init) == expected,
+                "{n} frames of {pixels} px, kind {kind}"
+            );
+        }
+    }
+}
+
 /// A look frame of `w` x `h` px shrunk `s` times from the crop at (`x0`, `y0`).
 fn look_frame(w: usize, h: usize, s: f64, x0: f64, y0: f64) -> InitFrames {
     InitFrames {

@@ -648,3 +648,100 @@ fn a_run_of_steps_is_taken_further_only_while_it_keeps_its_direction() {
     // A step that turns (here by 45 deg) goes as it is.
     assert_eq!(align::further(&Vector3::new(0.5, 0.5, 0.0), &u, 2.0), 0.0);
 }
+
+#[test]
+fn the_strongest_points_are_those_a_selection_of_them_whole_keeps() {
+    // Points made row by row, their gradients from a few grey levels (many ties) or
+    // from noise (few), cut at counts below, at and above a tie.
+    let mut rng = crate::rng::Rng::new(17);
+    for (w, h, levels) in [(40, 30, 4.0), (40, 30, 1000.0), (97, 61, 9.0), (5, 3, 2.0)] {
+        let mut points = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let q = |rng: &mut crate::rng::Rng| (levels * rng.uniform()).floor() as f32 * 0.5;
+                let (gx, gy) = (q(&mut rng), q(&mut rng));
+                points.push(Point {
+                    x: x as f32,
+                    y: y as f32,
+                    grey: 0.0,
+                    jac: [gx, gy, 0.0],
+                    gradient: (gx * gx + gy * gy).sqrt(),
+                });
+            }
+        }
+        let key = |p: &Point| (p.x, p.y);
+        for n in [1, 7, w * h / 3, w * h / 2, w * h - 1, w * h, w * h + 5] {
+            let copy = |ps: &[Point]| -> Vec<Point> {
+                ps.iter().map(|p| Point { jac: p.jac, ..*p }).collect()
+            };
+            let mut ours = copy(&points);
+            strongest(&mut ours, n);
+            let mut before = copy(&points);
+            if before.len() > n {
+                let g2 = |p: &Point| p.jac[0] * p.jac[0] + p.jac[1] * p.jac[1];
+                before.select_nth_unstable_by(n, |a, b| g2(b).total_cmp(&g2(a)));
+                before.truncate(n);
+                before.sort_unstable_by(|a, b| (a.y, a.x).partial_cmp(&(b.y, b.x)).unwrap());
+            }
+            assert_eq!(
+                ours.iter().map(key).collect::<Vec<_>>(),
+                before.iter().map(key).collect::<Vec<_>>(),
+                "{w}x{h}, {levels} levels, the strongest {n}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_sweep_holds_the_pixels_its_distance_and_angle_say() {
+    // The sweep's own test against its distance and angle measured for every pixel:
+    // sweeps hanging down, across -x (angles past pi), narrow and past a half turn,
+    // and pixels on a grid through their edges, at the pivot and on its far side.
+    let mut rng = crate::rng::Rng::new(23);
+    for (lo, hi) in [
+        (1.2, 1.9),
+        (2.8, 3.6),
+        (-0.3, 0.1),
+        (0.5, 3.9),
+        (-1.0, 5.0),
+        (1.0, 1.0),
+    ] {
+        let s = Sweep::around((50.3, 40.7), 60.0, (lo, hi), (0.0, 0.0));
+        let measured = |x: f64, y: f64| {
+            let (dx, dy) = (x - s.centre.0, y - s.centre.1);
+            if dx.hypot(dy) > s.reach {
+                return false;
+            }
+            let mid = 0.5 * (s.lo + s.hi);
+            let a = crate::detect::unwrap_near(dy.atan2(dx), mid);
+            a >= s.lo && a <= s.hi
+        };
+        let mut points: Vec<(f64, f64)> = (0..240)
+            .flat_map(|y| (0..220).map(move |x| (x as f64 * 0.5 - 10.0, y as f64 * 0.5 - 10.0)))
+            .collect();
+        // Right on the edges: the reach's circle and the sweep's two sides.
+        for _ in 0..5000 {
+            let t = 2.0 * std::f64::consts::PI * rng.uniform();
+            let r = s.reach * (1.0 + 1e-9 * (rng.uniform() - 0.5));
+            points.push((s.centre.0 + r * t.cos(), s.centre.1 + r * t.sin()));
+            let side = if rng.uniform() < 0.5 { s.lo } else { s.hi } + 1e-9 * (rng.uniform() - 0.5);
+            let r = s.reach * rng.uniform();
+            points.push((s.centre.0 + r * side.cos(), s.centre.1 + r * side.sin()));
+        }
+        points.push(s.centre);
+        let (mut inside, mut outside) = (0, 0);
+        for (x, y) in points {
+            let want = measured(x, y);
+            assert_eq!(s.holds(x, y), want, "({x}, {y}) in the sweep {lo}..{hi}");
+            if want {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+        assert!(
+            inside > 100 && outside > 100,
+            "{lo}..{hi}: {inside} in, {outside} out"
+        );
+    }
+}

@@ -227,7 +227,11 @@ impl Level {
 /// strengths alone (4 bytes, not a point's 28) and sorting nothing took a third of
 /// the instructions of the first frame's scales.
 fn strongest(points: &mut Vec<Point>, n: usize) {
-    if points.len() <= n || n == 0 {
+    if points.len() <= n {
+        return;
+    }
+    if n == 0 {
+        points.clear();
         return;
     }
     let g2 = |p: &Point| p.jac[0] * p.jac[0] + p.jac[1] * p.jac[1];

@@ -48,8 +48,9 @@ const NOT_KNOBS: &[(&str, &str)] = &[
     // Memory-order runs and scan blocks: the same pixels at any size.
     ("geometry.rs", "RUN"),
     ("track/measure/strip.rs", "SCAN_BLOCK"),
-    // A rounding guard, and a pixel's half width.
+    // Rounding guards, and a pixel's half width.
     ("track/measure/strip.rs", "WEDGE_TEST_SLACK"),
+    ("steady.rs", "SURE_SLACK"),
     ("track/measure/strip.rs", "STRIP_EDGE"),
     // sqrt(70): a fourth difference's noise gain.
     ("judge/swing.rs", "D4_GAIN"),

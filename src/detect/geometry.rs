@@ -306,26 +306,21 @@ trait Count: Copy + Default {
     fn add(self, below: bool) -> Self;
     fn within(self, k: u32) -> bool;
 }
-impl Count for u8 {
-    #[inline(always)]
-    fn add(self, below: bool) -> Self {
-        self.saturating_add(u8::from(below))
-    }
-    #[inline(always)]
-    fn within(self, k: u32) -> bool {
-        u32::from(self) <= k
-    }
+macro_rules! count_in {
+    ($($t:ty),*) => {$(
+        impl Count for $t {
+            #[inline(always)]
+            fn add(self, below: bool) -> Self {
+                self.saturating_add(<$t>::from(below))
+            }
+            #[inline(always)]
+            fn within(self, k: u32) -> bool {
+                u32::from(self) <= k
+            }
+        }
+    )*};
 }
-impl Count for u16 {
-    #[inline(always)]
-    fn add(self, below: bool) -> Self {
-        self.saturating_add(u16::from(below))
-    }
-    #[inline(always)]
-    fn within(self, k: u32) -> bool {
-        u32::from(self) <= k
-    }
-}
+count_in!(u8, u16);
 
 /// [`median_frame`] with counts of type `C`, the median the `k`-th smallest value.
 fn median_by_bits<C: Count>(init: &InitFrames, k: u32) -> Vec<u8> {

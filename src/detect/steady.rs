@@ -15,7 +15,7 @@
 use crate::detect::tuning::{
     EST_SIDE, EXPLAINS, MAX_COARSE_POINTS, MAX_POINTS, MAX_RESIDUAL, MAX_SHIFT, MAX_TURN_DEG,
     MAX_WIDEN, MEASURE_PX, MIN_GRADIENT, NOISE_FRAMES, NOISE_SHARE, PRUNE_MIN_FRAMES,
-    PRUNE_MIN_KEPT, RESTART, SWEEP_MARGIN_DEG, SWEEP_REACH, TUKEY_LEVELS,
+    PRUNE_MIN_KEPT, RESTART, TUKEY_LEVELS,
 };
 use crate::video::Frame;
 use align::{align_step, iterate, noise_share, prepare, Hold, Reader, Scratch, Step, Tukey};
@@ -40,106 +40,6 @@ impl Motion {
     pub fn reach(&self, w: f64, h: f64) -> f64 {
         let r = 0.5 * w.hypot(h);
         self.dx.hypot(self.dy) + self.rot_rad.abs() * r
-    }
-}
-
-/// The part of the frame the pendulum sweeps (its wire, ball and their shadows), which
-/// the measurement does not read: it is not the static scene. Without it, a visible ball
-/// near where the first frame has it pulls the alignment round the pivot after it (on a
-/// hand-held twin, 2.4 deg within half a second). Frame px of the frame measured.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Sweep {
-    /// The pivot.
-    centre: (f64, f64),
-    /// The farthest reach from the pivot, px.
-    reach: f64,
-    /// The angles (image, from the x axis) swept, radians, `lo < hi`.
-    lo: f64,
-    hi: f64,
-    /// The tests that pass over the distance and the angle where they are sure (see
-    /// [`Sweep::holds`]).
-    sure: Sure,
-}
-
-/// What [`Sweep::holds`] decides without a square root's rounding or an arc tangent:
-/// the reach squared, with a relative slack of [`SURE_SLACK`] either way, and the
-/// direction of the sweep's middle with the cosines of its half width widened and
-/// narrowed by as much (radians; `None` where that passes a half turn or zero).
-#[derive(Clone, Copy, Debug)]
-struct Sure {
-    beyond2: f64,
-    within2: f64,
-    mid: (f64, f64),
-    outside_cos: Option<f64>,
-    inside_cos: Option<f64>,
-}
-
-/// The slack of [`Sure`]: relative on the squared reach, radians on the angles; far
-/// above the rounding of a sum of two squares, a product or an arc tangent.
-const SURE_SLACK: f64 = 1e-6;
-
-impl Sweep {
-    /// The sweep of a wire seen out to `r_hi` px from `pivot` at angles `theta` (the
-    /// least and the most, radians), widened for the ball at its end and the shadows
-    /// beside it ([`SWEEP_REACH`], [`SWEEP_MARGIN_DEG`]); `origin` is the measured
-    /// frame's corner in the same coordinates.
-    pub(super) fn around(
-        pivot: (f64, f64),
-        r_hi: f64,
-        theta: (f64, f64),
-        origin: (f64, f64),
-    ) -> Self {
-        let m = SWEEP_MARGIN_DEG.to_radians();
-        let (reach, lo, hi) = (
-            SWEEP_REACH * r_hi,
-            theta.0.min(theta.1) - m,
-            theta.0.max(theta.1) + m,
-        );
-        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-        let within_half_turn = |a: f64| (0.0..std::f64::consts::PI).contains(&a);
-        Self {
-            centre: (pivot.0 - origin.0, pivot.1 - origin.1),
-            reach,
-            lo,
-            hi,
-            sure: Sure {
-                beyond2: reach * reach * (1.0 + SURE_SLACK),
-                within2: reach * reach * (1.0 - SURE_SLACK),
-                mid: (mid.cos(), mid.sin()),
-                outside_cos: Some(half + SURE_SLACK)
-                    .filter(|&a| within_half_turn(a))
-                    .map(f64::cos),
-                inside_cos: Some(half - SURE_SLACK)
-                    .filter(|&a| within_half_turn(a))
-                    .map(f64::cos),
-            },
-        }
-    }
-
-    /// Whether frame px `(x, y)` lies within: no further than the reach from the pivot,
-    /// at an angle within the sweep. Where the squared distance, or the direction's
-    /// cosine with the sweep's middle, lies beyond the slack of [`Sure`] either way,
-    /// that decides; only a pixel near the edge is measured by its distance and angle
-    /// themselves (the same answer; the first frame's scales of seed 1 scene 44, 194 to
-    /// 108 M instructions).
-    fn holds(&self, x: f64, y: f64) -> bool {
-        let (dx, dy) = (x - self.centre.0, y - self.centre.1);
-        let d2 = dx * dx + dy * dy;
-        let sure = &self.sure;
-        if d2 > sure.beyond2 || (d2 >= sure.within2 && dx.hypot(dy) > self.reach) {
-            return false;
-        }
-        let along = dx * sure.mid.0 + dy * sure.mid.1;
-        let r = d2.sqrt();
-        if sure.outside_cos.is_some_and(|c| along < r * c) {
-            return false;
-        }
-        if sure.inside_cos.is_some_and(|c| along > r * c) {
-            return true;
-        }
-        let mid = 0.5 * (self.lo + self.hi);
-        let a = crate::detect::unwrap_near(dy.atan2(dx), mid);
-        a >= self.lo && a <= self.hi
     }
 }
 
@@ -721,10 +621,12 @@ mod align;
 mod follow;
 pub(super) mod jitter;
 mod light;
+mod sweep;
 #[cfg(test)]
 mod tests;
 mod warp;
 
 pub use follow::{CameraMotion, Steadied, Turn};
 pub(super) use follow::{Followed, Late};
+pub(in crate::detect) use sweep::Sweep;
 pub(super) use warp::{bytes, warp_into};

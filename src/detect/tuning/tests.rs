@@ -50,7 +50,7 @@ const NOT_KNOBS: &[(&str, &str)] = &[
     ("track/measure/strip.rs", "SCAN_BLOCK"),
     // Rounding guards, and a pixel's half width.
     ("track/measure/strip.rs", "WEDGE_TEST_SLACK"),
-    ("steady.rs", "SURE_SLACK"),
+    ("steady/sweep.rs", "SURE_SLACK"),
     ("track/measure/strip.rs", "STRIP_EDGE"),
     // sqrt(70): a fourth difference's noise gain.
     ("judge/swing.rs", "D4_GAIN"),

@@ -15,7 +15,9 @@
 //!    line through it: its normal's direction to a degree, its distance from the corner
 //!    to 2 px), each line's points within 1.5 px (then 1 px) and a few degrees of the
 //!    line fitted to them, grown twice; a line must be long (a fifth of the picture's
-//!    shorter side) and hold enough points. The two edges of one drawn stroke are two
+//!    shorter side) and hold enough points, at least one for every four px of its
+//!    length (points in line by chance along a band of a compressed picture's noise
+//!    are no line). The two edges of one drawn stroke are two
 //!    such lines (their normals face apart) and count as one **stroke**; arcs and edges
 //!    that are not straight on the plate fit badly and are dropped.
 //! 4. **The fine coefficient**: the sum over the lines of the squared distances of their
@@ -53,8 +55,20 @@ const GROW_PX: [f64; 3] = [1.5, 1.0, 1.0];
 const GROW_DEG: f64 = 6.0;
 /// A line spans at least this share of the picture's shorter side ...
 const MIN_EXTENT: f64 = 0.2;
-/// ... and holds at least this many points.
+/// ... and holds at least this many points ...
 const MIN_POINTS: usize = 30;
+/// ... and at least this many per px of its length: a ruled line is an edge along its
+/// whole length, an edge point at most of its pixels (a twin's sheet at CRF 18: half of
+/// its lines 0.56 or more, the least 0.26), where points scattered along a band and in
+/// line by chance (a compressed picture's noise, its blocks' edges) are not (the same
+/// sheet at CRF 39: a median of 0.05). Under heavy compression such bands outnumber
+/// the grid's lines, and the coefficient that straightened them was any: that
+/// 1920x1080 sheet, seen through `k1` -0.140, was fitted +0.32 +- 0.28 at CRF 39 (its
+/// frames +0.50, 0.00, +0.46) and -0.132 +- 0.020 at CRF 34; a 640x480 MJPG sheet
+/// through -0.170 under the sweep's CRF 34, -0.094 +- 0.128. With a quarter: -0.134
+/// +- 0.009, -0.141 +- 0.001 and -0.154 +- 0.034 (with 0.15, as near, within their
+/// uncertainties; with 0.35 the CRF 39 sheet read +0.05 and the MJPG one was refused).
+const MIN_DENSITY: f64 = 0.25;
 /// At most this many lines (the fullest votes first).
 const MAX_LINES: usize = 200;
 /// A line whose points scatter about it by more than this many times the lines' median
@@ -394,7 +408,7 @@ fn find_lines(
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &i| {
                 (lo.min(along(i)), hi.max(along(i)))
             });
-        if hi - lo < min_extent {
+        if hi - lo < min_extent || ((members.len() * thinned) as f64) < MIN_DENSITY * (hi - lo) {
             continue;
         }
         for &i in &members {

@@ -15,9 +15,8 @@
 //!    line through it: its normal's direction to a degree, its distance from the corner
 //!    to 2 px), each line's points within 1.5 px (then 1 px) and a few degrees of the
 //!    line fitted to them, grown twice; a line must be long (a fifth of the picture's
-//!    shorter side) and hold enough points, at least one for every four px of its
-//!    length (points in line by chance along a band of a compressed picture's noise
-//!    are no line). The two edges of one drawn stroke are two
+//!    shorter side) and hold enough points, at least 0.15 a px of its length (points in
+//!    line by chance along a band of a compressed picture's noise are no line). The two edges of one drawn stroke are two
 //!    such lines (their normals face apart) and count as one **stroke**; arcs and edges
 //!    that are not straight on the plate fit badly and are dropped.
 //! 4. **The fine coefficient**: the sum over the lines of the squared distances of their
@@ -64,11 +63,11 @@ const MIN_POINTS: usize = 30;
 /// sheet at CRF 39: a median of 0.05). Under heavy compression such bands outnumber
 /// the grid's lines, and the coefficient that straightened them was any: that
 /// 1920x1080 sheet, seen through `k1` -0.140, was fitted +0.32 +- 0.28 at CRF 39 (its
-/// frames +0.50, 0.00, +0.46) and -0.132 +- 0.020 at CRF 34; a 640x480 MJPG sheet
-/// through -0.170 under the sweep's CRF 34, -0.094 +- 0.128. With a quarter: -0.134
-/// +- 0.009, -0.141 +- 0.001 and -0.154 +- 0.034 (with 0.15, as near, within their
-/// uncertainties; with 0.35 the CRF 39 sheet read +0.05 and the MJPG one was refused).
-const MIN_DENSITY: f64 = 0.25;
+/// frames +0.50, 0.00, +0.46); a 640x480 MJPG sheet through -0.170 under the sweep's
+/// CRF 34, -0.094 +- 0.128. Now -0.120 +- 0.024 and -0.186 +- 0.033. A quarter (0.25)
+/// took too many of a compressed grid's own lines: a 640x480 sheet under CRF 34, fitted
+/// +0.171 +- 0.061 before (`k1` +0.138) and +0.140 +- 0.003 now, was refused.
+const MIN_DENSITY: f64 = 0.15;
 /// At most this many lines (the fullest votes first).
 const MAX_LINES: usize = 200;
 /// A line whose points scatter about it by more than this many times the lines' median

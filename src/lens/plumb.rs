@@ -16,9 +16,10 @@
 //!    to 2 px), each line's points within 1.5 px (then 1 px) and a few degrees of the
 //!    line fitted to them, grown twice; a line must be long (a fifth of the picture's
 //!    shorter side) and hold enough points, at least 0.15 a px of its length (points in
-//!    line by chance along a band of a compressed picture's noise are no line). The two edges of one drawn stroke are two
-//!    such lines (their normals face apart) and count as one **stroke**; arcs and edges
-//!    that are not straight on the plate fit badly and are dropped.
+//!    line by chance along a band of a compressed picture's noise are no line). The two
+//!    edges of one drawn stroke are two such lines (their normals face apart) and count
+//!    as one **stroke**; arcs and edges that are not straight on the plate fit badly and
+//!    are dropped.
 //! 4. **The fine coefficient**: the sum over the lines of the squared distances of their
 //!    points from their own best line (each line refitted at each `k1`, total least
 //!    squares), minimised by parabolas through three `k1`; lines found again and `k1`

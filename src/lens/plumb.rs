@@ -15,7 +15,7 @@
 //!    line through it: its normal's direction to a degree, its distance from the corner
 //!    to 2 px), each line's points within 1.5 px (then 1 px) and a few degrees of the
 //!    line fitted to them, grown twice; a line must be long (a fifth of the picture's
-//!    shorter side) and hold enough points, at least 0.15 a px of its length (points in
+//!    shorter side) and hold enough points, densely along it ([`MIN_DENSITY`]: points in
 //!    line by chance along a band of a compressed picture's noise are no line). The two
 //!    edges of one drawn stroke are two such lines (their normals face apart) and count
 //!    as one **stroke**; arcs and edges that are not straight on the plate fit badly and

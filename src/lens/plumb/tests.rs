@@ -161,20 +161,35 @@ fn a_compressed_twin_sheet_is_fitted_from_its_own_lines() {
     if !crate::video::need_ffmpeg() {
         return;
     }
+    const SHEET: &str = "
+name: sheet
+material: Carbon fiber composite
+geometry:
+  incline: { h_m: 0.142, l_m: 1.500 }
+  pendulum: { d_m: 0.2168 }
+  ball: { radius_m: 0.03175, mass_kg: 1.0458 }
+model:
+  beta: 1
+sliding: { mu: 0.3 }
+synthetic:
+  s_r_m: 5.81e-6
+  psi0_deg: 10
+  width: 640
+  height: 480
+  fps: 30
+  style: dark-wire
+  seed: 1010
+  rest_angle_deg: 93.7
+  wire_width_px: 2
+  wire_contrast: 0.80
+  pivot_frac: [0.4171, -0.0364]
+  lens_k1: -0.170
+  crf: 34
+  room: {board: grid}
+  duration_s: 1
+";
+    let exp = crate::config::Experiment::parse(Path::new("sheet.yaml"), SHEET).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let yaml = dir.path().join("sheet.yaml");
-    std::fs::write(
-        &yaml,
-        "name: sheet\nmaterial: Carbon fiber composite\ngeometry:\n  incline: { h_m: 0.142, \
-         l_m: 1.500 }\n  pendulum: { d_m: 0.2168 }\n  ball: { radius_m: 0.03175, mass_kg: \
-         1.0458 }\nmodel:\n  beta: 1\nsliding: { mu: 0.3 }\nsynthetic:\n  s_r_m: 5.81e-6\n  \
-         psi0_deg: 10\n  width: 640\n  height: 480\n  fps: 30\n  style: dark-wire\n  \
-         seed: 1010\n  rest_angle_deg: 93.7\n  wire_width_px: 2\n  wire_contrast: 0.80\n  \
-         pivot_frac: [0.4171, -0.0364]\n  lens_k1: -0.170\n  crf: 34\n  room: {board: \
-         grid}\n  duration_s: 1\n",
-    )
-    .unwrap();
-    let exp = crate::config::Experiment::load(&yaml).unwrap();
     let video = dir.path().join("sheet.avi");
     crate::synth::render(&exp, &video, None, &mut |_, _| {}).unwrap();
     let f = fit_video(&video, 5, 10).unwrap();
